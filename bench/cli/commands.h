@@ -1,0 +1,11 @@
+#pragma once
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace eitbench::cli {
+// Each registers its subcommand and returns the action to run when it is chosen.
+std::function<void()> add_mesh_command(CLI::App& app);
+std::function<void()> add_forward_command(CLI::App& app);
+std::function<void()> add_jacobian_command(CLI::App& app);
+std::function<void()> add_run_command(CLI::App& app);
+}  // namespace eitbench::cli

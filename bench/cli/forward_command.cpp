@@ -1,0 +1,42 @@
+// eitbench forward: one frame of measured voltages for a conductivity.
+#include <fmt/core.h>
+
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/bench/io.h"
+#include "options.h"
+
+namespace eitbench::cli {
+
+std::function<void()> add_forward_command(CLI::App& app) {
+  struct Args {
+    MeshSource mesh;
+    ConductivitySource sigma;
+    ModelSetup model;
+    std::string out;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "forward", "Simulate the measured voltages of a conductivity (complete electrode model)");
+  add_mesh_options(*cmd, args->mesh);
+  add_conductivity_options(*cmd, args->sigma);
+  add_model_options(*cmd, args->model);
+  cmd->add_option("--out", args->out, "CSV file: the frame on one line")->required();
+  return [args, cmd] {
+    const Mesh mesh = load_mesh(args->mesh);
+    const Eigen::VectorXd sigma = load_conductivity(*cmd, args->sigma, mesh);
+    const bool reduced = reduced_values(args->model, mesh.num_electrodes());
+    const MeasurementOrder order = parse_order(args->model.order);
+    const ForwardModel model(mesh, args->model.forward,
+                             args->mesh.file.empty() ? "mesh" : args->mesh.file);
+    const Eigen::VectorXd full = model.frame(sigma, order);
+    const Eigen::VectorXd frame = reduced ? model.protocol().reduce(full, order) : full;
+    write_frames_csv(args->out, frame.transpose());
+    fmt::print("wrote {} values ({} order{}) to {}; |v| max {:.6g}\n", frame.size(),
+               args->model.order, reduced ? ", reciprocity-reduced" : "", args->out,
+               frame.cwiseAbs().maxCoeff());
+  };
+}
+
+}  // namespace eitbench::cli

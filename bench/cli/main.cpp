@@ -1,0 +1,38 @@
+// eitbench: the command-line tool. Each subcommand lives in its own file; this one dispatches and
+// turns errors into messages and exit codes (2 for bad input, 1 for anything else).
+#include <fmt/core.h>
+
+#include <CLI/CLI.hpp>
+#include <map>
+
+#include "commands.h"
+#include "eitbench/bench/version.h"
+#include "eitbench/jacobian/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "eitbench: electrical impedance tomography for tactile sensing, toolkit and benchmark"};
+  app.set_version_flag("--version", eitbench::program_version());
+  app.require_subcommand(1);
+  std::map<CLI::App*, std::function<void()>> actions;
+  for (auto add : {eitbench::cli::add_mesh_command, eitbench::cli::add_forward_command,
+                   eitbench::cli::add_jacobian_command, eitbench::cli::add_run_command}) {
+    auto action = add(app);
+    actions[app.get_subcommands({}).back()] = action;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    for (auto* sub : app.get_subcommands()) actions.at(sub)();
+  } catch (const eitbench::InputError& e) {
+    fmt::print(stderr, "eitbench: error: {}\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "eitbench: error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,50 @@
+// eitbench mesh: generate (or read) a mesh, report its quality, write it as Gmsh and as a picture.
+#include <fmt/core.h>
+
+#include <fstream>
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/bench/figures.h"
+#include "eitbench/bench/io.h"
+#include "options.h"
+
+namespace eitbench::cli {
+
+std::function<void()> add_mesh_command(CLI::App& app) {
+  struct Args {
+    MeshSource mesh;
+    std::string out, png, format = "4.1";
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "mesh", "Generate a D_L-symmetric disk mesh (or read one); report and write it");
+  add_mesh_options(*cmd, args->mesh);
+  cmd->add_option("--out", args->out, "write the mesh as Gmsh ASCII (.msh)");
+  cmd->add_option("--msh-version", args->format, "Gmsh format of --out: 2.2 | 4.1")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"2.2", "4.1"}));
+  cmd->add_option("--png", args->png, "draw the mesh with its electrodes to a PNG");
+  return [args] {
+    const Mesh mesh = load_mesh(args->mesh);
+    const MeshQuality q = measure_quality(mesh);
+    const auto areas = triangle_areas(mesh);
+    fmt::print("mesh: {} nodes, {} triangles, {} electrodes, {} boundary segments\n", q.nodes,
+               q.triangles, mesh.num_electrodes(), q.boundary_segments);
+    fmt::print(
+        "angles: smallest {:.2f} deg, largest {:.2f} deg; areas {:.3g} .. {:.3g} (total {:.6f})\n",
+        q.min_angle_deg, q.max_angle_deg, q.min_area, q.max_area, areas.sum());
+    if (!args->out.empty()) {
+      write_text_atomically(args->out, [&](std::ostream& out) {
+        write_msh(out, mesh, args->format == "2.2" ? MshVersion::v22 : MshVersion::v41);
+      });
+      fmt::print("wrote {}\n", args->out);
+    }
+    if (!args->png.empty()) {
+      draw_mesh_png(mesh, args->png);
+      fmt::print("wrote {}\n", args->png);
+    }
+  };
+}
+
+}  // namespace eitbench::cli

@@ -1,0 +1,97 @@
+#include "options.h"
+
+#include <cmath>
+
+#include "eitbench/bench/io.h"
+
+namespace eitbench::cli {
+
+void add_mesh_options(CLI::App& app, MeshSource& s) {
+  auto* mesh = app.add_option("--mesh", s.file,
+                              "Gmsh mesh (.msh 2.2 or 4.1, ASCII) with electrode_0.. groups");
+  auto* electrodes =
+      app.add_option("--electrodes", s.disk.electrodes, "electrodes L of a generated disk mesh")
+          ->capture_default_str()
+          ->check(CLI::Range(4, 256));
+  auto* density = app.add_option("--density", s.density, "coarse | medium | fine (generated mesh)")
+                      ->capture_default_str()
+                      ->check(CLI::IsMember({"coarse", "medium", "fine"}));
+  auto* coverage = app.add_option("--electrode-coverage", s.disk.electrode_coverage,
+                                  "fraction of the rim under electrodes (each is coverage/L of it)")
+                       ->capture_default_str()
+                       ->check(CLI::Range(0.001, 0.999));
+  auto* radius = app.add_option("--radius", s.disk.radius, "disk radius R")
+                     ->capture_default_str()
+                     ->check(CLI::PositiveNumber);
+  for (auto* o : {electrodes, density, coverage, radius}) mesh->excludes(o);
+}
+
+Mesh load_mesh(MeshSource& s) {
+  if (!s.file.empty()) return read_msh_file(s.file);
+  s.disk.density = parse_density(s.density);
+  return generate_disk_mesh(s.disk);
+}
+
+void add_conductivity_options(CLI::App& app, ConductivitySource& s) {
+  auto* uniform = app.add_option("--conductivity", s.uniform, "uniform conductivity S (S/m)")
+                      ->check(CLI::PositiveNumber);
+  auto* file =
+      app.add_option("--element-conductivity", s.file, "CSV with one conductivity per triangle");
+  auto* circles =
+      app.add_option("--circles", s.circles, "circular inclusions \"x,y,r,s;...\" on --background");
+  app.add_option("--background", s.background, "background conductivity for --circles (S/m)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  uniform->excludes(file)->excludes(circles);
+  file->excludes(circles);
+}
+
+Eigen::VectorXd load_conductivity(const CLI::App& app, const ConductivitySource& s,
+                                  const Mesh& mesh) {
+  const int T = mesh.num_triangles();
+  if (app.count("--element-conductivity")) {
+    const std::vector<double> v = read_numbers(s.file);
+    if (static_cast<int>(v.size()) != T)
+      throw InputError(s.file, "values",
+                       "has " + std::to_string(v.size()) + " conductivities, the mesh has " +
+                           std::to_string(T) + " triangles");
+    for (int t = 0; t < T; ++t)
+      if (!(v[t] > 0))
+        throw InputError(s.file, "value " + std::to_string(t + 1), "conductivity must be positive");
+    return Eigen::Map<const Eigen::VectorXd>(v.data(), T);
+  }
+  if (app.count("--circles")) {
+    const auto circles = parse_circles(s.circles, "--circles");
+    return conductivity_from_circles(mesh, circles, s.background);
+  }
+  if (app.count("--conductivity")) return Eigen::VectorXd::Constant(T, s.uniform);
+  throw InputError("conductivity", "",
+                   "give one of --conductivity, --element-conductivity or --circles");
+}
+
+void add_model_options(CLI::App& app, ModelSetup& s) {
+  app.add_option("--contact-impedance", s.forward.contact_impedance,
+                 "contact impedance z_c of every electrode")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--current", s.forward.current, "drive current I")->capture_default_str();
+  app.add_option("--order", s.order, "measurement order: rotating | ascending")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rotating", "ascending"}));
+  app.add_option(
+         "--values", s.values,
+         "all L(L-3) values (208 | full) or the L(L-3)/2 reciprocity-reduced ones (104 | reduced)")
+      ->capture_default_str();
+}
+
+bool reduced_values(const ModelSetup& s, int L) {
+  const int full = L * (L - 3), reduced = full / 2;
+  if (s.values == "full" || s.values == std::to_string(full)) return false;
+  if (s.values == "reduced" || s.values == std::to_string(reduced)) return true;
+  throw InputError("--values", "",
+                   "'" + s.values + "' does not fit " + std::to_string(L) + " electrodes: use " +
+                       std::to_string(full) + " (full) or " + std::to_string(reduced) +
+                       " (reduced)");
+}
+
+}  // namespace eitbench::cli

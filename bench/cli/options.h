@@ -1,0 +1,38 @@
+#pragma once
+// Options that several subcommands share: where the mesh and the conductivity come from, and how
+// the forward model and its output are set up. Names are a contract (issue 2): scripts use them.
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "eitbench/jacobian.h"
+
+namespace eitbench::cli {
+
+struct MeshSource {
+  std::string file;  // --mesh
+  DiskMeshOptions disk;
+  std::string density = "medium";
+};
+void add_mesh_options(CLI::App& app, MeshSource& source);
+Mesh load_mesh(MeshSource& source);  // a Gmsh file or a generated disk
+
+struct ConductivitySource {
+  double uniform = 0;       // --conductivity
+  std::string file;         // --element-conductivity
+  std::string circles;      // --circles
+  double background = 1.0;  // --background
+};
+void add_conductivity_options(CLI::App& app, ConductivitySource& source);
+Eigen::VectorXd load_conductivity(const CLI::App& app, const ConductivitySource& source,
+                                  const Mesh& mesh);
+
+struct ModelSetup {
+  ForwardOptions forward;
+  std::string order = "rotating";
+  std::string values = "full";  // 208 | 104 | full | reduced
+};
+void add_model_options(CLI::App& app, ModelSetup& setup);
+// True for the reciprocity-reduced L(L-3)/2 values; checks --values against L.
+bool reduced_values(const ModelSetup& setup, int electrodes);
+
+}  // namespace eitbench::cli

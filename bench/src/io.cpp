@@ -1,0 +1,100 @@
+#include "eitbench/bench/io.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <random>
+#include <sstream>
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace fs = std::filesystem;
+
+void write_atomically(const std::string& path,
+                      const std::function<void(const std::string&)>& write) {
+  if (path.empty()) throw InputError("--out", "", "the output path is empty");
+  const fs::path target(path);
+  if (fs::is_directory(target)) throw InputError(path, "", "is a directory, expected a file name");
+  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  if (!fs::is_directory(dir))
+    throw InputError(path, "", "the folder " + dir.string() + " does not exist");
+  const fs::path temp = dir / ("." + target.stem().string() + ".tmp" + std::to_string(::getpid()) +
+                               target.extension().string());
+  try {
+    write(temp.string());
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    throw;
+  }
+  std::error_code error;
+  fs::rename(temp, target, error);
+  if (error) {
+    fs::remove(temp, error);
+    throw InputError(path, "", "cannot write the file: " + error.message());
+  }
+}
+
+void write_text_atomically(const std::string& path,
+                           const std::function<void(std::ostream&)>& write) {
+  write_atomically(path, [&](const std::string& temp) {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out)
+      throw InputError(path, "", "cannot create the file: " + std::string(std::strerror(errno)));
+    write(out);
+    out.flush();
+    if (!out) throw InputError(path, "", "writing failed (disk full?)");
+  });
+}
+
+std::vector<double> read_numbers(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot open the file");
+  std::vector<double> values;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    for (char& c : line)
+      if (c == ',' || c == ';' || c == '\t' || c == '\r') c = ' ';
+    std::istringstream words(line);
+    std::string word;
+    while (words >> word) {
+      errno = 0;
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      const std::string field =
+          "line " + std::to_string(line_number) + ", value " + std::to_string(values.size() + 1);
+      if (*end != '\0' || errno == ERANGE)
+        throw InputError(path, field, "'" + word + "' is not a number");
+      if (!std::isfinite(v)) throw InputError(path, field, "NaN or infinite");
+      values.push_back(v);
+    }
+  }
+  return values;
+}
+
+void write_matrix_csv(const std::string& path, const Eigen::MatrixXd& m) {
+  write_text_atomically(path, [&](std::ostream& out) {
+    out << std::setprecision(17);
+    for (Eigen::Index i = 0; i < m.rows(); ++i) {
+      for (Eigen::Index j = 0; j < m.cols(); ++j) out << (j ? "," : "") << m(i, j);
+      out << '\n';
+    }
+  });
+}
+
+void write_frames_csv(const std::string& path, const Eigen::MatrixXd& frames_by_row) {
+  write_matrix_csv(path, frames_by_row);
+}
+
+}  // namespace eitbench

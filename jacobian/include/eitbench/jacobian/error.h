@@ -1,0 +1,30 @@
+#pragma once
+// The one exception type for bad input anywhere in eitbench: it names where the input came from
+// (a file path, "--option" or "argument") and the field that is wrong, so a user can fix it.
+#include <stdexcept>
+#include <string>
+
+namespace eitbench {
+
+class InputError : public std::runtime_error {
+ public:
+  InputError(std::string source, std::string field, const std::string& message)
+      : std::runtime_error(compose(source, field, message)),
+        source_(std::move(source)),
+        field_(std::move(field)) {}
+
+  const std::string& source() const { return source_; }
+  const std::string& field() const { return field_; }
+
+ private:
+  static std::string compose(const std::string& source, const std::string& field,
+                             const std::string& message) {
+    std::string out = source.empty() ? std::string("input") : source;
+    if (!field.empty()) out += ": " + field;
+    return out + ": " + message;
+  }
+  std::string source_;
+  std::string field_;
+};
+
+}  // namespace eitbench

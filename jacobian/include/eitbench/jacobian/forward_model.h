@@ -1,0 +1,64 @@
+#pragma once
+// The complete electrode model (CEM) on linear triangles with one conductivity per element, solved
+// by sparse Cholesky (SuiteSparse CHOLMOD through Eigen). The symbolic analysis is done once per
+// mesh; each conductivity costs one assembly, one numeric factorisation, and L solves that share
+// it.
+#include <Eigen/Core>
+#include <memory>
+
+#include "eitbench/jacobian/mesh.h"
+#include "eitbench/jacobian/protocol.h"
+
+namespace eitbench {
+
+struct ForwardOptions {
+  double current = 1.0;             // I, the drive amplitude (A)
+  double contact_impedance = 0.01;  // z_c for every electrode (Ohm m; lumped Ohm for point ones)
+  // One z_c per electrode; overrides contact_impedance when non-empty.
+  Eigen::VectorXd contact_impedances{};
+};
+
+// The fields of all L adjacent drives for one conductivity.
+struct ForwardSolution {
+  Eigen::MatrixXd node_potentials;       // nodes x L; column d is drive d
+  Eigen::MatrixXd electrode_potentials;  // L x L; (e, d): electrode e under drive d
+};
+
+class ForwardModel {
+ public:
+  // Validates the mesh and the options (InputError, source `source`) and analyses the pattern.
+  ForwardModel(const Mesh& mesh, const ForwardOptions& options = {},
+               const std::string& source = "mesh");
+  ~ForwardModel();
+  ForwardModel(ForwardModel&&) noexcept;
+  ForwardModel& operator=(ForwardModel&&) noexcept;
+
+  const Mesh& mesh() const;
+  const Protocol& protocol() const;
+  const ForwardOptions& options() const;
+
+  // Solves all drives; sigma has one positive, finite value per triangle (InputError otherwise).
+  ForwardSolution solve(const Eigen::VectorXd& sigma) const;
+
+  // The measured voltages of a solution in the given order (L(L-3) values).
+  Eigen::VectorXd frame(const ForwardSolution& solution,
+                        MeasurementOrder order = MeasurementOrder::rotating) const;
+  Eigen::VectorXd frame(const Eigen::VectorXd& sigma,
+                        MeasurementOrder order = MeasurementOrder::rotating) const;
+
+  // Net current through each electrode (L x L, column d for drive d), from the CEM's boundary
+  // terms.
+  Eigen::MatrixXd electrode_currents(const ForwardSolution& solution) const;
+
+  // d v / d sigma_k on elements by the adjoint method: rows in rotating order (L(L-3) rows), one
+  // column per triangle. The adjoint of measurement m is drive m's field scaled by 1/I, so the
+  // drive solves give every row: J(d,m; k) = -area_k * grad u_d . grad u_m / I.
+  Eigen::MatrixXd jacobian(const ForwardSolution& solution) const;
+  Eigen::MatrixXd jacobian(const Eigen::VectorXd& sigma) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace eitbench

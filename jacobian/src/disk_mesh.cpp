@@ -1,0 +1,321 @@
+// The D_L-symmetric disk mesh: Gmsh meshes one fundamental sector, the group replicates it.
+//
+// The fundamental sector is 0 <= theta <= pi/L: from the centre line of electrode 0 (a mirror axis)
+// to the middle of the next gap (another mirror axis). Its apex cannot be meshed on its own: any
+// triangle there would have an angle <= pi/L. The centre is therefore built by hand from 2L
+// triangles that straddle the electrode axes, L "spokes" (O, G_{j-1}, G_j) with G_j on the gap
+// axes, and L equilateral "caps" (G_{j-1}, E_j, G_j) with E_j on the electrode axes. Gmsh meshes
+// the rest of the sector with the cap's edge G_0-E_0 held as one segment, and with the arc nodes on
+// the circle. Replicating the sector by rotations and reflections then gives a conforming mesh
+// whose node set and triangle set are exactly invariant under D_L.
+#include <gmsh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+
+#include "eitbench/jacobian/disk_mesh.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct SizeSet {
+  double centre;    // element size at the centre
+  double boundary;  // on the rim, away from electrode edges
+  double edge;      // at the electrode edges, where the CEM current density is singular
+};
+
+SizeSet sizes_for(MeshDensity density) {
+  switch (density) {
+    case MeshDensity::coarse:
+      return {0.4, 0.2, 0.085};
+    case MeshDensity::medium:
+      return {0.095, 0.05, 0.018};
+    case MeshDensity::fine:
+      return {0.036, 0.019, 0.0065};
+  }
+  throw std::logic_error("unknown mesh density");
+}
+
+// Gmsh keeps global state: one mesher at a time, and always finalised.
+std::mutex gmsh_mutex;
+
+struct GmshSession {
+  GmshSession() {
+    gmsh::initialize(0, nullptr, false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.Verbosity", 0);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+};
+
+// A mesh of the sector in polar form, so that its images can be computed exactly.
+struct SectorMesh {
+  std::vector<double> r, phi;
+  std::vector<std::array<int, 3>> triangles;
+  int e0 = -1, g0 = -1;  // the cap's corners E_0 (on theta = 0) and G_0 (on theta = pi/L)
+};
+
+SectorMesh mesh_sector(const DiskMeshOptions& o, const SizeSet& h, double a, double b) {
+  const double R = o.radius;
+  const double gap = kPi / o.electrodes;                          // sector angle
+  const double half = kPi * o.electrode_coverage / o.electrodes;  // half the electrode's angle
+
+  std::lock_guard<std::mutex> lock(gmsh_mutex);
+  GmshSession session;
+  gmsh::model::add("sector");
+  namespace geo = gmsh::model::geo;
+  const int p_o = geo::addPoint(0, 0, 0);
+  const int p_e0 = geo::addPoint(a, 0, 0);
+  const int p_a = geo::addPoint(R, 0, 0);
+  const int p_edge = geo::addPoint(R * std::cos(half), R * std::sin(half), 0);
+  const int p_b = geo::addPoint(R * std::cos(gap), R * std::sin(gap), 0);
+  const int p_g0 = geo::addPoint(b * std::cos(gap), b * std::sin(gap), 0);
+  const int axis = geo::addLine(p_e0, p_a);
+  const int electrode_arc = geo::addCircleArc(p_a, p_o, p_edge);
+  const int gap_arc = geo::addCircleArc(p_edge, p_o, p_b);
+  const int gap_axis = geo::addLine(p_b, p_g0);
+  const int cap = geo::addLine(p_g0, p_e0);
+  const int loop = geo::addCurveLoop({axis, electrode_arc, gap_arc, gap_axis, cap});
+  geo::addPlaneSurface({loop});
+  geo::mesh::setTransfiniteCurve(cap, 2);
+  geo::synchronize();
+
+  namespace field = gmsh::model::mesh::field;
+  const int rim = field::add("Distance");
+  field::setNumbers(rim, "CurvesList", {double(electrode_arc), double(gap_arc)});
+  field::setNumber(rim, "NumPointsPerCurve", 200);
+  const int rim_size = field::add("Threshold");
+  field::setNumber(rim_size, "InField", rim);
+  field::setNumber(rim_size, "SizeMin", h.boundary);
+  field::setNumber(rim_size, "SizeMax", h.centre);
+  field::setNumber(rim_size, "DistMin", 0.0);
+  field::setNumber(rim_size, "DistMax", 0.45 * R);
+  const int edge = field::add("Distance");
+  field::setNumbers(edge, "PointsList", {double(p_edge)});
+  const int edge_size = field::add("Threshold");
+  field::setNumber(edge_size, "InField", edge);
+  field::setNumber(edge_size, "SizeMin", h.edge);
+  field::setNumber(edge_size, "SizeMax", h.centre);
+  field::setNumber(edge_size, "DistMin", 0.0);
+  field::setNumber(edge_size, "DistMax", 6.0 * (h.boundary - h.edge) + 0.1 * R);
+  // Grade from the short cap edge G_0-E_0 to the centre size, or the angles next to it suffer.
+  const double cap_side = 2 * b * std::sin(gap);
+  const int cap_corners = field::add("Distance");
+  field::setNumbers(cap_corners, "PointsList", {double(p_e0), double(p_g0)});
+  const int cap_size = field::add("Threshold");
+  field::setNumber(cap_size, "InField", cap_corners);
+  field::setNumber(cap_size, "SizeMin", cap_side);
+  field::setNumber(cap_size, "SizeMax", h.centre);
+  field::setNumber(cap_size, "DistMin", 0.0);
+  field::setNumber(cap_size, "DistMax", 3.0 * (h.centre - cap_side) + 1e-3 * R);
+  const int size = field::add("Min");
+  field::setNumbers(size, "FieldsList", {double(rim_size), double(edge_size), double(cap_size)});
+  field::setAsBackgroundMesh(size);
+  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+  gmsh::option::setNumber("Mesh.Algorithm", 6);  // frontal-Delaunay: the best angles in 2-D
+  gmsh::option::setNumber("Mesh.Smoothing", 5);
+  gmsh::model::mesh::generate(2);
+
+  std::vector<std::size_t> node_tags, element_tags, element_nodes;
+  std::vector<double> coords, parametric;
+  gmsh::model::mesh::getNodes(node_tags, coords, parametric, -1, -1, false, false);
+  gmsh::model::mesh::getElementsByType(2, element_tags, element_nodes);
+
+  // Only nodes that triangles use (the arc centre is a geometry point, not part of the mesh).
+  std::map<std::size_t, std::array<double, 2>> xy;
+  for (std::size_t i = 0; i < node_tags.size(); ++i)
+    xy[node_tags[i]] = {coords[3 * i], coords[3 * i + 1]};
+  std::map<std::size_t, int> local;
+  SectorMesh out;
+  const double tol = 1e-9 * R;
+  auto local_index = [&](std::size_t tag) {
+    auto [it, inserted] = local.emplace(tag, static_cast<int>(out.r.size()));
+    if (inserted) {
+      const auto [x, y] = xy.at(tag);
+      double r = std::hypot(x, y);
+      double phi = std::atan2(y, x);
+      // Snap nodes on the mirror axes and the rim, so that their images coincide exactly.
+      if (std::abs(y) <= tol) phi = 0.0;
+      if (std::abs(x * std::sin(gap) - y * std::cos(gap)) <= tol) phi = gap;
+      if (std::abs(r - R) <= tol) r = R;
+      out.r.push_back(r);
+      out.phi.push_back(phi);
+    }
+    return it->second;
+  };
+  for (std::size_t t = 0; t < element_tags.size(); ++t) {
+    std::array<int, 3> tri{};
+    for (int k = 0; k < 3; ++k) tri[k] = local_index(element_nodes[3 * t + k]);
+    out.triangles.push_back(tri);
+  }
+  auto find_node = [&](double x, double y) {
+    for (std::size_t i = 0; i < out.r.size(); ++i)
+      if (std::hypot(out.r[i] * std::cos(out.phi[i]) - x, out.r[i] * std::sin(out.phi[i]) - y) <=
+          tol)
+        return static_cast<int>(i);
+    throw std::runtime_error("disk mesher: Gmsh dropped a corner of the sector");
+  };
+  out.e0 = find_node(a, 0);
+  out.g0 = find_node(b * std::cos(gap), b * std::sin(gap));
+  return out;
+}
+
+}  // namespace
+
+MeshDensity parse_density(const std::string& name) {
+  if (name == "coarse") return MeshDensity::coarse;
+  if (name == "medium") return MeshDensity::medium;
+  if (name == "fine") return MeshDensity::fine;
+  throw InputError("--density", "", "unknown mesh density '" + name + "' (coarse, medium or fine)");
+}
+
+std::string to_string(MeshDensity density) {
+  switch (density) {
+    case MeshDensity::coarse:
+      return "coarse";
+    case MeshDensity::medium:
+      return "medium";
+    case MeshDensity::fine:
+      return "fine";
+  }
+  return "?";
+}
+
+Mesh generate_disk_mesh(const DiskMeshOptions& o) {
+  const int L = o.electrodes;
+  if (L < 4 || L > 256)
+    throw InputError("--electrodes", "", "need 4 <= L <= 256, got " + std::to_string(L));
+  if (!(o.radius > 0) || !std::isfinite(o.radius))
+    throw InputError("--radius", "", "the radius must be positive and finite");
+  if (!(o.electrode_coverage > 0 && o.electrode_coverage < 1))
+    throw InputError("--electrode-coverage", "", "must lie strictly between 0 and 1");
+  if (!(o.size_factor >= 0.1 && o.size_factor <= 10))
+    throw InputError("--size-factor", "", "must lie in [0.1, 10]");
+
+  const double R = o.radius;
+  const double gap = kPi / L;
+  SizeSet h = sizes_for(o.density);
+  h = {h.centre * R * o.size_factor, h.boundary * R * o.size_factor, h.edge * R * o.size_factor};
+  // At least one segment across each half electrode, so narrow electrodes are still resolved.
+  h.edge = std::min(h.edge, R * kPi * o.electrode_coverage / L);
+  h.boundary = std::max(h.boundary, h.edge);
+
+  // Spoke length b and cap corner a: an equilateral cap whose side is about 0.7 of the centre size,
+  // with spokes no longer than 1.2 centre sizes nor 0.3 R.
+  const double b = std::min({0.7 * h.centre / (2 * std::sin(gap)), 1.2 * h.centre, 0.3 * R});
+  const double a = b * (std::cos(gap) + std::sqrt(3.0) * std::sin(gap));
+  if (a > 0.6 * R) throw InputError("--size-factor", "", "the mesh is too coarse for this disk");
+
+  SectorMesh sector;
+  try {
+    sector = mesh_sector(o, h, a, b);
+  } catch (const std::runtime_error&) {
+    throw;
+  } catch (...) {
+    throw std::runtime_error("disk mesher: Gmsh failed to mesh the sector");
+  }
+
+  // Copy c of the sector covers c*pi/L <= theta <= (c+1)*pi/L: even copies are rotations of the
+  // sector, odd ones its mirror images. A node on an axis belongs to two neighbouring copies; the
+  // even copy owns it.
+  const int n_local = static_cast<int>(sector.r.size());
+  const int copies = 2 * L;
+  std::vector<int> global(static_cast<std::size_t>(copies) * n_local, -1);
+  std::vector<std::array<double, 2>> nodes{{0.0, 0.0}};  // node 0: the centre
+  auto angle_of = [&](int c, int k) {
+    return (c % 2 == 0) ? c * gap + sector.phi[k] : (c + 1) * gap - sector.phi[k];
+  };
+  for (int c = 0; c < copies; ++c) {
+    for (int k = 0; k < n_local; ++k) {
+      int owner = c;
+      if (c % 2 == 1 && sector.phi[k] == 0.0) owner = (c + 1) % copies;  // on electrode axis
+      if (c % 2 == 1 && sector.phi[k] == gap) owner = c - 1;             // on gap axis
+      int& slot = global[static_cast<std::size_t>(owner) * n_local + k];
+      if (slot < 0) {
+        const double theta = angle_of(owner, k);
+        slot = static_cast<int>(nodes.size());
+        nodes.push_back({sector.r[k] * std::cos(theta), sector.r[k] * std::sin(theta)});
+      }
+      global[static_cast<std::size_t>(c) * n_local + k] = slot;
+    }
+  }
+  auto id = [&](int c, int k) {
+    return global[static_cast<std::size_t>(((c % copies) + copies) % copies) * n_local + k];
+  };
+
+  std::vector<std::array<int, 3>> triangles;
+  for (int c = 0; c < copies; ++c) {
+    for (const auto& t : sector.triangles) {
+      std::array<int, 3> g{id(c, t[0]), id(c, t[1]), id(c, t[2])};
+      if (c % 2 == 1) std::swap(g[1], g[2]);  // a reflection reverses orientation
+      triangles.push_back(g);
+    }
+  }
+  for (int j = 0; j < L; ++j) {
+    const int g_prev = id(2 * j - 2, sector.g0);  // G_{j-1}, on the gap axis at (2j-1) pi/L
+    const int g_next = id(2 * j, sector.g0);      // G_j, at (2j+1) pi/L
+    const int e = id(2 * j, sector.e0);           // E_j, on electrode j's axis
+    triangles.push_back({0, g_prev, g_next});
+    triangles.push_back({g_prev, e, g_next});
+  }
+
+  Mesh mesh;
+  mesh.nodes.resize(static_cast<Eigen::Index>(nodes.size()), 2);
+  for (std::size_t i = 0; i < nodes.size(); ++i) mesh.nodes.row(i) << nodes[i][0], nodes[i][1];
+  mesh.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    auto& tri = triangles[t];
+    const Eigen::Vector2d p0 = mesh.nodes.row(tri[0]), p1 = mesh.nodes.row(tri[1]),
+                          p2 = mesh.nodes.row(tri[2]);
+    const double cross = (p1 - p0).x() * (p2 - p0).y() - (p1 - p0).y() * (p2 - p0).x();
+    if (cross < 0) std::swap(tri[1], tri[2]);  // Gmsh's sector orientation is not promised
+    mesh.triangles.row(t) << tri[0], tri[1], tri[2];
+  }
+
+  // Electrode e: the rim segments whose midpoint lies within its arc. The electrode edges are
+  // nodes, so every rim segment is either wholly under an electrode or wholly in a gap.
+  const double half = kPi * o.electrode_coverage / L;
+  mesh.electrodes.resize(L);
+  std::map<std::pair<int, int>, int> edge_count;
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      int u = t[k], v = t[(k + 1) % 3];
+      ++edge_count[{std::min(u, v), std::max(u, v)}];
+    }
+  for (const auto& [edge, count] : edge_count) {
+    if (count != 1) continue;
+    const Eigen::Vector2d mid =
+        0.5 * (mesh.nodes.row(edge.first) + mesh.nodes.row(edge.second)).transpose();
+    const double theta = std::atan2(mid.y(), mid.x());
+    const int e = static_cast<int>(std::lround(theta / (2 * gap))) % L;
+    const int nearest = (e + L) % L;
+    double offset = std::remainder(theta - 2 * gap * nearest, 2 * kPi);
+    if (std::abs(offset) < half)
+      mesh.electrodes[nearest].segments.push_back({edge.first, edge.second});
+  }
+  for (auto& electrode : mesh.electrodes) {  // along the rim, counter-clockwise
+    if (electrode.segments.empty())
+      throw std::runtime_error("disk mesher: an electrode has no segment");
+    auto angle = [&](const std::array<int, 2>& s) {
+      const Eigen::Vector2d m = 0.5 * (mesh.nodes.row(s[0]) + mesh.nodes.row(s[1])).transpose();
+      return std::atan2(m.y(), m.x());
+    };
+    const double centre = angle(electrode.segments.front());
+    std::sort(electrode.segments.begin(), electrode.segments.end(),
+              [&](const auto& s, const auto& t) {
+                return std::remainder(angle(s) - centre, 2 * kPi) <
+                       std::remainder(angle(t) - centre, 2 * kPi);
+              });
+  }
+  return mesh;
+}
+
+}  // namespace eitbench

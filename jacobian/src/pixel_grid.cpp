@@ -1,0 +1,101 @@
+#include "eitbench/jacobian/pixel_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "eitbench/jacobian/geometry.h"
+
+namespace eitbench {
+
+PixelGrid::PixelGrid(int size, double radius) : size_(size), radius_(radius) {
+  if (size < 1 || !(radius > 0))
+    throw std::invalid_argument("PixelGrid: size and radius must be positive");
+  mask_.resize(num_pixels());
+  for (int i = 0; i < size_; ++i)
+    for (int j = 0; j < size_; ++j) mask_[i * size_ + j] = center(i, j).norm() < radius_;
+}
+
+Eigen::Vector2d PixelGrid::center(int i, int j) const {
+  const double w = pixel_width();
+  return {-radius_ + (j + 0.5) * w, radius_ - (i + 0.5) * w};
+}
+
+int PixelGrid::num_inside() const {
+  return static_cast<int>(mask_.count());
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_overlap(const Mesh& mesh,
+                                                           const PixelGrid& grid) {
+  const double w = grid.pixel_width(), R = grid.radius();
+  const int n = grid.size();
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int t = 0; t < mesh.num_triangles(); ++t) {
+    const Eigen::Vector2d a = mesh.nodes.row(mesh.triangles(t, 0)),
+                          b = mesh.nodes.row(mesh.triangles(t, 1)),
+                          c = mesh.nodes.row(mesh.triangles(t, 2));
+    const Eigen::Vector2d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
+    // Columns j cover x in [-R + j w, -R + (j+1) w]; rows i cover y in [R - (i+1) w, R - i w].
+    const int j0 = std::max(0, static_cast<int>(std::floor((lo.x() + R) / w)));
+    const int j1 = std::min(n - 1, static_cast<int>(std::floor((hi.x() + R) / w)));
+    const int i0 = std::max(0, static_cast<int>(std::floor((R - hi.y()) / w)));
+    const int i1 = std::min(n - 1, static_cast<int>(std::floor((R - lo.y()) / w)));
+    for (int i = i0; i <= i1; ++i)
+      for (int j = j0; j <= j1; ++j) {
+        const double x0 = -R + j * w, y1 = R - i * w;
+        const double area = triangle_box_overlap(a, b, c, x0, x0 + w, y1 - w, y1);
+        if (area > 0) entries.emplace_back(t, i * n + j, area);
+      }
+  }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> overlap(mesh.num_triangles(), grid.num_pixels());
+  overlap.setFromTriplets(entries.begin(), entries.end());
+  return overlap;
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_to_element(const Mesh& mesh,
+                                                              const PixelGrid& grid) {
+  const auto overlap = pixel_overlap(mesh, grid);
+  const auto& mask = grid.mask();
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int t = 0; t < overlap.rows(); ++t) {
+    double total = 0;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(overlap, t); it; ++it)
+      if (mask[it.col()]) total += it.value();
+    if (total > 0) {
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(overlap, t); it; ++it)
+        if (mask[it.col()]) entries.emplace_back(t, it.col(), it.value() / total);
+      continue;
+    }
+    const Eigen::Vector2d centroid = triangle_centroid(mesh, t);
+    int best = -1;
+    double best_distance = INFINITY;
+    for (int p = 0; p < grid.num_pixels(); ++p) {
+      if (!mask[p]) continue;
+      const double distance =
+          (grid.center(p / grid.size(), p % grid.size()) - centroid).squaredNorm();
+      if (distance < best_distance) best_distance = distance, best = p;
+    }
+    entries.emplace_back(t, best, 1.0);
+  }
+  Eigen::SparseMatrix<double, Eigen::RowMajor> P(overlap.rows(), overlap.cols());
+  P.setFromTriplets(entries.begin(), entries.end());
+  return P;
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> element_to_pixel(const Mesh& mesh,
+                                                              const PixelGrid& grid) {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> Q = pixel_overlap(mesh, grid).transpose();
+  const auto& mask = grid.mask();
+  for (int p = 0; p < Q.rows(); ++p) {
+    double total = 0;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(Q, p); it; ++it)
+      total += it.value();
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(Q, p); it; ++it)
+      it.valueRef() = (mask[p] && total > 0) ? it.value() / total : 0.0;
+  }
+  Q.prune(0.0);
+  return Q;
+}
+
+}  // namespace eitbench

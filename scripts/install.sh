@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package eitbench needs. Run as root; safe to run again (it only calls
+# apt when something is missing). The list and its reasons are in README.md, "Dependencies".
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev          # dense and sparse linear algebra at every module boundary
+  libsuitesparse-dev     # CHOLMOD: the forward model's sparse Cholesky
+  libgmsh-dev            # meshes the disk's fundamental sector
+  libceres-dev           # total variation and Gauss-Newton (solvers/)
+  libopencv-dev          # figures and bilinear image transforms
+  libhdf5-dev            # data sets and Jacobians, readable by h5py and MATLAB
+  libtorch-dev           # the learned reconstructor (learned/)
+  libopenblas0-openmp    # the fast BLAS: ATLAS is 1.5-3x slower, pthread OpenBLAS fights OpenMP
+  libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev libtbb-dev
+  libgtest-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install.sh: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+if [ "$(id -u)" -ne 0 ]; then
+  echo "install.sh: missing packages: ${missing[*]}; run this script as root (or with sudo)" >&2
+  exit 1
+fi
+echo "install.sh: installing ${#missing[@]} packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -q
+# libgmsh-dev without its recommends (the Gmsh GUI); everything else as Debian recommends.
+others=()
+for p in "${missing[@]}"; do [ "$p" = libgmsh-dev ] || others+=("$p"); done
+if [ ${#others[@]} -gt 0 ]; then apt-get install -y -q "${others[@]}"; fi
+if [[ " ${missing[*]} " == *" libgmsh-dev "* ]]; then apt-get install -y -q --no-install-recommends libgmsh-dev; fi

@@ -1,0 +1,201 @@
+// The command-line tool as users meet it: outputs, formats, and every bad input of the corpus.
+#include <H5Cpp.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "eitbench/bench/io.h"
+#include "eitbench/jacobian.h"
+
+namespace eitbench {
+namespace {
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code;
+  std::string output;  // stdout and stderr together
+};
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("eitbench_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  Result run(const std::string& args) const {
+    const std::string log = path("log.txt");
+    const int status =
+        std::system((std::string(EITBENCH_CLI) + " " + args + " > " + log + " 2>&1").c_str());
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    return {WEXITSTATUS(status), text.str()};
+  }
+
+  std::vector<std::string> files() const {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(dir_))
+      if (entry.path().filename() != "log.txt") names.push_back(entry.path().filename().string());
+    return names;
+  }
+
+  fs::path dir_;
+};
+
+const std::string kCorpus = EITBENCH_BAD_INPUTS;
+const std::string kSquare = kCorpus + "/../square_points.msh";
+
+TEST_F(Cli, MeshWritesGmshAndPng) {
+  const Result r = run("mesh --electrodes 8 --density coarse --out " + path("m.msh") + " --png " +
+                       path("m.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("smallest"), std::string::npos);
+  EXPECT_EQ(read_msh_file(path("m.msh")).num_electrodes(), 8);
+  std::ifstream png(path("m.png"), std::ios::binary);
+  char magic[8] = {};
+  png.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  ASSERT_EQ(
+      run("mesh --mesh " + path("m.msh") + " --msh-version 2.2 --out " + path("m22.msh")).exit_code,
+      0);
+  EXPECT_EQ(read_msh_file(path("m22.msh")).nodes, read_msh_file(path("m.msh")).nodes);
+}
+
+TEST_F(Cli, ForwardWritesTheFrameInTheRequestedOrderAndSize) {
+  const std::string common =
+      "forward --electrodes 16 --density coarse --circles '0.3,0.2,0.2,0.5' --background 1";
+  ASSERT_EQ(run(common + " --out " + path("full.csv")).exit_code, 0);
+  ASSERT_EQ(run(common + " --values 104 --out " + path("reduced.csv")).exit_code, 0);
+  ASSERT_EQ(run(common + " --order ascending --out " + path("asc.csv")).exit_code, 0);
+  const auto full = read_numbers(path("full.csv")), reduced = read_numbers(path("reduced.csv")),
+             asc = read_numbers(path("asc.csv"));
+  ASSERT_EQ(full.size(), 208u);
+  ASSERT_EQ(reduced.size(), 104u);
+  const Protocol p(16);
+  const Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(full.data(), 208);
+  EXPECT_EQ(p.reduce(v, MeasurementOrder::rotating),
+            Eigen::Map<const Eigen::VectorXd>(reduced.data(), 104));
+  EXPECT_EQ(p.reorder(v, MeasurementOrder::rotating, MeasurementOrder::ascending),
+            Eigen::Map<const Eigen::VectorXd>(asc.data(), 208));
+}
+
+TEST_F(Cli, ForwardOnAnImportedMeshWithElementConductivities) {
+  {
+    std::ofstream out(path("sigma.csv"));
+    out << "2\n2\n2\n2\n";
+  }
+  ASSERT_EQ(run("forward --mesh " + kSquare + " --element-conductivity " + path("sigma.csv") +
+                " --out " + path("a.csv"))
+                .exit_code,
+            0);
+  ASSERT_EQ(run("forward --mesh " + kSquare + " --conductivity 2 --out " + path("b.csv")).exit_code,
+            0);
+  EXPECT_EQ(read_numbers(path("a.csv")).size(), 4u);  // L = 4: 4 x 1 values
+  EXPECT_EQ(read_numbers(path("a.csv")), read_numbers(path("b.csv")));
+}
+
+TEST_F(Cli, JacobianAsHdf5AndCsv) {
+  const std::string common = "jacobian --electrodes 16 --density coarse --conductivity 1";
+  const Result h5 = run(common + " --basis pixels --out " + path("j.h5"));
+  ASSERT_EQ(h5.exit_code, 0) << h5.output;
+  H5::H5File file(path("j.h5"), H5F_ACC_RDONLY);
+  hsize_t dims[2];
+  file.openDataSet("jacobian").getSpace().getSimpleExtentDims(dims);
+  EXPECT_EQ(dims[0], 208u);
+  EXPECT_EQ(dims[1], 4096u);
+  file.openDataSet("pairs").getSpace().getSimpleExtentDims(dims);
+  EXPECT_EQ(dims[0], 208u);
+
+  ASSERT_EQ(run(common + " --values reduced --out " + path("j.csv")).exit_code, 0);
+  std::ifstream csv(path("j.csv"));
+  std::string line;
+  int rows = 0;
+  std::size_t cols = 0;
+  while (std::getline(csv, line)) ++rows, cols = std::count(line.begin(), line.end(), ',') + 1;
+  const Mesh mesh = generate_disk_mesh({16, MeshDensity::coarse});
+  EXPECT_EQ(rows, 104);
+  EXPECT_EQ(static_cast<int>(cols), mesh.num_triangles());
+}
+
+TEST_F(Cli, EveryBadMeshIsRejectedWithoutOutput) {
+  int checked = 0;
+  for (const auto& entry : fs::directory_iterator(kCorpus)) {
+    if (entry.path().extension() != ".msh") continue;
+    const std::string out = path("frame.csv");
+    const Result r =
+        run("forward --mesh " + entry.path().string() + " --conductivity 1 --out " + out);
+    EXPECT_EQ(r.exit_code, 2) << entry.path() << "\n" << r.output;
+    EXPECT_NE(r.output.find(entry.path().string()), std::string::npos)
+        << "names the file: " << r.output;
+    EXPECT_EQ(r.output.find("terminate"), std::string::npos) << "no crash: " << r.output;
+    EXPECT_TRUE(files().empty()) << entry.path() << " left output behind";
+    ++checked;
+  }
+  EXPECT_GE(checked, 15);
+}
+
+TEST_F(Cli, EveryBadConductivityFileIsRejectedWithoutOutput) {
+  int checked = 0;
+  for (const auto& entry : fs::directory_iterator(kCorpus)) {
+    if (entry.path().extension() != ".csv") continue;
+    const Result r = run("forward --mesh " + kSquare + " --element-conductivity " +
+                         entry.path().string() + " --out " + path("f.csv"));
+    EXPECT_EQ(r.exit_code, 2) << entry.path() << "\n" << r.output;
+    EXPECT_NE(r.output.find(entry.path().string()), std::string::npos) << r.output;
+    EXPECT_TRUE(files().empty());
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4);
+}
+
+TEST_F(Cli, BadOptionsFailCleanlyAndKeepExistingOutput) {
+  {
+    std::ofstream keep(path("frame.csv"));
+    keep << "keep me\n";
+  }
+  const std::string base = "forward --electrodes 16 --density coarse ";
+  const std::vector<std::string> bad = {
+      base + "--conductivity 1 --values 105 --out " + path("frame.csv"),
+      base + "--conductivity 0 --out " + path("frame.csv"),
+      base + "--conductivity 1 --contact-impedance -1 --out " + path("frame.csv"),
+      base + "--circles '0,0,abc,1' --out " + path("frame.csv"),
+      base + "--out " + path("frame.csv"),  // no conductivity
+      base + "--conductivity 1 --order descending --out " + path("frame.csv"),
+      base + "--conductivity 1 --element-conductivity x.csv --out " + path("frame.csv"),
+      "forward --electrodes 2 --conductivity 1 --out " + path("frame.csv"),
+      "forward --mesh " + kSquare + " --density fine --conductivity 1 --out " + path("frame.csv"),
+      "jacobian --electrodes 16 --density coarse --conductivity 1 --out " + path("frame.txt"),
+      base + "--conductivity 1 --out /nonexistent/folder/frame.csv",
+  };
+  for (const auto& args : bad) {
+    const Result r = run(args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(r.output.find("terminate"), std::string::npos) << args << ": " << r.output;
+    std::ifstream in(path("frame.csv"));
+    std::string first;
+    std::getline(in, first);
+    EXPECT_EQ(first, "keep me") << args;
+  }
+  EXPECT_EQ(files().size(), 1u);
+}
+
+TEST_F(Cli, HelpIsAvailableEverywhere) {
+  for (const std::string sub : {"", "mesh", "forward", "jacobian", "run"}) {
+    const Result r = run(sub + " --help");
+    EXPECT_EQ(r.exit_code, 0) << sub;
+    EXPECT_NE(r.output.find("--"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace eitbench

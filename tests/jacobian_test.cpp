@@ -1,0 +1,84 @@
+// The adjoint Jacobian against central finite differences of the forward model.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "eitbench/jacobian.h"
+#include "test_support.h"
+
+namespace eitbench {
+namespace {
+
+Eigen::VectorXd random_conductivity(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.5, 2.0);
+  Eigen::VectorXd sigma(n);
+  for (auto& s : sigma) s = u(rng);
+  return sigma;
+}
+
+// Central difference of the frame along direction `dir`, with a step relative to sigma.
+Eigen::VectorXd central_difference(const ForwardModel& model, const Eigen::VectorXd& sigma,
+                                   const Eigen::VectorXd& dir) {
+  const double h = 1e-4 * sigma.cwiseAbs().maxCoeff() / dir.cwiseAbs().maxCoeff();
+  return (model.frame(sigma + h * dir) - model.frame(sigma - h * dir)) / (2 * h);
+}
+
+TEST(Jacobian, ElementColumnsMatchFiniteDifferences) {
+  for (int L : {8, 16}) {
+    const Mesh& mesh = testing::disk(L, MeshDensity::coarse);
+    const ForwardModel model(mesh, {1.5, 0.02});
+    const Eigen::VectorXd sigma = random_conductivity(mesh.num_triangles(), 11);
+    const Eigen::MatrixXd J = model.jacobian(sigma);
+    ASSERT_EQ(J.rows(), L * (L - 3));
+    ASSERT_EQ(J.cols(), mesh.num_triangles());
+    for (int t : {0, 1, 7, mesh.num_triangles() / 2, mesh.num_triangles() - 1}) {
+      const Eigen::VectorXd fd =
+          central_difference(model, sigma, Eigen::VectorXd::Unit(mesh.num_triangles(), t));
+      EXPECT_LT((J.col(t) - fd).norm() / fd.norm(), 1e-5) << "L = " << L << ", element " << t;
+    }
+    // A random direction exercises every column at once.
+    const Eigen::VectorXd dir = random_conductivity(mesh.num_triangles(), 12).array() - 1.25;
+    const Eigen::VectorXd fd = central_difference(model, sigma, dir);
+    EXPECT_LT((J * dir - fd).norm() / fd.norm(), 1e-5);
+  }
+}
+
+TEST(Jacobian, PixelColumnsMatchFiniteDifferences) {
+  const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
+  const ForwardModel model(mesh);
+  const PixelGrid grid(64, 1.0);
+  const auto P = pixel_to_element(mesh, grid);
+  const Eigen::VectorXd sigma = random_conductivity(mesh.num_triangles(), 13);
+  const Eigen::MatrixXd Jp = model.jacobian(sigma) * P;
+  ASSERT_EQ(Jp.cols(), 4096);
+  for (int p : {32 * 64 + 32, 10 * 64 + 20, 50 * 64 + 40, 31 * 64 + 1}) {
+    ASSERT_TRUE(grid.mask()[p]);
+    const Eigen::VectorXd dir =
+        P * Eigen::VectorXd::Unit(grid.num_pixels(), p);  // pixel p's footprint
+    const Eigen::VectorXd fd = central_difference(model, sigma, dir);
+    EXPECT_LT((Jp.col(p) - fd).norm() / fd.norm(), 1e-5) << "pixel " << p;
+  }
+  for (int p = 0; p < grid.num_pixels(); ++p)
+    if (!grid.mask()[p]) {
+      ASSERT_EQ(Jp.col(p).norm(), 0.0) << "masked pixel " << p;
+    }
+}
+
+TEST(Jacobian, SatisfiesEulersRelationForTheScalingLaw) {
+  // v(c sigma, z / c) = v(sigma, z) / c; differentiating at c = 1 gives, exactly,
+  //   sum_k J_k sigma_k - z dv/dz = -v,
+  // with dv/dz from central differences in the contact impedance.
+  const Mesh& mesh = testing::disk(16, MeshDensity::medium);
+  const double z = 0.05, h = 1e-4 * z;
+  const ForwardModel model(mesh, {1.0, z}), up(mesh, {1.0, z + h}), down(mesh, {1.0, z - h});
+  const Eigen::VectorXd sigma = random_conductivity(mesh.num_triangles(), 14);
+  const Eigen::VectorXd v = model.frame(sigma);
+  const Eigen::VectorXd dv_dz = (up.frame(sigma) - down.frame(sigma)) / (2 * h);
+  const Eigen::VectorXd lhs = model.jacobian(sigma) * sigma - z * dv_dz;
+  EXPECT_LT((lhs + v).norm() / v.norm(), 1e-7);
+  EXPECT_GT((z * dv_dz).norm() / v.norm(), 1e-4) << "the contact term matters at this z";
+}
+
+}  // namespace
+}  // namespace eitbench
