@@ -98,4 +98,29 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> element_to_pixel(const Mesh& mesh,
   return Q;
 }
 
+Eigen::VectorXd circles_image(const PixelGrid& grid, const std::vector<Circle>& circles,
+                              double background) {
+  const int n = grid.size();
+  const double w = grid.pixel_width(), R = grid.radius();
+  Eigen::VectorXd image = Eigen::VectorXd::Zero(grid.num_pixels());
+  for (const Circle& c : circles) {
+    const double intensity = (background - c.conductivity) / background;
+    const int j0 = std::max(0, static_cast<int>(std::floor((c.x - c.r + R) / w)));
+    const int j1 = std::min(n - 1, static_cast<int>(std::floor((c.x + c.r + R) / w)));
+    const int i0 = std::max(0, static_cast<int>(std::floor((R - c.y - c.r) / w)));
+    const int i1 = std::min(n - 1, static_cast<int>(std::floor((R - c.y + c.r) / w)));
+    const Eigen::Vector2d centre(c.x, c.y);
+    for (int i = i0; i <= i1; ++i)
+      for (int j = j0; j <= j1; ++j) {
+        if (!grid.mask()[i * n + j]) continue;
+        const double x0 = -R + j * w, y1 = R - i * w;  // the pixel is two triangles
+        const Eigen::Vector2d a(x0, y1 - w), b(x0 + w, y1 - w), cc(x0 + w, y1), d(x0, y1);
+        const double covered = triangle_circle_overlap(a, b, cc, centre, c.r) +
+                               triangle_circle_overlap(a, cc, d, centre, c.r);
+        image[i * n + j] += intensity * covered / (w * w);
+      }
+  }
+  return image;
+}
+
 }  // namespace eitbench

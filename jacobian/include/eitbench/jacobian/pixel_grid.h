@@ -4,6 +4,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include <vector>
+
+#include "eitbench/jacobian/geometry.h"
 #include "eitbench/jacobian/mesh.h"
 
 namespace eitbench {
@@ -41,5 +44,11 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_to_element(const Mesh& mesh,
 // it (images of element data); masked pixels get an empty row and hold 0.
 Eigen::SparseMatrix<double, Eigen::RowMajor> element_to_pixel(const Mesh& mesh,
                                                               const PixelGrid& grid);
+
+// The label image of circular inclusions (SPEC section 4): per pixel, the touch intensity
+// (sigma_0 - sigma) / sigma_0 weighted by the exact fraction of the pixel each circle covers.
+// Masked pixels hold 0. One value per pixel, row-major (index i * size + j).
+Eigen::VectorXd circles_image(const PixelGrid& grid, const std::vector<Circle>& circles,
+                              double background);
 
 }  // namespace eitbench

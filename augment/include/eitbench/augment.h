@@ -1,0 +1,7 @@
+#pragma once
+// eitbench/augment: the data augmentation of the paper through the sensor's symmetry group D_L,
+// with the correct mirror (SPEC section 2) and the paper's literal variant for comparison.
+#include "eitbench/augment/augmented_set.h"
+#include "eitbench/augment/impedance_map.h"
+#include "eitbench/augment/label_transform.h"
+#include "eitbench/augment/symmetry.h"

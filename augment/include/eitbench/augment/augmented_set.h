@@ -1,0 +1,57 @@
+#pragma once
+// Augmenting a whole set of labelled frames: expanded (every frame times every group element), or
+// on the fly (one group element per sample and epoch, drawn deterministically, with no copy).
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "eitbench/augment/label_transform.h"
+#include "eitbench/augment/symmetry.h"
+
+namespace eitbench {
+
+// One sample a row. Labels and circles are optional (zero columns / empty vector); when a sample's
+// circles are given, its label is transformed exactly by re-rasterising them.
+struct LabelledFrames {
+  Eigen::MatrixXd frames;                    // N x frame size
+  Eigen::MatrixXd labels;                    // N x pixels, or N x 0
+  std::vector<std::vector<Circle>> circles;  // N lists, or empty
+  double background = 0.05;                  // sigma_0 for re-rasterised labels
+};
+
+struct AugmentSetup {
+  AugmentGroup group = AugmentGroup::dihedral;
+  FrameLayout layout = FrameLayout::reduced;
+  int electrodes = 16;
+  int image_size = 64;  // labels are image_size^2 pixels over [-R, R]^2
+  double radius = 1.0;
+};
+
+// Throws InputError("frames", ...) when sizes disagree with the setup.
+void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup);
+
+// |G| x N rows, sample-major: row i |G| + k is sample i under group element k.
+LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup);
+
+class OnTheFlyAugmenter {
+ public:
+  OnTheFlyAugmenter(const LabelledFrames& set, const AugmentSetup& setup, std::uint64_t seed);
+
+  int size() const { return static_cast<int>(set_.frames.rows()); }
+  const std::vector<GroupElement>& elements() const { return elements_; }
+  // The element of sample i in `epoch`: a hash of (seed, epoch, i), uniform over the group.
+  const GroupElement& element(int sample, int epoch) const;
+  // Rows of `frames` and `labels` (resized) get samples `indices` as they are in `epoch`.
+  void batch(const std::vector<int>& indices, int epoch, Eigen::MatrixXd& frames,
+             Eigen::MatrixXd& labels) const;
+
+ private:
+  const LabelledFrames& set_;
+  AugmentSetup setup_;
+  std::uint64_t seed_;
+  std::vector<GroupElement> elements_;
+  FrameSymmetry symmetry_;
+  PixelGrid grid_;
+};
+
+}  // namespace eitbench

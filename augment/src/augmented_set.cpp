@@ -1,0 +1,105 @@
+#include "eitbench/augment/augmented_set.h"
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+// splitmix64: a well-mixed, platform-independent hash for the per-sample draws.
+std::uint64_t mix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// Sample i's label under g: exact from its circles when it has them, bilinear otherwise.
+Eigen::VectorXd transformed_label(const LabelledFrames& set, int i, const GroupElement& g, int L,
+                                  const PixelGrid& grid) {
+  if (!set.circles.empty())
+    return circles_image(grid, transform_circles(set.circles[i], g, L), set.background);
+  return transform_image(set.labels.row(i).transpose(), g, L, grid);
+}
+
+}  // namespace
+
+void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup) {
+  const Eigen::Index n = set.frames.rows();
+  if (n == 0) throw InputError("frames", "", "the set is empty");
+  if (set.frames.cols() != frame_size(setup.layout, setup.electrodes))
+    throw InputError("frames", "columns",
+                     std::to_string(set.frames.cols()) + " values a frame, but " +
+                         std::to_string(setup.electrodes) + " electrodes in the " +
+                         to_string(setup.layout) + " layout give " +
+                         std::to_string(frame_size(setup.layout, setup.electrodes)));
+  if (!set.frames.allFinite()) throw InputError("frames", "values", "NaN or infinite values");
+  if (set.labels.cols() > 0 &&
+      (set.labels.rows() != n || set.labels.cols() != setup.image_size * setup.image_size))
+    throw InputError("labels", "shape",
+                     "labels must be N x " + std::to_string(setup.image_size * setup.image_size));
+  if (!set.circles.empty() && static_cast<Eigen::Index>(set.circles.size()) != n)
+    throw InputError("circles", "count", "one circle list per frame is needed");
+  if (!set.circles.empty() && !(set.background > 0))
+    throw InputError("background", "", "must be positive");
+}
+
+LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup) {
+  check_labelled_frames(set, setup);
+  const int L = setup.electrodes;
+  const auto elements = group_elements(setup.group, L);
+  const FrameSymmetry symmetry(L);
+  const PixelGrid grid(setup.image_size, setup.radius);
+  const bool labelled = set.labels.cols() > 0 || !set.circles.empty();
+  const Eigen::Index n = set.frames.rows(), k = static_cast<Eigen::Index>(elements.size());
+  LabelledFrames out;
+  out.background = set.background;
+  out.frames.resize(n * k, set.frames.cols());
+  if (labelled) out.labels.resize(n * k, grid.num_pixels());
+  if (!set.circles.empty()) out.circles.reserve(n * k);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::VectorXd frame = set.frames.row(i).transpose();
+    for (Eigen::Index e = 0; e < k; ++e) {
+      const GroupElement& g = elements[e];
+      out.frames.row(i * k + e) = symmetry.apply(setup.group, g, frame, setup.layout).transpose();
+      if (labelled)
+        out.labels.row(i * k + e) =
+            transformed_label(set, static_cast<int>(i), g, L, grid).transpose();
+      if (!set.circles.empty()) out.circles.push_back(transform_circles(set.circles[i], g, L));
+    }
+  }
+  return out;
+}
+
+OnTheFlyAugmenter::OnTheFlyAugmenter(const LabelledFrames& set, const AugmentSetup& setup,
+                                     std::uint64_t seed)
+    : set_(set),
+      setup_(setup),
+      seed_(seed),
+      elements_(group_elements(setup.group, setup.electrodes)),
+      symmetry_(setup.electrodes),
+      grid_(setup.image_size, setup.radius) {
+  check_labelled_frames(set, setup);
+}
+
+const GroupElement& OnTheFlyAugmenter::element(int sample, int epoch) const {
+  const std::uint64_t h =
+      mix(mix(mix(seed_) ^ static_cast<std::uint64_t>(epoch)) ^ static_cast<std::uint64_t>(sample));
+  return elements_[h % elements_.size()];
+}
+
+void OnTheFlyAugmenter::batch(const std::vector<int>& indices, int epoch, Eigen::MatrixXd& frames,
+                              Eigen::MatrixXd& labels) const {
+  const bool labelled = set_.labels.cols() > 0 || !set_.circles.empty();
+  frames.resize(static_cast<Eigen::Index>(indices.size()), set_.frames.cols());
+  labels.resize(static_cast<Eigen::Index>(indices.size()), labelled ? grid_.num_pixels() : 0);
+  for (std::size_t b = 0; b < indices.size(); ++b) {
+    const int i = indices[b];
+    const GroupElement& g = element(i, epoch);
+    frames.row(b) =
+        symmetry_.apply(setup_.group, g, set_.frames.row(i).transpose(), setup_.layout).transpose();
+    if (labelled)
+      labels.row(b) = transformed_label(set_, i, g, setup_.electrodes, grid_).transpose();
+  }
+}
+
+}  // namespace eitbench

@@ -1,0 +1,92 @@
+#include "eitbench/augment/impedance_map.h"
+
+#include <limits>
+#include <stdexcept>
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+
+std::string to_string(FrameLayout layout) {
+  switch (layout) {
+    case FrameLayout::rotating:
+      return "rotating";
+    case FrameLayout::ascending:
+      return "ascending";
+    case FrameLayout::reduced:
+      return "reduced";
+  }
+  return "?";
+}
+
+Eigen::Index frame_size(FrameLayout layout, int L) {
+  return layout == FrameLayout::reduced ? L * (L - 3) / 2 : L * (L - 3);
+}
+
+FrameLayout frame_layout(Eigen::Index size, int L, MeasurementOrder order,
+                         const std::string& source) {
+  if (size == L * (L - 3))
+    return order == MeasurementOrder::rotating ? FrameLayout::rotating : FrameLayout::ascending;
+  if (size == L * (L - 3) / 2) return FrameLayout::reduced;
+  throw InputError(source, "frame",
+                   "has " + std::to_string(size) + " values; " + std::to_string(L) +
+                       " electrodes give " + std::to_string(L * (L - 3)) + " or " +
+                       std::to_string(L * (L - 3) / 2) + " (reduced)");
+}
+
+namespace {
+// Any layout to the rotating order.
+Eigen::VectorXd to_rotating(const Eigen::VectorXd& frame, const Protocol& p, FrameLayout layout) {
+  if (frame.size() != frame_size(layout, p.electrodes()))
+    throw std::invalid_argument("frame of " + std::to_string(frame.size()) + " values for layout " +
+                                to_string(layout));
+  switch (layout) {
+    case FrameLayout::rotating:
+      return frame;
+    case FrameLayout::ascending:
+      return p.reorder(frame, MeasurementOrder::ascending, MeasurementOrder::rotating);
+    case FrameLayout::reduced:
+      return p.expand(frame, MeasurementOrder::rotating);
+  }
+  return frame;
+}
+}  // namespace
+
+Eigen::MatrixXd impedance_map(const Eigen::VectorXd& frame, const Protocol& p, FrameLayout layout) {
+  const Eigen::VectorXd rotating = to_rotating(frame, p, layout);
+  const int L = p.electrodes();
+  // The rotating frame is the map read row by row.
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      rotating.data(), L, L - 3);
+}
+
+Eigen::MatrixXd full_impedance_map(const Eigen::VectorXd& frame, const Protocol& p,
+                                   FrameLayout layout) {
+  const Eigen::VectorXd rotating = to_rotating(frame, p, layout);
+  const int L = p.electrodes();
+  Eigen::MatrixXd full = Eigen::MatrixXd::Constant(L, L, std::numeric_limits<double>::quiet_NaN());
+  const auto& pairs = p.pairs(MeasurementOrder::rotating);
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    full(pairs[i].drive, pairs[i].measure) = rotating[i];
+  return full;
+}
+
+Eigen::VectorXd frame_from_map(const Eigen::MatrixXd& map, const Protocol& p, FrameLayout layout) {
+  const int L = p.electrodes();
+  if (map.rows() != L || map.cols() != L - 3)
+    throw std::invalid_argument("frame_from_map: the map must be L x (L-3)");
+  Eigen::VectorXd rotating(p.frame_size());
+  for (int d = 0; d < L; ++d)
+    for (int k = 0; k < L - 3; ++k) rotating[d * (L - 3) + k] = map(d, k);
+  switch (layout) {
+    case FrameLayout::rotating:
+      return rotating;
+    case FrameLayout::ascending:
+      return p.reorder(rotating, MeasurementOrder::rotating, MeasurementOrder::ascending);
+    case FrameLayout::reduced:
+      return p.reduce(rotating, MeasurementOrder::rotating);
+  }
+  return rotating;
+}
+
+}  // namespace eitbench
