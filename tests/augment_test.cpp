@@ -2,6 +2,7 @@
 // equals the transformed frame. Plus the group laws, the impedance map, the paper's variants,
 // label transforms and data-set augmentation.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <random>
 #include <set>
@@ -356,6 +357,22 @@ TEST(Augment, ExpandedPairsAgreeWithTheForwardModel) {
   EXPECT_EQ(expand(set, setup).frames.rows(), 3 * 16);
 }
 
+TEST(Augment, ExpansionIsIdenticalForAnyThreadCount) {
+  const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
+  LabelledFrames set = circle_set(mesh, 6, 3);
+  AugmentSetup setup;
+  const LabelledFrames many = expand(set, setup);
+  LabelledFrames one;
+  {
+    const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    one = expand(set, setup);
+  }
+  EXPECT_EQ(one.frames, many.frames);
+  EXPECT_EQ(one.labels, many.labels);
+  set.circles.clear();  // the bilinear path too
+  EXPECT_EQ(expand(set, setup).labels.rows(), 6 * 32);
+}
+
 TEST(Augment, OnTheFlyIsDeterministicUniformAndConsistent) {
   const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
   const LabelledFrames set = circle_set(mesh, 4, 2);
@@ -373,7 +390,7 @@ TEST(Augment, OnTheFlyIsDeterministicUniformAndConsistent) {
   for (const auto& [name, n] : counts)
     EXPECT_NEAR(n, 100, 40) << name;  // 3200 draws over 32 elements
   EXPECT_GT(differ, 2800);            // another seed, other draws
-  Eigen::MatrixXd frames, labels;
+  SampleMatrix frames, labels;
   a.batch({0, 1, 2, 3, 2}, 7, frames, labels);
   const FrameSymmetry sym(16);
   const PixelGrid grid(64, 1.0);
@@ -402,13 +419,13 @@ TEST(Augment, RejectsBadSets) {
   LabelledFrames set;
   AugmentSetup setup;
   EXPECT_THROW(expand(set, setup), InputError);  // empty
-  set.frames = Eigen::MatrixXd::Ones(2, 103);
+  set.frames = SampleMatrix::Ones(2, 103);
   EXPECT_THROW(expand(set, setup), InputError);  // wrong length
-  set.frames = Eigen::MatrixXd::Ones(2, 104);
+  set.frames = SampleMatrix::Ones(2, 104);
   set.frames(1, 3) = NAN;
   EXPECT_THROW(expand(set, setup), InputError);
   set.frames(1, 3) = 1;
-  set.labels = Eigen::MatrixXd::Ones(2, 100);
+  set.labels = SampleMatrix::Ones(2, 100);
   EXPECT_THROW(expand(set, setup), InputError);
   setup.electrodes = 8;
   set.labels.resize(0, 0);

@@ -189,8 +189,97 @@ TEST_F(Cli, BadOptionsFailCleanlyAndKeepExistingOutput) {
   EXPECT_EQ(files().size(), 1u);
 }
 
+TEST_F(Cli, AugmentElementEqualsSimulatingTheMovedTouch) {
+  // rot:S turns the touch by -S electrode steps; mirror:S mirrors it about the x axis first.
+  const std::string common = "forward --electrodes 16 --density coarse --background 0.05 ";
+  ASSERT_EQ(run(common + "--circles '0.4,0.1,0.2,0.01' --out " + path("f.csv")).exit_code, 0);
+  struct Case {
+    const char* element;
+    double x, y;
+  };
+  const double a = -2 * M_PI * 3 / 16;
+  for (const Case& c :
+       {Case{"rot:3", std::cos(a) * 0.4 - std::sin(a) * 0.1, std::sin(a) * 0.4 + std::cos(a) * 0.1},
+        Case{"mirror:0", 0.4, -0.1}}) {
+    ASSERT_EQ(run("augment --in " + path("f.csv") + " --element " + c.element + " --out " +
+                  path("moved.csv"))
+                  .exit_code,
+              0);
+    const std::string circle = "'" + std::to_string(c.x) + "," + std::to_string(c.y) + ",0.2,0.01'";
+    ASSERT_EQ(run(common + "--circles " + circle + " --out " + path("sim.csv")).exit_code, 0);
+    const auto moved = read_numbers(path("moved.csv")), sim = read_numbers(path("sim.csv"));
+    ASSERT_EQ(moved.size(), 208u);
+    double worst = 0, scale = 0;
+    for (std::size_t i = 0; i < 208; ++i)
+      worst = std::max(worst, std::abs(moved[i] - sim[i])),
+      scale = std::max(scale, std::abs(sim[i]));
+    // std::to_string keeps 6 decimals of the moved centre: agreement to that precision.
+    EXPECT_LT(worst, 1e-5 * scale) << c.element;
+  }
+}
+
+TEST_F(Cli, AugmentGroupExpandsEveryFrameIdentityFirst) {
+  ASSERT_EQ(run("forward --electrodes 8 --density coarse --circles '0.3,0.2,0.2,0.5' --order "
+                "ascending --out " +
+                path("a.csv"))
+                .exit_code,
+            0);
+  ASSERT_EQ(run("forward --electrodes 8 --density coarse --circles '-0.3,0.1,0.1,3' --order "
+                "ascending --out " +
+                path("b.csv"))
+                .exit_code,
+            0);
+  {
+    std::ofstream two(path("two.csv"));
+    std::ifstream a(path("a.csv")), b(path("b.csv"));
+    two << a.rdbuf() << b.rdbuf();
+  }
+  const Result r = run("augment --in " + path("two.csv") +
+                       " --electrodes 8 --order ascending --group d16 --out " + path("x.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Eigen::MatrixXd out = read_frames_csv(path("x.csv")), in = read_frames_csv(path("two.csv"));
+  ASSERT_EQ(out.rows(), 2 * 16);
+  EXPECT_EQ(Eigen::RowVectorXd(out.row(0)), Eigen::RowVectorXd(in.row(0)));
+  EXPECT_EQ(Eigen::RowVectorXd(out.row(16)), Eigen::RowVectorXd(in.row(1)));
+  ASSERT_EQ(run("augment --in " + path("two.csv") +
+                " --electrodes 8 --order ascending --group rotations --out " + path("r.csv"))
+                .exit_code,
+            0);
+  EXPECT_EQ(read_frames_csv(path("r.csv")).rows(), 2 * 8);
+}
+
+TEST_F(Cli, AugmentRejectsBadInputWithoutOutput) {
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  };
+  std::string row104, row103;
+  for (int i = 0; i < 104; ++i) row104 += (i ? "," : "") + std::to_string(i + 1);
+  for (int i = 0; i < 103; ++i) row103 += (i ? "," : "") + std::to_string(i + 1);
+  const std::string good = write("good.csv", row104 + "\n");
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"augment --in " + write("short.csv", row103 + "\n") + " --group d16", "short.csv"},
+      {"augment --in " + write("ragged.csv", row104 + "\n" + row103 + "\n") + " --group d16",
+       "line 2"},
+      {"augment --in " + write("nan.csv", "nan," + row104.substr(2) + "\n") + " --group d16",
+       "nan.csv"},
+      {"augment --in " + write("empty.csv", "") + " --group d16", "no frames"},
+      {"augment --in " + good + " --group d8", "unknown group"},
+      {"augment --in " + good + " --element spin:2", "spin:2"},
+      {"augment --in " + good + " --electrodes 8 --group d16", "8 electrodes"},
+      {"augment --in " + good, "--group or --element"},
+      {"augment --in " + path("missing.csv") + " --group d16", "missing.csv"},
+  };
+  for (const auto& [args, words] : bad) {
+    const Result r = run(args + " --out " + path("out.csv"));
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(path("out.csv"))) << args;
+  }
+}
+
 TEST_F(Cli, HelpIsAvailableEverywhere) {
-  for (const std::string sub : {"", "mesh", "forward", "jacobian", "run"}) {
+  for (const std::string sub : {"", "mesh", "forward", "jacobian", "augment", "run"}) {
     const Result r = run(sub + " --help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_NE(r.output.find("--"), std::string::npos);

@@ -1,5 +1,7 @@
 #include "eitbench/augment/augmented_set.h"
 
+#include <tbb/parallel_for.h>
+
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
@@ -15,10 +17,10 @@ std::uint64_t mix(std::uint64_t x) {
 
 // Sample i's label under g: exact from its circles when it has them, bilinear otherwise.
 Eigen::VectorXd transformed_label(const LabelledFrames& set, int i, const GroupElement& g, int L,
-                                  const PixelGrid& grid) {
+                                  const ImageSymmetry& images) {
   if (!set.circles.empty())
-    return circles_image(grid, transform_circles(set.circles[i], g, L), set.background);
-  return transform_image(set.labels.row(i).transpose(), g, L, grid);
+    return circles_image(images.grid(), transform_circles(set.circles[i], g, L), set.background);
+  return images.apply(g, set.labels.row(i).transpose());
 }
 
 }  // namespace
@@ -48,25 +50,26 @@ LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup) {
   const int L = setup.electrodes;
   const auto elements = group_elements(setup.group, L);
   const FrameSymmetry symmetry(L);
-  const PixelGrid grid(setup.image_size, setup.radius);
+  const ImageSymmetry images(L, PixelGrid(setup.image_size, setup.radius));
   const bool labelled = set.labels.cols() > 0 || !set.circles.empty();
   const Eigen::Index n = set.frames.rows(), k = static_cast<Eigen::Index>(elements.size());
   LabelledFrames out;
   out.background = set.background;
   out.frames.resize(n * k, set.frames.cols());
-  if (labelled) out.labels.resize(n * k, grid.num_pixels());
-  if (!set.circles.empty()) out.circles.reserve(n * k);
-  for (Eigen::Index i = 0; i < n; ++i) {
+  if (labelled) out.labels.resize(n * k, images.grid().num_pixels());
+  if (!set.circles.empty()) out.circles.resize(n * k);
+  // Every output row depends on one input row only: parallel, and identical for any thread count.
+  tbb::parallel_for(Eigen::Index(0), n, [&](Eigen::Index i) {
     const Eigen::VectorXd frame = set.frames.row(i).transpose();
     for (Eigen::Index e = 0; e < k; ++e) {
       const GroupElement& g = elements[e];
       out.frames.row(i * k + e) = symmetry.apply(setup.group, g, frame, setup.layout).transpose();
       if (labelled)
         out.labels.row(i * k + e) =
-            transformed_label(set, static_cast<int>(i), g, L, grid).transpose();
-      if (!set.circles.empty()) out.circles.push_back(transform_circles(set.circles[i], g, L));
+            transformed_label(set, static_cast<int>(i), g, L, images).transpose();
+      if (!set.circles.empty()) out.circles[i * k + e] = transform_circles(set.circles[i], g, L);
     }
-  }
+  });
   return out;
 }
 
@@ -77,7 +80,7 @@ OnTheFlyAugmenter::OnTheFlyAugmenter(const LabelledFrames& set, const AugmentSet
       seed_(seed),
       elements_(group_elements(setup.group, setup.electrodes)),
       symmetry_(setup.electrodes),
-      grid_(setup.image_size, setup.radius) {
+      images_(setup.electrodes, PixelGrid(setup.image_size, setup.radius)) {
   check_labelled_frames(set, setup);
 }
 
@@ -87,18 +90,19 @@ const GroupElement& OnTheFlyAugmenter::element(int sample, int epoch) const {
   return elements_[h % elements_.size()];
 }
 
-void OnTheFlyAugmenter::batch(const std::vector<int>& indices, int epoch, Eigen::MatrixXd& frames,
-                              Eigen::MatrixXd& labels) const {
+void OnTheFlyAugmenter::batch(const std::vector<int>& indices, int epoch, SampleMatrix& frames,
+                              SampleMatrix& labels) const {
   const bool labelled = set_.labels.cols() > 0 || !set_.circles.empty();
   frames.resize(static_cast<Eigen::Index>(indices.size()), set_.frames.cols());
-  labels.resize(static_cast<Eigen::Index>(indices.size()), labelled ? grid_.num_pixels() : 0);
+  labels.resize(static_cast<Eigen::Index>(indices.size()),
+                labelled ? images_.grid().num_pixels() : 0);
   for (std::size_t b = 0; b < indices.size(); ++b) {
     const int i = indices[b];
     const GroupElement& g = element(i, epoch);
     frames.row(b) =
         symmetry_.apply(setup_.group, g, set_.frames.row(i).transpose(), setup_.layout).transpose();
     if (labelled)
-      labels.row(b) = transformed_label(set_, i, g, setup_.electrodes, grid_).transpose();
+      labels.row(b) = transformed_label(set_, i, g, setup_.electrodes, images_).transpose();
   }
 }
 

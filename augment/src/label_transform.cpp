@@ -5,36 +5,45 @@
 
 namespace eitbench {
 
-Eigen::VectorXd transform_image(const Eigen::VectorXd& image, const GroupElement& g, int L,
-                                const PixelGrid& grid) {
+ImageSymmetry::ImageSymmetry(int electrodes, const PixelGrid& grid)
+    : electrodes_(electrodes), grid_(grid), map_x_(2 * electrodes), map_y_(2 * electrodes) {
   const int n = grid.size();
-  if (image.size() != grid.num_pixels())
-    throw std::invalid_argument("transform_image: wrong image size");
-  // out(x) = in(g^-1 x). With x = -R + (j + 1/2) w and y = R - (i + 1/2) w, the map from an
-  // output pixel (j, i) to its source is affine; warpAffine samples it bilinearly.
-  const GroupElement inv = inverse(g, L);
-  const Eigen::Vector2d origin = transform_point({0, 0}, inv, L);  // (0, 0): the centre stays
-  const Eigen::Vector2d ex = transform_point({1, 0}, inv, L) - origin;
-  const Eigen::Vector2d ey = transform_point({0, 1}, inv, L) - origin;
-  // In pixel units about the image centre c = (n - 1) / 2, with rows pointing down (y flipped).
-  const double c = 0.5 * (n - 1);
-  cv::Mat M(2, 3, CV_64F);
-  M.at<double>(0, 0) = ex.x();
-  M.at<double>(0, 1) = -ey.x();
-  M.at<double>(1, 0) = -ex.y();
-  M.at<double>(1, 1) = ey.y();
-  M.at<double>(0, 2) = c - ex.x() * c + ey.x() * c;
-  M.at<double>(1, 2) = c + ex.y() * c - ey.y() * c;
-  const Eigen::Matrix<double, Eigen::Dynamic, 1> copy = image;
-  const cv::Mat source(n, n, CV_64F, const_cast<double*>(copy.data()));
-  cv::Mat target;
-  cv::warpAffine(source, target, M, source.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                 cv::BORDER_CONSTANT, 0.0);
-  Eigen::VectorXd out(grid.num_pixels());
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      out[i * n + j] = grid.mask()[i * n + j] ? target.at<double>(i, j) : 0.0;
+  const double w = grid.pixel_width(), R = grid.radius();
+  for (int index = 0; index < 2 * electrodes; ++index) {
+    const GroupElement inv = inverse({index % electrodes, index >= electrodes}, electrodes);
+    auto& mx = map_x_[index];
+    auto& my = map_y_[index];
+    mx.resize(static_cast<std::size_t>(n) * n);
+    my.resize(static_cast<std::size_t>(n) * n);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        // The output pixel's centre, moved back by g: where in the input to sample.
+        const Eigen::Vector2d source = transform_point(grid.center(i, j), inv, electrodes);
+        mx[i * n + j] = static_cast<float>((source.x() + R) / w - 0.5);
+        my[i * n + j] = static_cast<float>((R - source.y()) / w - 0.5);
+      }
+  }
+}
+
+Eigen::VectorXd ImageSymmetry::apply(const GroupElement& g, const Eigen::VectorXd& image) const {
+  const int n = grid_.size();
+  if (image.size() != grid_.num_pixels())
+    throw std::invalid_argument("ImageSymmetry: wrong image size");
+  const int index = (g.mirror ? electrodes_ : 0) + g.rotation;
+  const cv::Mat source(n, n, CV_64F, const_cast<double*>(image.data()));
+  const cv::Mat mx(n, n, CV_32F, const_cast<float*>(map_x_[index].data()));
+  const cv::Mat my(n, n, CV_32F, const_cast<float*>(map_y_[index].data()));
+  Eigen::VectorXd out(grid_.num_pixels());
+  cv::Mat target(n, n, CV_64F, out.data());
+  cv::remap(source, target, mx, my, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0.0);
+  for (int p = 0; p < grid_.num_pixels(); ++p)
+    if (!grid_.mask()[p]) out[p] = 0.0;
   return out;
+}
+
+Eigen::VectorXd transform_image(const Eigen::VectorXd& image, const GroupElement& g, int electrodes,
+                                const PixelGrid& grid) {
+  return ImageSymmetry(electrodes, grid).apply(g, image);
 }
 
 }  // namespace eitbench

@@ -16,7 +16,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::map<CLI::App*, std::function<void()>> actions;
   for (auto add : {eitbench::cli::add_mesh_command, eitbench::cli::add_forward_command,
-                   eitbench::cli::add_jacobian_command, eitbench::cli::add_run_command}) {
+                   eitbench::cli::add_jacobian_command, eitbench::cli::add_augment_command,
+                   eitbench::cli::add_run_command}) {
     auto action = add(app);
     actions[app.get_subcommands({}).back()] = action;
   }

@@ -55,12 +55,16 @@ void write_text_atomically(const std::string& path,
   });
 }
 
-std::vector<double> read_numbers(const std::string& path) {
+namespace {
+
+// Calls row(values, line_number) for every line that holds numbers.
+template <typename RowFn>
+void for_each_csv_row(const std::string& path, RowFn&& row) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open the file");
-  std::vector<double> values;
   std::string line;
   int line_number = 0;
+  std::vector<double> values;
   while (std::getline(in, line)) {
     ++line_number;
     if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
@@ -68,6 +72,7 @@ std::vector<double> read_numbers(const std::string& path) {
       if (c == ',' || c == ';' || c == '\t' || c == '\r') c = ' ';
     std::istringstream words(line);
     std::string word;
+    values.clear();
     while (words >> word) {
       errno = 0;
       char* end = nullptr;
@@ -79,8 +84,35 @@ std::vector<double> read_numbers(const std::string& path) {
       if (!std::isfinite(v)) throw InputError(path, field, "NaN or infinite");
       values.push_back(v);
     }
+    if (!values.empty()) row(values, line_number);
   }
-  return values;
+}
+
+}  // namespace
+
+std::vector<double> read_numbers(const std::string& path) {
+  std::vector<double> all;
+  for_each_csv_row(path, [&](const std::vector<double>& values, int) {
+    all.insert(all.end(), values.begin(), values.end());
+  });
+  return all;
+}
+
+Eigen::MatrixXd read_frames_csv(const std::string& path) {
+  std::vector<std::vector<double>> rows;
+  for_each_csv_row(path, [&](const std::vector<double>& values, int line) {
+    if (!rows.empty() && values.size() != rows.front().size())
+      throw InputError(path, "line " + std::to_string(line),
+                       "has " + std::to_string(values.size()) + " values, the first frame has " +
+                           std::to_string(rows.front().size()));
+    rows.push_back(values);
+  });
+  if (rows.empty()) throw InputError(path, "", "the file holds no frames");
+  Eigen::MatrixXd frames(static_cast<Eigen::Index>(rows.size()),
+                         static_cast<Eigen::Index>(rows.front().size()));
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    frames.row(i) = Eigen::Map<const Eigen::RowVectorXd>(rows[i].data(), frames.cols());
+  return frames;
 }
 
 void write_matrix_csv(const std::string& path, const Eigen::MatrixXd& m) {

@@ -110,13 +110,27 @@ Eigen::VectorXd circles_image(const PixelGrid& grid, const std::vector<Circle>& 
     const int i0 = std::max(0, static_cast<int>(std::floor((R - c.y - c.r) / w)));
     const int i1 = std::min(n - 1, static_cast<int>(std::floor((R - c.y + c.r) / w)));
     const Eigen::Vector2d centre(c.x, c.y);
+    const double r2 = c.r * c.r;
     for (int i = i0; i <= i1; ++i)
       for (int j = j0; j <= j1; ++j) {
         if (!grid.mask()[i * n + j]) continue;
-        const double x0 = -R + j * w, y1 = R - i * w;  // the pixel is two triangles
-        const Eigen::Vector2d a(x0, y1 - w), b(x0 + w, y1 - w), cc(x0 + w, y1), d(x0, y1);
-        const double covered = triangle_circle_overlap(a, b, cc, centre, c.r) +
-                               triangle_circle_overlap(a, cc, d, centre, c.r);
+        const double x0 = -R + j * w, y1 = R - i * w;
+        // Wholly inside (farthest corner within r) or wholly outside (nearest point beyond r) is
+        // exact and cheap; only the pixels the rim crosses need the overlap, as two triangles.
+        const double fx = std::max(std::abs(x0 - c.x), std::abs(x0 + w - c.x));
+        const double fy = std::max(std::abs(y1 - w - c.y), std::abs(y1 - c.y));
+        const double nx = std::max({x0 - c.x, 0.0, c.x - x0 - w}),
+                     ny = std::max({y1 - w - c.y, 0.0, c.y - y1});
+        double covered;
+        if (fx * fx + fy * fy <= r2) {
+          covered = w * w;
+        } else if (nx * nx + ny * ny >= r2) {
+          continue;
+        } else {
+          const Eigen::Vector2d a(x0, y1 - w), b(x0 + w, y1 - w), cc(x0 + w, y1), d(x0, y1);
+          covered = triangle_circle_overlap(a, b, cc, centre, c.r) +
+                    triangle_circle_overlap(a, cc, d, centre, c.r);
+        }
         image[i * n + j] += intensity * covered / (w * w);
       }
   }

@@ -10,11 +10,14 @@
 
 namespace eitbench {
 
+// One sample a row, stored row-major so that a sample is contiguous (as LibTorch wants it).
+using SampleMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 // One sample a row. Labels and circles are optional (zero columns / empty vector); when a sample's
 // circles are given, its label is transformed exactly by re-rasterising them.
 struct LabelledFrames {
-  Eigen::MatrixXd frames;                    // N x frame size
-  Eigen::MatrixXd labels;                    // N x pixels, or N x 0
+  SampleMatrix frames;                       // N x frame size
+  SampleMatrix labels;                       // N x pixels, or N x 0
   std::vector<std::vector<Circle>> circles;  // N lists, or empty
   double background = 0.05;                  // sigma_0 for re-rasterised labels
 };
@@ -33,6 +36,7 @@ void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup)
 // |G| x N rows, sample-major: row i |G| + k is sample i under group element k.
 LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup);
 
+// Keeps a reference to the set: the set must outlive the augmenter.
 class OnTheFlyAugmenter {
  public:
   OnTheFlyAugmenter(const LabelledFrames& set, const AugmentSetup& setup, std::uint64_t seed);
@@ -42,8 +46,8 @@ class OnTheFlyAugmenter {
   // The element of sample i in `epoch`: a hash of (seed, epoch, i), uniform over the group.
   const GroupElement& element(int sample, int epoch) const;
   // Rows of `frames` and `labels` (resized) get samples `indices` as they are in `epoch`.
-  void batch(const std::vector<int>& indices, int epoch, Eigen::MatrixXd& frames,
-             Eigen::MatrixXd& labels) const;
+  void batch(const std::vector<int>& indices, int epoch, SampleMatrix& frames,
+             SampleMatrix& labels) const;
 
  private:
   const LabelledFrames& set_;
@@ -51,7 +55,7 @@ class OnTheFlyAugmenter {
   std::uint64_t seed_;
   std::vector<GroupElement> elements_;
   FrameSymmetry symmetry_;
-  PixelGrid grid_;
+  ImageSymmetry images_;
 };
 
 }  // namespace eitbench

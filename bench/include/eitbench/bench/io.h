@@ -21,6 +21,10 @@ void write_text_atomically(const std::string& path,
 // the file and the line of anything that is not a finite number.
 std::vector<double> read_numbers(const std::string& path);
 
+// Frames as CSV: one frame a line (commas or spaces, '#' comments, blank lines skipped). Every line
+// must have the same number of finite values; InputError names the file and the line otherwise.
+Eigen::MatrixXd read_frames_csv(const std::string& path);
+
 // Frames as CSV: one frame a line, full precision.
 void write_frames_csv(const std::string& path, const Eigen::MatrixXd& frames_by_row);
 

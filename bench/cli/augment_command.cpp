@@ -1,0 +1,70 @@
+// eitbench augment: frames moved by one group element, or expanded by a whole group.
+#include <fmt/core.h>
+
+#include <filesystem>
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/augment.h"
+#include "eitbench/bench/io.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench::cli {
+
+std::function<void()> add_augment_command(CLI::App& app) {
+  struct Args {
+    std::string in, out, group, element, order = "rotating";
+    int electrodes = 16;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "augment",
+      "Move frames by a symmetry of the sensor (--element) or expand them by a group (--group)");
+  cmd->add_option("--in", args->in,
+                  "CSV frames, one a line: L(L-3) values in --order, or L(L-3)/2 reduced")
+      ->required();
+  cmd->add_option("--out", args->out, "CSV output in the input's order and size")->required();
+  auto* group = cmd->add_option(
+      "--group", args->group,
+      "rotations | mirror | d16 | paper: each frame becomes |G| lines (rot:0..L-1, then "
+      "mirror:0..L-1), identity first");
+  auto* element = cmd->add_option(
+      "--element", args->element,
+      "rot:S (rotation by S electrode steps: the touch turns by -S) or mirror:S (the mirror "
+      "through electrode 0, then rot:S)");
+  group->excludes(element);
+  cmd->add_option("--order", args->order, "order of full frames: rotating | ascending")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rotating", "ascending"}));
+  cmd->add_option("--electrodes", args->electrodes, "electrodes L")
+      ->capture_default_str()
+      ->check(CLI::Range(4, 256));
+  return [args, cmd] {
+    if (!cmd->count("--group") && !cmd->count("--element"))
+      throw InputError("augment", "", "give --group or --element");
+    const std::string extension = std::filesystem::path(args->in).extension().string();
+    if (extension == ".h5" || extension == ".hdf5")
+      throw InputError(args->in, "",
+                       "HDF5 data sets are not supported by 'augment' yet; give CSV frames");
+    const int L = args->electrodes;
+    const Eigen::MatrixXd frames = read_frames_csv(args->in);
+    const FrameLayout layout = frame_layout(frames.cols(), L, parse_order(args->order), args->in);
+    const AugmentGroup kind =
+        cmd->count("--group") ? parse_group(args->group) : AugmentGroup::dihedral;
+    const std::vector<GroupElement> elements =
+        cmd->count("--group") ? group_elements(kind, L)
+                              : std::vector<GroupElement>{parse_element(args->element, L)};
+    const FrameSymmetry symmetry(L);
+    const Eigen::Index k = static_cast<Eigen::Index>(elements.size());
+    Eigen::MatrixXd out(frames.rows() * k, frames.cols());
+    for (Eigen::Index i = 0; i < frames.rows(); ++i)
+      for (Eigen::Index e = 0; e < k; ++e)
+        out.row(i * k + e) =
+            symmetry.apply(kind, elements[e], frames.row(i).transpose(), layout).transpose();
+    write_frames_csv(args->out, out);
+    fmt::print("wrote {} frames ({} x {}, {} layout) to {}\n", out.rows(), frames.rows(),
+               cmd->count("--group") ? args->group : args->element, to_string(layout), args->out);
+  };
+}
+
+}  // namespace eitbench::cli
