@@ -2,18 +2,11 @@
 
 #include <tbb/parallel_for.h>
 
+#include "eitbench/augment/random.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
 namespace {
-
-// splitmix64: a well-mixed, platform-independent hash for the per-sample draws.
-std::uint64_t mix(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
 
 // Sample i's label under g: exact from its circles when it has them, bilinear otherwise.
 Eigen::VectorXd transformed_label(const LabelledFrames& set, int i, const GroupElement& g, int L,
@@ -85,8 +78,8 @@ OnTheFlyAugmenter::OnTheFlyAugmenter(const LabelledFrames& set, const AugmentSet
 }
 
 const GroupElement& OnTheFlyAugmenter::element(int sample, int epoch) const {
-  const std::uint64_t h =
-      mix(mix(mix(seed_) ^ static_cast<std::uint64_t>(epoch)) ^ static_cast<std::uint64_t>(sample));
+  const std::uint64_t h = mix64(mix64(mix64(seed_) ^ static_cast<std::uint64_t>(epoch)) ^
+                                static_cast<std::uint64_t>(sample));
   return elements_[h % elements_.size()];
 }
 

@@ -8,5 +8,7 @@ std::function<void()> add_mesh_command(CLI::App& app);
 std::function<void()> add_forward_command(CLI::App& app);
 std::function<void()> add_jacobian_command(CLI::App& app);
 std::function<void()> add_augment_command(CLI::App& app);
+std::function<void()> add_simulate_command(CLI::App& app);
+std::function<void()> add_info_command(CLI::App& app);
 std::function<void()> add_run_command(CLI::App& app);
 }  // namespace eitbench::cli

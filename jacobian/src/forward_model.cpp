@@ -11,7 +11,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
+#include <vector>
 
 #include "eitbench/jacobian/error.h"
 
@@ -38,6 +40,16 @@ class Common {
   cholmod_common c_;
 };
 
+// A numeric factor with its CHOLMOD workspace. Reusing one across solves avoids allocating (and
+// page-faulting in) megabytes for every conductivity.
+struct Workspace {
+  Common common;
+  cholmod_factor* factor = nullptr;
+  ~Workspace() {
+    if (factor) cholmod_free_factor(&factor, common.get());
+  }
+};
+
 }  // namespace
 
 struct ForwardModel::Impl {
@@ -55,10 +67,34 @@ struct ForwardModel::Impl {
   int dofs = 0;
   mutable Common analysis_common;
   cholmod_factor* symbolic = nullptr;
+  // Idle workspaces: solve() takes one (or makes one) and gives it back, so concurrent solves
+  // never share a factor.
+  mutable std::mutex pool_mutex;
+  mutable std::vector<std::unique_ptr<Workspace>> pool;
+
+  std::unique_ptr<Workspace> take() const {
+    {
+      std::lock_guard<std::mutex> lock(pool_mutex);
+      if (!pool.empty()) {
+        auto w = std::move(pool.back());
+        pool.pop_back();
+        return w;
+      }
+    }
+    auto w = std::make_unique<Workspace>();
+    w->factor = cholmod_copy_factor(symbolic, w->common.get());
+    if (!w->factor) throw std::runtime_error("CHOLMOD: out of memory");
+    return w;
+  }
+  void give_back(std::unique_ptr<Workspace> w) const {
+    std::lock_guard<std::mutex> lock(pool_mutex);
+    pool.push_back(std::move(w));
+  }
 
   explicit Impl(const Mesh& m, const ForwardOptions& o)
       : mesh(m), options(o), protocol(m.num_electrodes()) {}
   ~Impl() {
+    pool.clear();
     if (symbolic) cholmod_free_factor(&symbolic, analysis_common.get());
   }
 
@@ -245,14 +281,12 @@ ForwardSolution ForwardModel::solve(const Eigen::VectorXd& sigma) const {
     }
   cholmod_sparse A = m.view(values);
 
-  // Each call factorises into its own copy of the symbolic factor: solve() is safe to call from
-  // several threads at once.
-  Common common;
-  cholmod_factor* factor = cholmod_copy_factor(m.symbolic, common.get());
-  if (!factor) throw std::runtime_error("CHOLMOD: out of memory");
-  cholmod_factorize(&A, factor, common.get());
-  if (common.get()->status != CHOLMOD_OK) {
-    cholmod_free_factor(&factor, common.get());
+  // Each call factorises into a workspace of its own (the factor keeps the symbolic analysis):
+  // solve() is safe to call from several threads at once.
+  std::unique_ptr<Workspace> w = m.take();
+  cholmod_factorize(&A, w->factor, w->common.get());
+  if (w->common.get()->status != CHOLMOD_OK) {
+    // The workspace may hold a failed factor: drop it rather than pool it.
     throw std::runtime_error("CHOLMOD: the CEM system is not positive definite");
   }
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m.dofs, L);
@@ -268,8 +302,7 @@ ForwardSolution ForwardModel::solve(const Eigen::VectorXd& sigma) const {
   B.x = rhs.data();
   B.xtype = CHOLMOD_REAL;
   B.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* X = cholmod_solve(CHOLMOD_A, factor, &B, common.get());
-  cholmod_free_factor(&factor, common.get());
+  cholmod_dense* X = cholmod_solve(CHOLMOD_A, w->factor, &B, w->common.get());
   if (!X) throw std::runtime_error("CHOLMOD: solve failed (out of memory?)");
   const Eigen::Map<const Eigen::MatrixXd> x(static_cast<const double*>(X->x), m.dofs, L);
   ForwardSolution solution;
@@ -277,7 +310,8 @@ ForwardSolution ForwardModel::solve(const Eigen::VectorXd& sigma) const {
   solution.node_potentials.row(0).setZero();
   solution.node_potentials.bottomRows(N - 1) = x.topRows(N - 1);
   solution.electrode_potentials = x.bottomRows(L);
-  cholmod_free_dense(&X, common.get());
+  cholmod_free_dense(&X, w->common.get());
+  m.give_back(std::move(w));
   return solution;
 }
 

@@ -1,0 +1,49 @@
+// eitbench info: what a data file holds.
+#include <fmt/core.h>
+
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/bench/dataset.h"
+#include "eitbench/jacobian/protocol.h"
+
+namespace eitbench::cli {
+
+void print_dataset_summary(const std::string& path, const Dataset& d) {
+  fmt::print("{}: eitbench data set, {} samples\n", path, d.size());
+  fmt::print("  splits: train {}, validation {}, test {}\n", d.indices(Split::train).size(),
+             d.indices(Split::validation).size(), d.indices(Split::test).size());
+  fmt::print(
+      "  sensor: {} electrodes, radius {}, background {} S/m, contact impedance {}, current {}\n",
+      d.electrodes, d.radius, d.background, d.contact_impedance, d.current);
+  fmt::print("  made by: {} (preset '{}', seed {}), {} ({} triangles)\n",
+             d.program.empty() ? "?" : d.program, d.preset, d.seed, d.simulation_mesh,
+             d.simulation_triangles);
+  const Protocol protocol(d.electrodes);
+  fmt::print(
+      "  frames: {} values (rotating); differences: {} values (reduced), |dv| max {:.4g}, mean "
+      "{:.4g}\n",
+      d.frames.cols(), d.differences.cols(), d.differences.cwiseAbs().maxCoeff(),
+      d.differences.cwiseAbs().mean());
+  fmt::print("  reference: |v| max {:.4g}, reciprocity error {:.2e}\n",
+             d.reference.cwiseAbs().maxCoeff(),
+             protocol.reciprocity_error(d.reference, MeasurementOrder::rotating));
+  if (d.has_labels())
+    fmt::print("  labels: {} x {} images, intensity {:.3f} .. {:.3f}\n", d.image_size, d.image_size,
+               d.labels.minCoeff(), d.labels.maxCoeff());
+  if (!d.circles.empty()) {
+    int count[5] = {0, 0, 0, 0, 0};
+    for (const auto& c : d.circles) ++count[std::min<std::size_t>(c.size(), 4)];
+    fmt::print("  circles: {} / {} / {} / {} samples with 1 / 2 / 3 / 4\n", count[1], count[2],
+               count[3], count[4]);
+  }
+}
+
+std::function<void()> add_info_command(CLI::App& app) {
+  auto path = std::make_shared<std::string>();
+  auto* cmd = app.add_subcommand("info", "Summarise a data file");
+  cmd->add_option("file", *path, "an eitbench HDF5 data set")->required();
+  return [path] { print_dataset_summary(*path, read_dataset(*path)); };
+}
+
+}  // namespace eitbench::cli

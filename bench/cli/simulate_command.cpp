@@ -1,0 +1,74 @@
+// eitbench simulate: the simulated tactile data set (SPEC section 4) as an HDF5 file.
+#include <fmt/core.h>
+
+#include <chrono>
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/bench/dataset.h"
+#include "eitbench/bench/progress.h"
+#include "eitbench/bench/simulate.h"
+
+namespace eitbench::cli {
+
+std::function<void()> add_simulate_command(CLI::App& app) {
+  struct Args {
+    SimulationOptions options;
+    std::string density = "fine", out;
+    bool quiet = false;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "simulate", "Simulate the EdEIT-like tactile data set (circles on a fine mesh) to HDF5");
+  cmd->add_option("--preset", args->options.preset,
+                  "quick (~2,000 training samples) | standard (~5,500) | paper (21,833)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"quick", "standard", "paper", "tiny"}));
+  cmd->add_option("--seed", args->options.seed, "random seed: the same seed gives the same file")
+      ->capture_default_str();
+  cmd->add_option("--threads", args->options.threads,
+                  "worker threads (0: all cores); the output does not depend on it")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--electrodes", args->options.electrodes, "electrodes L")
+      ->capture_default_str()
+      ->check(CLI::Range(4, 256));
+  cmd->add_option("--density", args->density,
+                  "simulation mesh: coarse | medium | fine (reconstructions use medium)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"coarse", "medium", "fine"}));
+  cmd->add_option("--background", args->options.background, "background conductivity sigma_0 (S/m)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--contact-impedance", args->options.contact_impedance, "contact impedance z_c")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--out", args->out, "HDF5 file to write")->required();
+  cmd->add_flag("--quiet", args->quiet, "no progress output");
+  return [args] {
+    args->options.density = parse_density(args->density);
+    const auto counts = preset_counts(args->options.preset);
+    int total = 0;
+    for (int c : counts.circles) total += c;
+    if (!args->quiet)
+      fmt::print(
+          "simulating {} samples ({} / {} / {} / {} with 1 / 2 / 3 / 4 circles), seed {}, {} "
+          "mesh\n",
+          total, counts.circles[0], counts.circles[1], counts.circles[2], counts.circles[3],
+          args->options.seed, args->density);
+    Progress progress("simulate", total, args->quiet);
+    const auto t0 = std::chrono::steady_clock::now();
+    const Dataset data =
+        simulate_dataset(args->options, [&](int done, int) { progress.update(done); });
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    write_dataset(args->out, data);
+    fmt::print(
+        "wrote {}: {} samples (train {}, validation {}, test {}) in {:.1f} s, {:.0f} samples/s\n",
+        args->out, data.size(), data.indices(Split::train).size(),
+        data.indices(Split::validation).size(), data.indices(Split::test).size(), seconds,
+        data.size() / seconds);
+  };
+}
+
+}  // namespace eitbench::cli

@@ -1,0 +1,363 @@
+// The data set's HDF5 file (layout in dataset.h and the README).
+#include <H5Cpp.h>
+
+#include <cmath>
+#include <limits>
+
+#include "eitbench/bench/dataset.h"
+#include "eitbench/bench/io.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+constexpr int kFormatVersion = 1;
+constexpr int kMaxCircles = 4;
+constexpr double kMaxBytes = 16e9;  // refuse data sets whose declared size could not be held
+
+template <typename T>
+const H5::PredType& h5_type();
+template <>
+const H5::PredType& h5_type<double>() {
+  return H5::PredType::NATIVE_DOUBLE;
+}
+template <>
+const H5::PredType& h5_type<float>() {
+  return H5::PredType::NATIVE_FLOAT;
+}
+template <>
+const H5::PredType& h5_type<int>() {
+  return H5::PredType::NATIVE_INT;
+}
+
+// A C-order array of `dims`, chunked by whole samples along the first dimension and compressed.
+template <typename T>
+void write_array(H5::H5File& file, const std::string& name, const T* data,
+                 std::vector<hsize_t> dims) {
+  H5::DataSpace space(static_cast<int>(dims.size()), dims.data());
+  H5::DSetCreatPropList props;
+  hsize_t total = 1;
+  for (hsize_t d : dims) total *= d;
+  if (total > 0) {
+    std::vector<hsize_t> chunk = dims;
+    hsize_t per_sample = 1;
+    for (std::size_t k = 1; k < dims.size(); ++k) per_sample *= dims[k];
+    chunk[0] = std::max<hsize_t>(
+        1, std::min<hsize_t>(dims[0], (1u << 18) / std::max<hsize_t>(1, per_sample)));
+    props.setChunk(static_cast<int>(chunk.size()), chunk.data());
+    props.setShuffle();
+    props.setDeflate(4);
+  }
+  file.createDataSet(name, h5_type<T>(), space, props).write(data, h5_type<T>());
+}
+
+// Variable-length UTF-8 strings: h5py reads them as str, MATLAB's h5readatt as char.
+void write_attribute(H5::H5File& file, const std::string& name, const std::string& value) {
+  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+  type.setCset(H5T_CSET_UTF8);
+  file.createAttribute(name, type, H5::DataSpace(H5S_SCALAR)).write(type, value);
+}
+void write_attribute(H5::H5File& file, const std::string& name, double value) {
+  file.createAttribute(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(H5S_SCALAR))
+      .write(H5::PredType::NATIVE_DOUBLE, &value);
+}
+void write_attribute(H5::H5File& file, const std::string& name, long long value) {
+  file.createAttribute(name, H5::PredType::NATIVE_LLONG, H5::DataSpace(H5S_SCALAR))
+      .write(H5::PredType::NATIVE_LLONG, &value);
+}
+void write_attribute(H5::H5File& file, const std::string& name, std::uint64_t value) {
+  file.createAttribute(name, H5::PredType::NATIVE_UINT64, H5::DataSpace(H5S_SCALAR))
+      .write(H5::PredType::NATIVE_UINT64, &value);
+}
+
+class Reader {
+ public:
+  Reader(const std::string& path) : path_(path) {
+    H5::Exception::dontPrint();
+    if (!is_hdf5_file(path)) throw InputError(path, "", "not an HDF5 file (or unreadable)");
+    try {
+      file_ = H5::H5File(path, H5F_ACC_RDONLY);
+    } catch (const H5::Exception& e) {
+      throw InputError(path, "", "cannot open the HDF5 file: " + e.getDetailMsg());
+    }
+  }
+
+  bool has(const std::string& name) const {
+    return H5Lexists(file_.getId(), name.c_str(), H5P_DEFAULT) > 0;
+  }
+
+  // The data set `name` as T, checked to have `dims` (0 in dims: any size, reported back).
+  template <typename T>
+  std::vector<T> array(const std::string& name, std::vector<hsize_t>& dims) const {
+    if (!has(name)) throw InputError(path_, name, "the data set is missing");
+    try {
+      H5::DataSet set = file_.openDataSet(name);
+      H5::DataSpace space = set.getSpace();
+      const int rank = space.getSimpleExtentNdims();
+      std::vector<hsize_t> actual(rank);
+      space.getSimpleExtentDims(actual.data());
+      if (rank != static_cast<int>(dims.size())) fail(name, rank, dims.size(), actual);
+      double elements = 1;
+      for (int k = 0; k < rank; ++k) {
+        if (dims[k] != 0 && dims[k] != actual[k]) fail(name, rank, dims.size(), actual);
+        dims[k] = actual[k];
+        elements *= static_cast<double>(actual[k]);
+      }
+      if (elements * sizeof(T) > kMaxBytes)
+        throw InputError(path_, name, "declares " + shape(actual) + ", too large to read");
+      const H5T_class_t cls = set.getTypeClass();
+      if (cls != H5T_FLOAT && cls != H5T_INTEGER) throw InputError(path_, name, "is not numeric");
+      std::vector<T> out(static_cast<std::size_t>(elements));
+      if (!out.empty()) set.read(out.data(), h5_type<T>());
+      return out;
+    } catch (const H5::Exception& e) {
+      throw InputError(path_, name, "cannot read: " + e.getDetailMsg());
+    }
+  }
+
+  double number(const std::string& name, double fallback, bool required = false) const {
+    if (!file_.attrExists(name)) {
+      if (required) throw InputError(path_, name, "the attribute is missing");
+      return fallback;
+    }
+    try {
+      H5::Attribute a = file_.openAttribute(name);
+      if (a.getTypeClass() != H5T_FLOAT && a.getTypeClass() != H5T_INTEGER)
+        throw InputError(path_, name, "is not a number");
+      double v = 0;
+      a.read(H5::PredType::NATIVE_DOUBLE, &v);
+      if (!std::isfinite(v)) throw InputError(path_, name, "is NaN or infinite");
+      return v;
+    } catch (const H5::Exception& e) {
+      throw InputError(path_, name, "cannot read: " + e.getDetailMsg());
+    }
+  }
+
+  std::string text(const std::string& name) const {
+    if (!file_.attrExists(name)) return "";
+    try {
+      H5::Attribute a = file_.openAttribute(name);
+      if (a.getTypeClass() != H5T_STRING) return "";
+      std::string v;
+      a.read(a.getStrType(), v);
+      return v;
+    } catch (const H5::Exception&) {
+      return "";
+    }
+  }
+
+  std::uint64_t seed() const {
+    if (!file_.attrExists("seed")) return 0;
+    try {
+      H5::Attribute a = file_.openAttribute("seed");
+      if (a.getTypeClass() == H5T_STRING) return std::strtoull(text("seed").c_str(), nullptr, 10);
+      std::uint64_t v = 0;
+      a.read(H5::PredType::NATIVE_UINT64, &v);
+      return v;
+    } catch (const H5::Exception&) {
+      throw InputError(path_, "seed", "cannot read the attribute");
+    }
+  }
+
+  const std::string& path() const { return path_; }
+
+ private:
+  static std::string shape(const std::vector<hsize_t>& dims) {
+    std::string s;
+    for (std::size_t k = 0; k < dims.size(); ++k) s += (k ? " x " : "") + std::to_string(dims[k]);
+    return s.empty() ? "a scalar" : s;
+  }
+  [[noreturn]] void fail(const std::string& name, int, std::size_t,
+                         const std::vector<hsize_t>& actual) const {
+    throw InputError(path_, name,
+                     "has shape " + shape(actual) + ", which does not fit the file's other data");
+  }
+  std::string path_;
+  H5::H5File file_;
+};
+
+void check_finite(const Reader& r, const std::string& name, const double* data, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(data[i]))
+      throw InputError(r.path(), name, "value " + std::to_string(i) + " is NaN or infinite");
+}
+
+}  // namespace
+
+std::string to_string(Split split) {
+  switch (split) {
+    case Split::train:
+      return "train";
+    case Split::validation:
+      return "validation";
+    case Split::test:
+      return "test";
+  }
+  return "?";
+}
+
+std::vector<int> Dataset::indices(Split which) const {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < split.size(); ++i)
+    if (split[i] == which) out.push_back(static_cast<int>(i));
+  return out;
+}
+
+LabelledFrames Dataset::labelled(const std::vector<int>& rows) const {
+  LabelledFrames set;
+  set.background = background;
+  set.frames.resize(static_cast<Eigen::Index>(rows.size()), differences.cols());
+  set.labels.resize(static_cast<Eigen::Index>(rows.size()), labels.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    set.frames.row(k) = differences.row(rows[k]);
+    if (has_labels()) set.labels.row(k) = labels.row(rows[k]);
+    if (!circles.empty()) set.circles.push_back(circles[rows[k]]);
+  }
+  return set;
+}
+
+bool is_hdf5_file(const std::string& path) {
+  H5E_BEGIN_TRY {
+    return H5Fis_hdf5(path.c_str()) > 0;
+  }
+  H5E_END_TRY;
+  return false;
+}
+
+void write_dataset(const std::string& path, const Dataset& d) {
+  const hsize_t n = static_cast<hsize_t>(d.size());
+  write_atomically(path, [&](const std::string& temp) {
+    try {
+      H5::Exception::dontPrint();
+      H5::H5File file(temp, H5F_ACC_TRUNC);
+      write_array(file, "differences", d.differences.data(),
+                  {n, static_cast<hsize_t>(d.differences.cols())});
+      write_array(file, "frames", d.frames.data(), {n, static_cast<hsize_t>(d.frames.cols())});
+      write_array(file, "reference", d.reference.data(),
+                  {static_cast<hsize_t>(d.reference.size())});
+      std::vector<int> split(d.split.size());
+      for (std::size_t i = 0; i < d.split.size(); ++i) split[i] = static_cast<int>(d.split[i]);
+      write_array(file, "split", split.data(), {n});
+      if (d.has_labels()) {
+        const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> labels =
+            d.labels.cast<float>();
+        const hsize_t side = static_cast<hsize_t>(d.image_size);
+        write_array(file, "labels", labels.data(), {n, side, side});
+      }
+      if (!d.circles.empty()) {
+        std::vector<double> table(n * kMaxCircles * 4, std::numeric_limits<double>::quiet_NaN());
+        std::vector<int> count(n);
+        for (hsize_t i = 0; i < n; ++i) {
+          count[i] = static_cast<int>(d.circles[i].size());
+          for (int k = 0; k < std::min(count[i], kMaxCircles); ++k) {
+            const Circle& c = d.circles[i][k];
+            double* row = &table[(i * kMaxCircles + k) * 4];
+            row[0] = c.x, row[1] = c.y, row[2] = c.r, row[3] = c.conductivity;
+          }
+        }
+        write_array(file, "circles", table.data(), {n, static_cast<hsize_t>(kMaxCircles), 4});
+        write_array(file, "circle_count", count.data(), {n});
+      }
+      write_attribute(file, "electrodes", static_cast<long long>(d.electrodes));
+      write_attribute(file, "radius", d.radius);
+      write_attribute(file, "background_conductivity", d.background);
+      write_attribute(file, "contact_impedance", d.contact_impedance);
+      write_attribute(file, "current", d.current);
+      write_attribute(file, "electrode_coverage", d.electrode_coverage);
+      write_attribute(file, "image_size", static_cast<long long>(d.image_size));
+      write_attribute(file, "seed", d.seed);
+      write_attribute(file, "preset", d.preset);
+      write_attribute(file, "simulation_mesh", d.simulation_mesh);
+      write_attribute(file, "simulation_triangles", static_cast<long long>(d.simulation_triangles));
+      write_attribute(file, "protocol", "adjacent drive, adjacent measurement (SPEC section 1)");
+      write_attribute(file, "frame_order", "rotating");
+      write_attribute(file, "difference_layout",
+                      "reduced: v(d,m), d < m, m - d >= 2, (d,m) != (0,L-1), row-major");
+      write_attribute(file, "program", d.program);
+      write_attribute(file, "format_version", static_cast<long long>(kFormatVersion));
+    } catch (const H5::Exception& e) {
+      throw InputError(path, "", "HDF5 write failed: " + e.getDetailMsg());
+    }
+  });
+}
+
+Dataset read_dataset(const std::string& path) {
+  const Reader r(path);
+  Dataset d;
+  const double electrodes = r.number("electrodes", 0, true);
+  if (electrodes < 4 || electrodes > 256 || electrodes != std::floor(electrodes))
+    throw InputError(path, "electrodes", "must be a whole number from 4 to 256");
+  d.electrodes = static_cast<int>(electrodes);
+  const int L = d.electrodes;
+  const hsize_t full = static_cast<hsize_t>(L * (L - 3)), reduced = full / 2;
+  d.radius = r.number("radius", 1.0);
+  d.background = r.number("background_conductivity", 0.05);
+  d.contact_impedance = r.number("contact_impedance", 0.01);
+  d.current = r.number("current", 1.0);
+  d.electrode_coverage = r.number("electrode_coverage", 0.5);
+  d.image_size = static_cast<int>(r.number("image_size", 64));
+  if (!(d.radius > 0) || !(d.background > 0) || d.image_size < 1 || d.image_size > 4096)
+    throw InputError(path, "attributes",
+                     "radius, background_conductivity and image_size must be positive");
+  d.seed = r.seed();
+  d.preset = r.text("preset");
+  d.simulation_mesh = r.text("simulation_mesh");
+  d.simulation_triangles = static_cast<int>(r.number("simulation_triangles", 0));
+  d.program = r.text("program");
+
+  std::vector<hsize_t> dims{0, reduced};
+  const std::vector<double> differences = r.array<double>("differences", dims);
+  const hsize_t n = dims[0];
+  if (n == 0) throw InputError(path, "differences", "the data set is empty");
+  check_finite(r, "differences", differences.data(), differences.size());
+  d.differences = Eigen::Map<const SampleMatrix>(differences.data(), static_cast<Eigen::Index>(n),
+                                                 static_cast<Eigen::Index>(reduced));
+  dims = {n, full};
+  const std::vector<double> frames = r.array<double>("frames", dims);
+  check_finite(r, "frames", frames.data(), frames.size());
+  d.frames = Eigen::Map<const SampleMatrix>(frames.data(), static_cast<Eigen::Index>(n),
+                                            static_cast<Eigen::Index>(full));
+  dims = {full};
+  const std::vector<double> reference = r.array<double>("reference", dims);
+  check_finite(r, "reference", reference.data(), reference.size());
+  d.reference =
+      Eigen::Map<const Eigen::VectorXd>(reference.data(), static_cast<Eigen::Index>(full));
+  dims = {n};
+  for (int s : r.array<int>("split", dims)) {
+    if (s < 0 || s > 2)
+      throw InputError(path, "split", "values must be 0 (train), 1 (validation) or 2 (test)");
+    d.split.push_back(static_cast<Split>(s));
+  }
+  if (r.has("labels")) {
+    const hsize_t side = static_cast<hsize_t>(d.image_size);
+    dims = {n, side, side};
+    const std::vector<float> labels = r.array<float>("labels", dims);
+    d.labels =
+        Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            labels.data(), static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(side * side))
+            .cast<double>();
+    if (!d.labels.allFinite()) throw InputError(path, "labels", "NaN or infinite values");
+  }
+  if (r.has("circles")) {
+    dims = {n, static_cast<hsize_t>(kMaxCircles), 4};
+    const std::vector<double> table = r.array<double>("circles", dims);
+    dims = {n};
+    const std::vector<int> count = r.array<int>("circle_count", dims);
+    d.circles.resize(n);
+    for (hsize_t i = 0; i < n; ++i) {
+      if (count[i] < 0 || count[i] > kMaxCircles)
+        throw InputError(path, "circle_count", "values must lie in 0..4");
+      for (int k = 0; k < count[i]; ++k) {
+        const double* c = &table[(i * kMaxCircles + k) * 4];
+        if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !(c[2] > 0) || !(c[3] > 0))
+          throw InputError(
+              path, "circles",
+              "sample " + std::to_string(i) + ", circle " + std::to_string(k) + " is invalid");
+        d.circles[i].push_back({c[0], c[1], c[2], c[3]});
+      }
+    }
+  }
+  return d;
+}
+
+}  // namespace eitbench

@@ -1,0 +1,274 @@
+// The simulated data set (SPEC section 4) and its HDF5 file.
+#include <H5Cpp.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "eitbench/bench/dataset.h"
+#include "eitbench/bench/noise.h"
+#include "eitbench/bench/simulate.h"
+#include "eitbench/jacobian.h"
+
+namespace eitbench {
+namespace {
+namespace fs = std::filesystem;
+
+std::string temp_path(const std::string& name) {
+  return (fs::temp_directory_path() / ("eitbench_ds_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+const Dataset& tiny() {
+  static const Dataset data = [] {
+    SimulationOptions o;
+    o.preset = "tiny";
+    o.seed = 11;
+    o.density = MeshDensity::medium;
+    return simulate_dataset(o);
+  }();
+  return data;
+}
+
+TEST(Presets, PaperCountsAreEdEITs) {
+  const PresetCounts paper = preset_counts("paper");
+  EXPECT_EQ(paper.circles[0], 7035);
+  EXPECT_EQ(paper.circles[1], 7298);
+  EXPECT_EQ(paper.circles[2], 7500);
+  EXPECT_EQ(paper.circles[3], 7500);
+  EXPECT_EQ(paper.circles[0] + paper.circles[1] + paper.circles[2], 21833);
+  EXPECT_EQ(paper.validation, 5000);
+  const PresetCounts quick = preset_counts("quick");
+  const int train = quick.circles[0] + quick.circles[1] + quick.circles[2];
+  EXPECT_NEAR(train, 2000, 5);
+  EXPECT_NEAR(quick.validation / double(quick.circles[3]), 2.0 / 3.0, 0.01);
+  EXPECT_THROW(preset_counts("huge"), InputError);
+}
+
+TEST(Simulate, SplitsFollowTheCircleCounts) {
+  const Dataset& d = tiny();
+  const PresetCounts counts = preset_counts("tiny");
+  ASSERT_EQ(d.size(),
+            counts.circles[0] + counts.circles[1] + counts.circles[2] + counts.circles[3]);
+  for (int i = 0; i < d.size(); ++i) {
+    const bool four = d.circles[i].size() == 4;
+    EXPECT_EQ(d.split[i] == Split::train, !four) << i;
+  }
+  EXPECT_EQ(static_cast<int>(d.indices(Split::validation).size()), counts.validation);
+}
+
+TEST(Simulate, CirclesAreInsideAndApart) {
+  const Dataset& d = tiny();
+  for (const auto& circles : d.circles)
+    for (std::size_t a = 0; a < circles.size(); ++a) {
+      const Circle& c = circles[a];
+      EXPECT_LE(std::hypot(c.x, c.y) + c.r, d.radius + 1e-12);
+      EXPECT_GE(c.r, 0.05 * d.radius);
+      EXPECT_LE(c.r, 0.25 * d.radius);
+      EXPECT_GE(c.conductivity, 0.0001);
+      EXPECT_LE(c.conductivity, 0.05);
+      for (std::size_t b = a + 1; b < circles.size(); ++b)
+        EXPECT_GE(std::hypot(c.x - circles[b].x, c.y - circles[b].y), c.r + circles[b].r);
+    }
+}
+
+TEST(Simulate, LabelsConserveTheTouch) {
+  // sum of intensities x pixel area = sum of pi r^2 (sigma_0 - sigma) / sigma_0, within 1 %.
+  const Dataset& d = tiny();
+  const double pixel_area = std::pow(2 * d.radius / d.image_size, 2);
+  for (int i = 0; i < d.size(); ++i) {
+    double expected = 0;
+    for (const Circle& c : d.circles[i])
+      expected += M_PI * c.r * c.r * (d.background - c.conductivity) / d.background;
+    EXPECT_NEAR(d.labels.row(i).sum() * pixel_area, expected, 0.01 * expected) << i;
+    EXPECT_GE(d.labels.row(i).minCoeff(), 0.0);
+    EXPECT_LT(d.labels.row(i).maxCoeff(), 1.0);
+  }
+}
+
+TEST(Simulate, FramesAreForwardSolutionsAndDifferencesFollow) {
+  const Dataset& d = tiny();
+  const Mesh mesh = generate_disk_mesh({16, MeshDensity::medium});
+  const ForwardModel model(mesh);
+  const Protocol& p = model.protocol();
+  for (int i : {0, d.size() / 2, d.size() - 1}) {
+    const Eigen::VectorXd v =
+        model.frame(conductivity_from_circles(mesh, d.circles[i], d.background));
+    EXPECT_LT((v - d.frames.row(i).transpose()).norm(), 1e-12 * v.norm());
+    const Eigen::VectorXd dv = p.reduce(v - d.reference, MeasurementOrder::rotating);
+    EXPECT_LT((dv - d.differences.row(i).transpose()).norm(), 1e-12 * v.norm());
+  }
+  EXPECT_LT(
+      (d.reference - model.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), d.background)))
+          .norm(),
+      1e-13);
+}
+
+TEST(Simulate, IsDeterministicWhateverTheThreadCount) {
+  SimulationOptions o;
+  o.preset = "tiny";
+  o.seed = 11;
+  o.density = MeshDensity::medium;
+  o.threads = 1;
+  const Dataset one = simulate_dataset(o);
+  const Dataset& many = tiny();  // all cores
+  EXPECT_EQ(one.frames, many.frames);
+  EXPECT_EQ(one.labels, many.labels);
+  // And through the file: the same seed gives the same data sets.
+  const std::string a = temp_path("a.h5"), b = temp_path("b.h5");
+  write_dataset(a, one);
+  write_dataset(b, many);
+  const Dataset ra = read_dataset(a), rb = read_dataset(b);
+  EXPECT_EQ(ra.differences, rb.differences);
+  EXPECT_EQ(ra.labels, rb.labels);
+  o.seed = 12;
+  EXPECT_NE(simulate_dataset(o).differences, one.differences);
+  fs::remove(a);
+  fs::remove(b);
+}
+
+TEST(DatasetFile, RoundTrips) {
+  const Dataset& d = tiny();
+  const std::string path = temp_path("round.h5");
+  write_dataset(path, d);
+  ASSERT_TRUE(is_hdf5_file(path));
+  const Dataset r = read_dataset(path);
+  EXPECT_EQ(r.electrodes, 16);
+  EXPECT_EQ(r.seed, 11u);
+  EXPECT_EQ(r.preset, "tiny");
+  EXPECT_EQ(r.frames, d.frames);
+  EXPECT_EQ(r.differences, d.differences);
+  EXPECT_EQ(r.reference, d.reference);
+  EXPECT_EQ(r.split, d.split);
+  EXPECT_EQ(r.labels, d.labels.cast<float>().cast<double>());  // labels are stored as float32
+  ASSERT_EQ(r.circles.size(), d.circles.size());
+  for (std::size_t i = 0; i < d.circles.size(); ++i) {
+    ASSERT_EQ(r.circles[i].size(), d.circles[i].size());
+    EXPECT_EQ(r.circles[i][0].x, d.circles[i][0].x);
+    EXPECT_EQ(r.circles[i][0].conductivity, d.circles[i][0].conductivity);
+  }
+  fs::remove(path);
+}
+
+TEST(Noise, MeasuredSnrMatchesTheRequest) {
+  const Dataset& d = tiny();
+  for (double snr : {50.0, 40.0, 30.0}) {
+    SampleMatrix noisy = d.differences;
+    add_noise(noisy, snr, 3);
+    EXPECT_NEAR(measured_snr_db(d.differences, noisy), snr, 0.5) << snr;
+    // Per frame too, on average (each frame's noise is scaled to that frame's power).
+    double mean = 0;
+    for (Eigen::Index i = 0; i < noisy.rows(); ++i)
+      mean += 10 * std::log10(d.differences.row(i).squaredNorm() /
+                              (noisy.row(i) - d.differences.row(i)).squaredNorm());
+    EXPECT_NEAR(mean / noisy.rows(), snr, 0.5);
+    SampleMatrix again = d.differences;
+    add_noise(again, snr, 3);
+    EXPECT_EQ(again, noisy) << "deterministic";
+  }
+  SampleMatrix clean = d.differences;
+  add_noise(clean, INFINITY, 3);
+  EXPECT_EQ(clean, d.differences);
+}
+
+// Malformed files, each written with the HDF5 API from a good one with one defect.
+class BadDatasetFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = temp_path("bad.h5");
+    write_dataset(path_, tiny());
+  }
+  void TearDown() override { fs::remove(path_); }
+  void expect_rejected(const std::string& field) {
+    try {
+      read_dataset(path_);
+      ADD_FAILURE() << "accepted a file with a bad " << field;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source(), path_);
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  }
+  template <typename F>
+  void edit(F&& f) {
+    H5::H5File file(path_, H5F_ACC_RDWR);
+    f(file);
+  }
+  std::string path_;
+};
+
+TEST_F(BadDatasetFile, MissingDataSet) {
+  edit([](H5::H5File& f) { f.unlink("frames"); });
+  expect_rejected("frames");
+}
+
+TEST_F(BadDatasetFile, WrongShape) {
+  edit([](H5::H5File& f) {
+    f.unlink("differences");
+    const hsize_t dims[2] = {81, 103};
+    std::vector<double> zeros(81 * 103, 0.0);
+    f.createDataSet("differences", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, dims))
+        .write(zeros.data(), H5::PredType::NATIVE_DOUBLE);
+  });
+  expect_rejected("differences");
+}
+
+TEST_F(BadDatasetFile, NotANumber) {
+  edit([](H5::H5File& f) {
+    H5::DataSet set = f.openDataSet("differences");
+    std::vector<double> values(81 * 104);
+    set.read(values.data(), H5::PredType::NATIVE_DOUBLE);
+    values[500] = NAN;
+    set.write(values.data(), H5::PredType::NATIVE_DOUBLE);
+  });
+  expect_rejected("differences");
+}
+
+TEST_F(BadDatasetFile, SplitOutOfRange) {
+  edit([](H5::H5File& f) {
+    H5::DataSet set = f.openDataSet("split");
+    std::vector<int> values(81);
+    set.read(values.data(), H5::PredType::NATIVE_INT);
+    values[3] = 5;
+    set.write(values.data(), H5::PredType::NATIVE_INT);
+  });
+  expect_rejected("split");
+}
+
+TEST_F(BadDatasetFile, MissingElectrodeCount) {
+  edit([](H5::H5File& f) { f.removeAttr("electrodes"); });
+  expect_rejected("electrodes");
+}
+
+TEST_F(BadDatasetFile, ElectrodeCountDisagreesWithTheData) {
+  edit([](H5::H5File& f) {
+    f.removeAttr("electrodes");
+    const long long eight = 8;
+    f.createAttribute("electrodes", H5::PredType::NATIVE_LLONG, H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_LLONG, &eight);
+  });
+  expect_rejected("differences");
+}
+
+TEST_F(BadDatasetFile, HugeDeclaredDimensions) {
+  edit([](H5::H5File& f) {
+    f.unlink("frames");
+    const hsize_t dims[2] = {81, 4000000000ULL}, chunk[2] = {1, 1024};
+    H5::DSetCreatPropList props;
+    props.setChunk(2, chunk);  // chunked and never written: a tiny file declaring 2.6 TB
+    f.createDataSet("frames", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, dims), props);
+  });
+  expect_rejected("frames");
+}
+
+TEST_F(BadDatasetFile, TruncatedAndForeignFiles) {
+  const auto size = fs::file_size(path_);
+  fs::resize_file(path_, size / 2);
+  expect_rejected("");
+  std::ofstream(path_) << "x,y\n1,2\n";
+  expect_rejected("not an HDF5 file");
+  std::ofstream(path_, std::ios::trunc).close();
+  expect_rejected("not an HDF5 file");
+}
+
+}  // namespace
+}  // namespace eitbench
