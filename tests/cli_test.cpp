@@ -278,8 +278,37 @@ TEST_F(Cli, AugmentRejectsBadInputWithoutOutput) {
   }
 }
 
+TEST_F(Cli, SimulateInfoShow) {
+  const Result sim =
+      run("simulate --preset tiny --seed 3 --density coarse --threads 2 --out " + path("d.h5"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.output;
+  EXPECT_NE(sim.output.find("samples/s"), std::string::npos);
+  const Result info = run("info " + path("d.h5"));
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("train 60"), std::string::npos) << info.output;
+  ASSERT_EQ(run("show " + path("d.h5") + " --index 70 --out " + path("s.png")).exit_code, 0);
+  std::ifstream png(path("s.png"), std::ios::binary);
+  char magic[4] = {};
+  png.read(magic, 4);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  // Bad input: no output, a named field, status 2.
+  for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
+           {"show " + path("d.h5") + " --index 81 --out " + path("x.png"), "--index"},
+           {"show " + kSquare + " --out " + path("x.png"), "not an HDF5 file"},
+           {"info " + path("missing.h5"), "missing.h5"},
+           {"simulate --preset tiny --out " + path("nofolder/x.h5"), "does not exist"}}) {
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << r.output;
+  }
+  EXPECT_NE(run("simulate --preset huge --out " + path("x.h5")).exit_code, 0);
+  EXPECT_FALSE(fs::exists(path("x.png")));
+  EXPECT_FALSE(fs::exists(path("x.h5")));
+}
+
 TEST_F(Cli, HelpIsAvailableEverywhere) {
-  for (const std::string sub : {"", "mesh", "forward", "jacobian", "augment", "run"}) {
+  for (const std::string sub :
+       {"", "mesh", "forward", "jacobian", "augment", "simulate", "info", "show", "run"}) {
     const Result r = run(sub + " --help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_NE(r.output.find("--"), std::string::npos);

@@ -1,6 +1,9 @@
 #include "eitbench/bench/figures.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -54,6 +57,137 @@ void draw_mesh_png(const Mesh& mesh, const std::string& path, int pixels) {
   }
   write_atomically(path, [&](const std::string& temp) {
     if (!cv::imwrite(temp, image)) throw InputError(path, "", "cannot write the PNG");
+  });
+}
+
+}  // namespace eitbench
+
+namespace eitbench {
+namespace {
+
+const cv::Scalar kInk(40, 40, 40), kGrid(225, 225, 225);
+
+std::string short_number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3g", v);
+  return buffer;
+}
+
+void put_text(cv::Mat& img, const std::string& text, cv::Point at, double scale = 0.5,
+              cv::Scalar colour = kInk) {
+  cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
+}
+
+// The line plot inside `box`, with axes, ticks at the ends and a legend.
+void draw_plot(cv::Mat& img, cv::Rect box, const SampleFigure& f) {
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  for (const auto& s : f.series)
+    for (std::size_t i = 0; i < s.y.size(); ++i) {
+      const double x = s.x.empty() ? double(i) : s.x[i];
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, s.y[i]),
+      y1 = std::max(y1, s.y[i]);
+    }
+  if (!(x1 > x0)) x1 = x0 + 1;
+  if (!(y1 > y0)) y1 = y0 + 1;
+  const double pad = 0.05 * (y1 - y0);
+  y0 -= pad, y1 += pad;
+  const cv::Rect area(box.x + 70, box.y + 30, box.width - 90, box.height - 80);
+  auto px = [&](double x, double y) {
+    return cv::Point2d(area.x + (x - x0) / (x1 - x0) * area.width,
+                       area.y + area.height - (y - y0) / (y1 - y0) * area.height);
+  };
+  for (int k = 0; k <= 4; ++k) {  // horizontal grid with labels
+    const double y = y0 + (y1 - y0) * k / 4;
+    cv::line(img, px(x0, y), px(x1, y), kGrid, 1);
+    put_text(img, short_number(y), cv::Point(box.x + 5, static_cast<int>(px(x0, y).y) + 5), 0.42);
+  }
+  if (y0 < 0 && y1 > 0) cv::line(img, px(x0, 0), px(x1, 0), cv::Scalar(160, 160, 160), 1);
+  cv::rectangle(img, area, kInk, 1);
+  put_text(img, short_number(x0), cv::Point(area.x - 5, area.y + area.height + 18), 0.42);
+  put_text(img, short_number(x1), cv::Point(area.x + area.width - 20, area.y + area.height + 18),
+           0.42);
+  put_text(img, f.x_label, cv::Point(area.x + area.width / 2 - 60, area.y + area.height + 38),
+           0.48);
+  put_text(img, f.y_label, cv::Point(box.x + 5, box.y + 18), 0.48);
+  put_text(img, f.plot_title, cv::Point(area.x + 10, box.y + 18), 0.55);
+  int legend_y = area.y + 18;
+  for (const auto& s : f.series) {
+    const cv::Scalar colour(s.colour[0], s.colour[1], s.colour[2]);
+    for (std::size_t i = 1; i < s.y.size(); ++i) {
+      const double xa = s.x.empty() ? double(i - 1) : s.x[i - 1],
+                   xb = s.x.empty() ? double(i) : s.x[i];
+      cv::line(img, px(xa, s.y[i - 1]), px(xb, s.y[i]), colour, 2, cv::LINE_AA);
+    }
+    if (!s.label.empty()) {
+      cv::line(img, cv::Point(area.x + area.width - 150, legend_y - 4),
+               cv::Point(area.x + area.width - 125, legend_y - 4), colour, 2);
+      put_text(img, s.label, cv::Point(area.x + area.width - 118, legend_y), 0.45);
+      legend_y += 18;
+    }
+  }
+}
+
+}  // namespace
+
+void draw_sample_png(const SampleFigure& f, const std::string& path) {
+  const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(f.image.size()))));
+  const int cell = std::max(1, 512 / std::max(1, n)), side = n * cell;
+  cv::Mat canvas(side + 90, side + 660, CV_8UC3, cv::Scalar(255, 255, 255));
+  // The image through a colour map, masked pixels white.
+  cv::Mat grey(n, n, CV_8U);
+  const double span = f.image_max > f.image_min ? f.image_max - f.image_min : 1.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double v = (f.image[i * n + j] - f.image_min) / span;
+      grey.at<unsigned char>(i, j) = static_cast<unsigned char>(
+          std::lround(255 * std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0)));
+    }
+  cv::Mat colour, big;
+  cv::applyColorMap(grey, colour, cv::COLORMAP_VIRIDIS);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if ((f.mask.size() == n * n && !f.mask[i * n + j]) || !std::isfinite(f.image[i * n + j]))
+        colour.at<cv::Vec3b>(i, j) = cv::Vec3b(255, 255, 255);
+  cv::resize(colour, big, cv::Size(side, side), 0, 0, cv::INTER_NEAREST);
+  const cv::Point origin(20, 50);
+  big.copyTo(canvas(cv::Rect(origin.x, origin.y, side, side)));
+  put_text(canvas, f.title, cv::Point(20, 30), 0.6);
+  if (f.outline) {  // the rim and the electrodes of the mesh
+    auto at = [&](int node) {
+      return cv::Point(
+          origin.x + static_cast<int>(std::lround((f.outline->nodes(node, 0) + f.radius) /
+                                                  (2 * f.radius) * side)),
+          origin.y + static_cast<int>(std::lround((f.radius - f.outline->nodes(node, 1)) /
+                                                  (2 * f.radius) * side)));
+    };
+    std::map<std::pair<int, int>, int> edges;
+    for (int t = 0; t < f.outline->num_triangles(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int a = f.outline->triangles(t, k), b = f.outline->triangles(t, (k + 1) % 3);
+        ++edges[{std::min(a, b), std::max(a, b)}];
+      }
+    for (const auto& [e, count] : edges)
+      if (count == 1) cv::line(canvas, at(e.first), at(e.second), kInk, 1, cv::LINE_AA);
+    for (int e = 0; e < f.outline->num_electrodes(); ++e) {
+      const Electrode& el = f.outline->electrodes[e];
+      const cv::Scalar c = e == 0 ? cv::Scalar(30, 30, 220) : cv::Scalar(30, 140, 255);
+      if (el.is_point()) cv::circle(canvas, at(el.point_node), 5, c, cv::FILLED);
+      for (const auto& s : el.segments) cv::line(canvas, at(s[0]), at(s[1]), c, 4, cv::LINE_AA);
+    }
+  }
+  // Colour bar.
+  const cv::Rect bar(origin.x + side + 12, origin.y, 16, side);
+  for (int y = 0; y < side; ++y) {
+    cv::Mat one(1, 1, CV_8U, cv::Scalar(255 - 255 * y / std::max(1, side - 1))), c;
+    cv::applyColorMap(one, c, cv::COLORMAP_VIRIDIS);
+    cv::line(canvas, cv::Point(bar.x, bar.y + y), cv::Point(bar.x + bar.width, bar.y + y),
+             cv::Scalar(c.at<cv::Vec3b>(0, 0)), 1);
+  }
+  put_text(canvas, short_number(f.image_max), cv::Point(bar.x + 20, bar.y + 10), 0.42);
+  put_text(canvas, short_number(f.image_min), cv::Point(bar.x + 20, bar.y + side), 0.42);
+  draw_plot(canvas, cv::Rect(origin.x + side + 70, origin.y - 20, 560, side + 40), f);
+  write_atomically(path, [&](const std::string& temp) {
+    if (!cv::imwrite(temp, canvas)) throw InputError(path, "", "cannot write the PNG");
   });
 }
 

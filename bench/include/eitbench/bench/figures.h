@@ -1,6 +1,9 @@
 #pragma once
 // Figures people would rather look at than read.
+#include <Eigen/Core>
+#include <array>
 #include <string>
+#include <vector>
 
 #include "eitbench/jacobian/mesh.h"
 
@@ -8,5 +11,26 @@ namespace eitbench {
 
 // The mesh's triangles, its electrodes in colour with their numbers, and the centre node, as a PNG.
 void draw_mesh_png(const Mesh& mesh, const std::string& path, int pixels = 900);
+
+// One curve of a line plot; colour as {blue, green, red}.
+struct PlotSeries {
+  std::vector<double> x, y;  // x empty: 0, 1, 2, ...
+  std::string label;
+  std::array<int, 3> colour{200, 90, 20};
+};
+
+// An image of an n x n pixel field (row-major, row 0 at the top) with a colour bar, beside a line
+// plot, as one PNG: the mesh's rim and electrodes are drawn over the image when given.
+struct SampleFigure {
+  std::string title;
+  Eigen::VectorXd image;  // n^2 values; NaN or masked pixels drawn white
+  Eigen::Array<bool, Eigen::Dynamic, 1> mask;
+  double image_min = 0, image_max = 1;
+  const Mesh* outline = nullptr;  // drawn in the image's coordinates [-R, R]^2
+  double radius = 1.0;
+  std::string plot_title, x_label, y_label;
+  std::vector<PlotSeries> series;
+};
+void draw_sample_png(const SampleFigure& figure, const std::string& path);
 
 }  // namespace eitbench
