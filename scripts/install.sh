@@ -11,6 +11,7 @@ packages=(
   libceres-dev           # total variation and Gauss-Newton (solvers/)
   libopencv-dev          # figures and bilinear image transforms
   libhdf5-dev            # data sets and Jacobians, readable by h5py and MATLAB
+  zlib1g-dev             # .npz and compressed .mat measurement files
   libtorch-dev           # the learned reconstructor (learned/)
   libopenblas0-openmp    # the fast BLAS: ATLAS is 1.5-3x slower, pthread OpenBLAS fights OpenMP
   libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev libtbb-dev

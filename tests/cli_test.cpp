@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "eitbench/bench/dataset.h"
 #include "eitbench/bench/io.h"
 #include "eitbench/jacobian.h"
 
@@ -306,9 +307,26 @@ TEST_F(Cli, SimulateInfoShow) {
   EXPECT_FALSE(fs::exists(path("x.h5")));
 }
 
+TEST_F(Cli, ImportMeasuredFrames) {
+  const std::string data = kCorpus + "/../data/";
+  const Result r = run("import --in " + data + "frames_v73.mat --reference " + data +
+                       "reference.npy --out " + path("m.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("reciprocity error"), std::string::npos) << r.output;
+  EXPECT_EQ(read_dataset(path("m.h5")).size(), 3);
+  const Result bad = run("import --in " + data + "bad_nan.npy --out " + path("bad.h5"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("bad_nan.npy"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(path("bad.h5")));
+  EXPECT_EQ(
+      run("import --in " + data + "frames.csv --electrodes 8 --out " + path("bad.h5")).exit_code,
+      2);
+  EXPECT_FALSE(fs::exists(path("bad.h5")));
+}
+
 TEST_F(Cli, HelpIsAvailableEverywhere) {
-  for (const std::string sub :
-       {"", "mesh", "forward", "jacobian", "augment", "simulate", "info", "show", "run"}) {
+  for (const std::string sub : {"", "mesh", "forward", "jacobian", "augment", "simulate", "info",
+                                "show", "import", "run"}) {
     const Result r = run(sub + " --help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_NE(r.output.find("--"), std::string::npos);

@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "eitbench/bench/dataset.h"
+#include "eitbench/bench/measurements.h"
 #include "eitbench/jacobian/protocol.h"
 
 namespace eitbench::cli {
@@ -39,11 +40,32 @@ void print_dataset_summary(const std::string& path, const Dataset& d) {
   }
 }
 
+void add_import_options(CLI::App& cmd, ImportOptions& o, std::string& order);  // import_command.cpp
+
 std::function<void()> add_info_command(CLI::App& app) {
-  auto path = std::make_shared<std::string>();
-  auto* cmd = app.add_subcommand("info", "Summarise a data file");
-  cmd->add_option("file", *path, "an eitbench HDF5 data set")->required();
-  return [path] { print_dataset_summary(*path, read_dataset(*path)); };
+  struct Args {
+    std::string path, order = "rotating";
+    ImportOptions options;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd =
+      app.add_subcommand("info", "Summarise a data file: an eitbench data set, or measured frames");
+  cmd->add_option("file", args->path,
+                  "an eitbench .h5 data set, or frames in .csv, .npy, .npz, .mat")
+      ->required();
+  add_import_options(*cmd, args->options, args->order);
+  return [args] {
+    const bool matlab =
+        args->path.size() > 4 && args->path.compare(args->path.size() - 4, 4, ".mat") == 0;
+    if (is_hdf5_file(args->path) && !matlab)
+      return print_dataset_summary(args->path, read_dataset(args->path));
+    args->options.order = parse_order(args->order);
+    const Measurements m = read_measurements(args->path, args->options);
+    fmt::print("{}: {}\n", args->path, m.description);
+    fmt::print("  |v| max {:.4g}, mean {:.4g}\n", m.frames.cwiseAbs().maxCoeff(),
+               m.frames.cwiseAbs().mean());
+    if (!m.reduced_input) fmt::print("  reciprocity error: {:.3e}\n", m.reciprocity_error);
+  };
 }
 
 }  // namespace eitbench::cli

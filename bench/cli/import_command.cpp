@@ -1,0 +1,56 @@
+// eitbench import: measured frames (CSV, NPY/NPZ, MAT) and a reference to an eitbench data set.
+#include <fmt/core.h>
+
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/bench/dataset.h"
+#include "eitbench/bench/measurements.h"
+
+namespace eitbench::cli {
+
+void add_import_options(CLI::App& cmd, ImportOptions& o, std::string& order) {
+  cmd.add_option("--electrodes", o.electrodes, "electrodes L")
+      ->capture_default_str()
+      ->check(CLI::Range(4, 256));
+  cmd.add_option("--order", order, "order of L(L-3)-value frames: rotating | ascending")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rotating", "ascending"}));
+  cmd.add_option("--variable", o.variable, "array (.npz) or variable (.mat) holding the frames");
+}
+
+std::function<void()> add_import_command(CLI::App& app) {
+  struct Args {
+    ImportOptions options;
+    std::string in, reference, reference_variable, order = "rotating", out;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "import", "Measured frames and a reference frame to an eitbench HDF5 data set");
+  cmd->add_option("--in", args->in, "frames: .csv, .npy, .npz or .mat (v5 or v7.3)")->required();
+  cmd->add_option("--reference", args->reference,
+                  "the empty sensor's frame(s), any of the same formats (mean if several)");
+  cmd->add_option("--reference-variable", args->reference_variable,
+                  "array or variable in --reference");
+  add_import_options(*cmd, args->options, args->order);
+  cmd->add_option("--out", args->out, "HDF5 data set to write (all frames in the test split)")
+      ->required();
+  return [args] {
+    args->options.order = parse_order(args->order);
+    const Dataset d =
+        import_measurements(args->in, args->reference, args->options, args->reference_variable);
+    const Measurements m = read_measurements(args->in, args->options);
+    fmt::print("{}: {}\n", args->in, m.description);
+    if (m.reduced_input)
+      fmt::print("  reciprocity: not measurable (reduced frames are reciprocal by construction)\n");
+    else
+      fmt::print("  reciprocity error: {:.3e} (mean relative |v(d,m) - v(m,d)| over the frames)\n",
+                 m.reciprocity_error);
+    if (args->reference.empty())
+      fmt::print("  no --reference: the frames are taken to be differences already\n");
+    write_dataset(args->out, d);
+    fmt::print("wrote {} ({} frames)\n", args->out, d.size());
+  };
+}
+
+}  // namespace eitbench::cli

@@ -1,0 +1,43 @@
+#pragma once
+// Frames measured by real instruments, from the files they and their users write: CSV, NumPy
+// .npy / .npz, MATLAB .mat (level 5, compressed or not; v7.3 through HDF5).
+//
+// A frame is recognised by its length: L(L-3) values in --order (rotating or ascending), the
+// L(L-3)/2 reduced values (completed by reciprocity), or L^2 values of the full L x L map, (d, m)
+// at d L + m, with the unmeasured entries present and ignored. A 2-D array holds one frame a row,
+// or one a column when only its row count is a frame length (MATLAB files, where EIDORS stores one
+// frame a column, prefer columns when both fit).
+#include <string>
+
+#include "eitbench/augment/augmented_set.h"
+#include "eitbench/bench/dataset.h"
+#include "eitbench/jacobian/protocol.h"
+
+namespace eitbench {
+
+struct ImportOptions {
+  int electrodes = 16;
+  MeasurementOrder order = MeasurementOrder::rotating;  // of L(L-3)-value frames
+  std::string variable;  // array (.npz) or variable (.mat); default: the only numeric one, else
+                         // the first of frames, data, vv, v, voltages, meas
+};
+
+struct Measurements {
+  SampleMatrix frames;      // N x L(L-3), rotating order
+  std::string description;  // format, variable and layout, for people
+  bool reduced_input = false;
+  double reciprocity_error =
+      0;  // mean relative error of the frames as measured (0 for reduced input)
+};
+
+// InputError names the file and the variable or field.
+Measurements read_measurements(const std::string& path, const ImportOptions& options);
+
+// Frames and a reference (empty-sensor) file as a data set without labels: differences are
+// frame - reference (the reference file's mean frame when it holds several). Without a reference
+// the frames are taken to be differences already, and the reference is zero.
+Dataset import_measurements(const std::string& path, const std::string& reference_path,
+                            const ImportOptions& options,
+                            const std::string& reference_variable = "");
+
+}  // namespace eitbench

@@ -1,0 +1,168 @@
+// Importers of measured frames against files written by numpy, scipy and h5py (tests/data,
+// made by make_fixtures.py from frames.csv), and corrupted copies of them.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "eitbench/bench/io.h"
+#include "eitbench/bench/measurements.h"
+#include "eitbench/jacobian.h"
+
+namespace eitbench {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kData = std::string(EITBENCH_BAD_INPUTS) + "/../data/";
+
+Eigen::MatrixXd expected_frames() {
+  return read_frames_csv(kData + "frames.csv");
+}
+
+Measurements import(const std::string& file, MeasurementOrder order = MeasurementOrder::rotating,
+                    const std::string& variable = "") {
+  ImportOptions o;
+  o.order = order;
+  o.variable = variable;
+  return read_measurements(kData + file, o);
+}
+
+struct Fixture {
+  const char* file;
+  MeasurementOrder order;
+  const char* variable;
+  double tolerance;  // relative: float32 files keep 7 digits
+};
+
+void PrintTo(const Fixture& f, std::ostream* os) {
+  *os << f.file;
+}
+
+class Importer : public ::testing::TestWithParam<Fixture> {};
+
+TEST_P(Importer, ReadsTheSameFramesAsTheCsv) {
+  const auto& [file, order, variable, tolerance] = GetParam();
+  const Measurements m = import(file, order, variable);
+  const Eigen::MatrixXd expected = expected_frames();
+  ASSERT_EQ(m.frames.rows(), 3) << m.description;
+  ASSERT_EQ(m.frames.cols(), 208);
+  EXPECT_LE((m.frames - expected).cwiseAbs().maxCoeff(), tolerance * expected.cwiseAbs().maxCoeff())
+      << m.description;
+  if (!m.reduced_input) {
+    EXPECT_LT(m.reciprocity_error, 1e-6);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Formats, Importer,
+    ::testing::Values(Fixture{"frames.csv", MeasurementOrder::rotating, "", 0},
+                      Fixture{"frames_ascending.csv", MeasurementOrder::ascending, "", 0},
+                      Fixture{"frames_reduced.csv", MeasurementOrder::rotating, "", 1e-12},
+                      Fixture{"frames_square.csv", MeasurementOrder::rotating, "", 0},
+                      Fixture{"frames_rotating.npy", MeasurementOrder::rotating, "", 0},
+                      Fixture{"frames_fortran.npy", MeasurementOrder::rotating, "", 0},
+                      Fixture{"frames_ascending_f4.npy", MeasurementOrder::ascending, "", 1e-6},
+                      Fixture{"frames_compressed.npz", MeasurementOrder::rotating, "", 0},
+                      Fixture{"frames_plain.npz", MeasurementOrder::rotating, "", 1e-12},
+                      Fixture{"frames_v5.mat", MeasurementOrder::rotating, "vv", 0},
+                      Fixture{"frames_v5_plain.mat", MeasurementOrder::rotating, "", 0},
+                      Fixture{"frames_v73.mat", MeasurementOrder::rotating, "vv", 0}),
+    [](const auto& info) {
+      std::string n = info.param.file;
+      for (char& c : n)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      return n;
+    });
+
+TEST(Import, DifferencesAgainstTheReference) {
+  ImportOptions o;
+  const Dataset d =
+      import_measurements(kData + "frames_compressed.npz", kData + "frames_v5.mat", o, "vh");
+  const Eigen::MatrixXd frames = expected_frames();
+  const Eigen::VectorXd reference = read_frames_csv(kData + "reference.csv").row(0).transpose();
+  const Protocol p(16);
+  ASSERT_EQ(d.size(), 3);
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::VectorXd dv =
+        p.reduce(frames.row(i).transpose() - reference, MeasurementOrder::rotating);
+    EXPECT_LT((d.differences.row(i).transpose() - dv).cwiseAbs().maxCoeff(), 1e-15);
+  }
+  EXPECT_FALSE(d.has_labels());
+  // And through the file.
+  const std::string path = (fs::temp_directory_path() / "eitbench_import.h5").string();
+  write_dataset(path, d);
+  EXPECT_EQ(read_dataset(path).differences, d.differences);
+  fs::remove(path);
+}
+
+TEST(Import, ReportsTheReciprocityErrorOfMeasuredFrames) {
+  const Eigen::MatrixXd frames = expected_frames();
+  Eigen::VectorXd v = frames.row(0).transpose();
+  const Protocol p(16);
+  v[p.index(0, 2, MeasurementOrder::rotating)] += 0.01;  // one value off
+  const std::string path = (fs::temp_directory_path() / "eitbench_recip.csv").string();
+  write_frames_csv(path, v.transpose());
+  ImportOptions o;
+  const Measurements m = read_measurements(path, o);
+  EXPECT_NEAR(m.reciprocity_error, p.reciprocity_error(v, MeasurementOrder::rotating), 1e-15);
+  EXPECT_GT(m.reciprocity_error, 1e-4);
+  fs::remove(path);
+}
+
+// Corrupted copies: truncated, a flipped byte in the compressed stream, an emptied file.
+std::string corrupt(const std::string& file, const std::string& how) {
+  std::string bytes;
+  {
+    std::ifstream in(kData + file, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  if (how == "truncate") bytes.resize(bytes.size() * 2 / 3);
+  if (how == "flip") bytes[bytes.size() / 2] ^= 0x5a;
+  if (how == "empty") bytes.clear();
+  const std::string path = (fs::temp_directory_path() / ("eitbench_" + how + "_" + file)).string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+TEST(Import, RejectsBadFilesNamingFileAndField) {
+  ImportOptions o;
+  struct Bad {
+    std::string path, words;
+    ImportOptions options;
+  };
+  ImportOptions eight = o;
+  eight.electrodes = 8;
+  ImportOptions missing = o;
+  missing.variable = "nope";
+  const std::vector<Bad> bad = {
+      {kData + "bad_struct.mat", "struct", o},
+      {kData + "bad_bigendian.npy", "little-endian", o},
+      {kData + "bad_nan.npy", "NaN", o},
+      {kData + "bad_length.npy", "103 values", o},
+      {kData + "bad_two_arrays.npz", "--variable", o},
+      {kData + "frames_v5.mat", "nope", missing},
+      {kData + "frames.csv", "8 electrodes", eight},
+      {corrupt("frames_rotating.npy", "truncate"), "truncated", o},
+      {corrupt("frames_compressed.npz", "truncate"), "ZIP", o},
+      {corrupt("frames_compressed.npz", "flip"), "corrupt", o},
+      {corrupt("frames_v5.mat", "truncate"), "", o},
+      {corrupt("frames_v5.mat", "flip"), "", o},
+      {corrupt("frames_v73.mat", "truncate"), "", o},
+      {corrupt("frames_rotating.npy", "empty"), "magic", o},
+      {corrupt("frames_v5.mat", "empty"), "not a MATLAB", o},
+      {kData + "make_fixtures.py", "unknown file type", o},
+      {kData + "missing.npy", "cannot open", o},
+  };
+  for (const Bad& b : bad) {
+    try {
+      read_measurements(b.path, b.options);
+      ADD_FAILURE() << "accepted " << b.path;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source(), b.path) << e.what();
+      EXPECT_NE(std::string(e.what()).find(b.words), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace eitbench
