@@ -307,6 +307,23 @@ TEST_F(Cli, SimulateInfoShow) {
   EXPECT_FALSE(fs::exists(path("x.h5")));
 }
 
+TEST_F(Cli, AugmentDataSets) {
+  ASSERT_EQ(run("simulate --preset tiny --seed 4 --density coarse --quiet --out " + path("d.h5"))
+                .exit_code,
+            0);
+  const Result r =
+      run("augment --in " + path("d.h5") + " --group rotations --split all --out " + path("r.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_dataset(path("r.h5")).size(), 81 * 16);
+  ASSERT_EQ(run("augment --in " + path("d.h5") + " --group paper --out " + path("p.h5")).exit_code,
+            0);
+  EXPECT_EQ(read_dataset(path("p.h5")).augmentation, "paper");
+  EXPECT_EQ(run("augment --in " + path("d.h5") + " --group d16 --split some --out " + path("x.h5"))
+                    .exit_code != 0,
+            true);
+  EXPECT_FALSE(fs::exists(path("x.h5")));
+}
+
 TEST_F(Cli, ImportMeasuredFrames) {
   const std::string data = kCorpus + "/../data/";
   const Result r = run("import --in " + data + "frames_v73.mat --reference " + data +

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "eitbench/augment.h"
+#include "eitbench/bench/augment_file.h"
 #include "eitbench/bench/dataset.h"
 #include "eitbench/bench/noise.h"
 #include "eitbench/bench/simulate.h"
@@ -150,6 +152,26 @@ TEST(DatasetFile, RoundTrips) {
   fs::remove(path);
 }
 
+TEST(DatasetFile, AnUncommittedWriterLeavesNothingBehind) {
+  const Dataset& d = tiny();
+  const std::string path = temp_path("never.h5");
+  std::ofstream(path) << "an older file";
+  {
+    DatasetWriter writer(path, d, true, true);
+    writer.append(d);  // ... and the run stops before commit()
+  }
+  std::ifstream in(path);
+  std::string first;
+  std::getline(in, first);
+  EXPECT_EQ(first, "an older file") << "the existing file is untouched";
+  int temporaries = 0;
+  for (const auto& entry : fs::directory_iterator(fs::temp_directory_path()))
+    temporaries += entry.path().filename().string().find(
+                       ".eitbench_ds_" + std::to_string(::getpid()) + "_never.tmp") == 0;
+  EXPECT_EQ(temporaries, 0);
+  fs::remove(path);
+}
+
 TEST(Noise, MeasuredSnrMatchesTheRequest) {
   const Dataset& d = tiny();
   for (double snr : {50.0, 40.0, 30.0}) {
@@ -169,6 +191,64 @@ TEST(Noise, MeasuredSnrMatchesTheRequest) {
   SampleMatrix clean = d.differences;
   add_noise(clean, INFINITY, 3);
   EXPECT_EQ(clean, d.differences);
+}
+
+TEST(AugmentFile, ExpandsTheTrainingSplitConsistentlyWithTheForwardModel) {
+  const Dataset& d = tiny();
+  const std::string in = temp_path("in.h5"), out = temp_path("out.h5");
+  write_dataset(in, d);
+  FileAugmentOptions o;
+  o.block = 7;  // several blocks, boundaries inside the data
+  const long long n = augment_dataset_file(in, out, o);
+  const Dataset a = read_dataset(out);
+  const int train = static_cast<int>(d.indices(Split::train).size());
+  ASSERT_EQ(n, train * 32 + (d.size() - train));
+  EXPECT_EQ(a.size(), n);
+  EXPECT_EQ(a.augmentation, "d16");
+  EXPECT_EQ(static_cast<int>(a.indices(Split::validation).size()),
+            static_cast<int>(d.indices(Split::validation).size()));
+  // Row 32 i + k is train sample i under element k: its frame is what the forward model gives
+  // for the moved circles (the simulation mesh is D_16-symmetric), its label their raster.
+  const Mesh mesh = generate_disk_mesh({16, MeshDensity::medium});
+  const ForwardModel model(mesh);
+  const auto elements = group_elements(AugmentGroup::dihedral, 16);
+  const PixelGrid grid(64, 1.0);
+  for (int row : {0, 5, 17, 40, 31 * 32 + 30}) {
+    const int i = row / 32;
+    const GroupElement& g = elements[row % 32];
+    const std::vector<Circle> moved = transform_circles(d.circles[i], g, 16);
+    const Eigen::VectorXd v = model.frame(conductivity_from_circles(mesh, moved, d.background));
+    EXPECT_LT((v - a.frames.row(row).transpose()).norm(), 1e-9 * v.norm()) << g.to_string();
+    const Eigen::VectorXd dv = model.protocol().reduce(v - d.reference, MeasurementOrder::rotating);
+    EXPECT_LT((dv - a.differences.row(row).transpose()).norm(), 1e-9 * v.norm()) << g.to_string();
+    EXPECT_LT((circles_image(grid, moved, d.background).cast<float>().cast<double>() -
+               a.labels.row(row).transpose())
+                  .norm(),
+              1e-6);
+    EXPECT_EQ(a.circles[row].size(), d.circles[i].size());
+  }
+  // Validation and test samples are copied as they are, after the expanded training rows.
+  const int first_validation = d.indices(Split::validation).front();
+  EXPECT_EQ(Eigen::RowVectorXd(a.differences.row(train * 32)),
+            Eigen::RowVectorXd(d.differences.row(first_validation)));
+
+  o.splits = {Split::train, Split::validation, Split::test};
+  o.elements = {GroupElement{3, true}};  // one element: every sample moved, none added
+  ASSERT_EQ(augment_dataset_file(in, out, o), d.size());
+  const Dataset m = read_dataset(out);
+  const FrameSymmetry sym(16);
+  EXPECT_EQ(Eigen::VectorXd(m.differences.row(9).transpose()),
+            sym.apply({3, true}, d.differences.row(9).transpose(), FrameLayout::reduced));
+  EXPECT_EQ(m.augmentation, "mirror:3");
+  o.splits = {Split::validation};  // one element on one split: the others stay as they are
+  ASSERT_EQ(augment_dataset_file(in, out, o), d.size());
+  const Dataset v = read_dataset(out);
+  const int val = d.indices(Split::validation).front(), tr = d.indices(Split::train).front();
+  EXPECT_EQ(Eigen::RowVectorXd(v.differences.row(tr)), Eigen::RowVectorXd(d.differences.row(tr)));
+  EXPECT_EQ(Eigen::VectorXd(v.differences.row(val).transpose()),
+            sym.apply({3, true}, d.differences.row(val).transpose(), FrameLayout::reduced));
+  fs::remove(in);
+  fs::remove(out);
 }
 
 // Malformed files, each written with the HDF5 API from a good one with one defect.

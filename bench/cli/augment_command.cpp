@@ -1,11 +1,12 @@
 // eitbench augment: frames moved by one group element, or expanded by a whole group.
 #include <fmt/core.h>
 
-#include <filesystem>
 #include <memory>
 
 #include "commands.h"
 #include "eitbench/augment.h"
+#include "eitbench/bench/augment_file.h"
+#include "eitbench/bench/dataset.h"
 #include "eitbench/bench/io.h"
 #include "eitbench/jacobian/error.h"
 
@@ -13,7 +14,7 @@ namespace eitbench::cli {
 
 std::function<void()> add_augment_command(CLI::App& app) {
   struct Args {
-    std::string in, out, group, element, order = "rotating";
+    std::string in, out, group, element, order = "rotating", split = "train";
     int electrodes = 16;
   };
   auto args = std::make_shared<Args>();
@@ -21,9 +22,15 @@ std::function<void()> add_augment_command(CLI::App& app) {
       "augment",
       "Move frames by a symmetry of the sensor (--element) or expand them by a group (--group)");
   cmd->add_option("--in", args->in,
-                  "CSV frames, one a line: L(L-3) values in --order, or L(L-3)/2 reduced")
+                  "an eitbench HDF5 data set, or CSV frames (one a line: L(L-3) values in --order, "
+                  "or L(L-3)/2 reduced)")
       ->required();
-  cmd->add_option("--out", args->out, "CSV output in the input's order and size")->required();
+  cmd->add_option("--out", args->out, "the same kind of file as --in")->required();
+  cmd->add_option(
+         "--split", args->split,
+         "data sets: the split to augment (the others are copied): train | validation | test | all")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"train", "validation", "test", "all"}));
   auto* group = cmd->add_option(
       "--group", args->group,
       "rotations | mirror | d16 | paper: each frame becomes |G| lines (rot:0..L-1, then "
@@ -42,10 +49,23 @@ std::function<void()> add_augment_command(CLI::App& app) {
   return [args, cmd] {
     if (!cmd->count("--group") && !cmd->count("--element"))
       throw InputError("augment", "", "give --group or --element");
-    const std::string extension = std::filesystem::path(args->in).extension().string();
-    if (extension == ".h5" || extension == ".hdf5")
-      throw InputError(args->in, "",
-                       "HDF5 data sets are not supported by 'augment' yet; give CSV frames");
+    if (is_hdf5_file(args->in)) {
+      FileAugmentOptions o;
+      o.group = cmd->count("--group") ? parse_group(args->group) : AugmentGroup::dihedral;
+      if (cmd->count("--element"))
+        o.elements = {parse_element(args->element, read_dataset(args->in).electrodes)};
+      if (args->split == "all")
+        o.splits = {Split::train, Split::validation, Split::test};
+      else
+        o.splits = {args->split == "train"        ? Split::train
+                    : args->split == "validation" ? Split::validation
+                                                  : Split::test};
+      const long long n = augment_dataset_file(args->in, args->out, o);
+      fmt::print("wrote {}: {} samples ({} split{} by {})\n", args->out, n, args->split,
+                 args->split == "all" ? "s" : "",
+                 cmd->count("--group") ? args->group : args->element);
+      return;
+    }
     const int L = args->electrodes;
     const Eigen::MatrixXd frames = read_frames_csv(args->in);
     const FrameLayout layout = frame_layout(frames.cols(), L, parse_order(args->order), args->in);

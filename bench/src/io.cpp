@@ -18,16 +18,22 @@
 namespace eitbench {
 namespace fs = std::filesystem;
 
-void write_atomically(const std::string& path,
-                      const std::function<void(const std::string&)>& write) {
+std::string temporary_path_for(const std::string& path) {
   if (path.empty()) throw InputError("--out", "", "the output path is empty");
   const fs::path target(path);
   if (fs::is_directory(target)) throw InputError(path, "", "is a directory, expected a file name");
   const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   if (!fs::is_directory(dir))
     throw InputError(path, "", "the folder " + dir.string() + " does not exist");
-  const fs::path temp = dir / ("." + target.stem().string() + ".tmp" + std::to_string(::getpid()) +
-                               target.extension().string());
+  return (dir / ("." + target.stem().string() + ".tmp" + std::to_string(::getpid()) +
+                 target.extension().string()))
+      .string();
+}
+
+void write_atomically(const std::string& path,
+                      const std::function<void(const std::string&)>& write) {
+  const fs::path target(path);
+  const fs::path temp = temporary_path_for(path);
   try {
     write(temp.string());
   } catch (...) {

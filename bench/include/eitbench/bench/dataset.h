@@ -12,9 +12,10 @@
 // Labels and circles are absent from imported measurements. Attributes on the root group:
 // electrodes, radius, background_conductivity, contact_impedance, current, electrode_coverage,
 // image_size, seed, preset, simulation_mesh, simulation_triangles, protocol, frame_order,
-// difference_layout, program, format_version.
+// difference_layout, program, augmentation, format_version.
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,7 @@ struct Dataset {
   std::string simulation_mesh;  // how the frames were made, or where they came from
   int simulation_triangles = 0;
   std::string program;
+  std::string augmentation = "none";  // the group the set was expanded by, if any
 
   Eigen::VectorXd reference;                 // L(L-3), rotating
   SampleMatrix frames;                       // N x L(L-3), rotating
@@ -58,6 +60,28 @@ struct Dataset {
 
 // Writes atomically (temporary, then rename); chunked and compressed.
 void write_dataset(const std::string& path, const Dataset& data);
+
+// Writes a data set block by block, for sets larger than memory: the attributes and the
+// reference come from `header`, the samples from each append(). Nothing appears at `path` until
+// commit(); a writer destroyed before that removes its temporary file.
+class DatasetWriter {
+ public:
+  DatasetWriter(const std::string& path, const Dataset& header, bool labels, bool circles);
+  ~DatasetWriter();
+  DatasetWriter(const DatasetWriter&) = delete;
+  DatasetWriter& operator=(const DatasetWriter&) = delete;
+
+  void append(const Dataset& block);  // rows of frames, differences, split, labels, circles
+  void commit();
+  long long size() const { return rows_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::string path_, temp_;
+  long long rows_ = 0;
+  bool committed_ = false;
+};
 // Reads and checks shapes, values and attributes; InputError names the file and the data set.
 Dataset read_dataset(const std::string& path);
 // True when the file is HDF5 (by its signature, whatever its name).

@@ -14,6 +14,8 @@ namespace eitbench {
 // extension (some writers choose the format by it) and is removed when write() throws.
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string&)>& write);
+// The temporary beside `path` that write_atomically uses (checks that the folder exists).
+std::string temporary_path_for(const std::string& path);
 void write_text_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write);
 
