@@ -14,14 +14,6 @@
 namespace eitbench {
 namespace {
 
-Eigen::VectorXd random_conductivity(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0.5, 2.0);
-  Eigen::VectorXd sigma(n);
-  for (auto& s : sigma) s = u(rng);
-  return sigma;
-}
-
 // sigma moved by g on a symmetric mesh: the triangle t goes to where g sends it.
 Eigen::VectorXd move_conductivity(const Mesh& mesh, const Eigen::VectorXd& sigma,
                                   const GroupElement& g) {
@@ -113,7 +105,7 @@ TEST_P(ForwardCommutes, WithEveryGroupElementOnASymmetricMesh) {
   const Mesh& mesh = testing::disk(L, MeshDensity::coarse);
   const ForwardModel model(mesh);
   const FrameSymmetry sym(L);
-  const Eigen::VectorXd sigma = random_conductivity(mesh.num_triangles(), 21);
+  const Eigen::VectorXd sigma = testing::random_conductivity(mesh.num_triangles(), 21);
   const Eigen::VectorXd v = model.frame(sigma);
   double worst = 0;
   for (const GroupElement& g : group_elements(AugmentGroup::dihedral, L)) {
@@ -217,7 +209,8 @@ TEST(ImpedanceMap, RoundTripsAndLayout) {
 TEST(Paper, AlgorithmOneEqualsTheRotations) {
   const FrameSymmetry sym(16);
   const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
-  const Eigen::VectorXd v = ForwardModel(mesh).frame(random_conductivity(mesh.num_triangles(), 4));
+  const Eigen::VectorXd v =
+      ForwardModel(mesh).frame(testing::random_conductivity(mesh.num_triangles(), 4));
   for (auto layout : {FrameLayout::rotating, FrameLayout::reduced}) {
     const Eigen::VectorXd frame =
         layout == FrameLayout::reduced ? sym.protocol().reduce(v, MeasurementOrder::rotating) : v;
@@ -238,7 +231,7 @@ TEST(Paper, AlgorithmTwoIsNoPhysicalMirror) {
   const std::vector<Circle> touch{{0.42, 0.13, 0.21, 0.01}, {-0.25, -0.4, 0.12, 0.03}};
   const Eigen::VectorXd ref = model.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), 0.05));
   for (const Eigen::VectorXd& v :
-       {Eigen::VectorXd(model.frame(random_conductivity(mesh.num_triangles(), 8))),
+       {Eigen::VectorXd(model.frame(testing::random_conductivity(mesh.num_triangles(), 8))),
         Eigen::VectorXd(model.frame(conductivity_from_circles(mesh, touch, 0.05)) - ref)}) {
     const Eigen::VectorXd paper = sym.apply_paper({0, true}, v, FrameLayout::rotating);
     double closest = INFINITY;
@@ -266,7 +259,8 @@ TEST(Paper, AlgorithmTwoIsNoPhysicalMirror) {
 
 TEST(Augment, AGenericTouchHas32DistinctFrames) {
   const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
-  const Eigen::VectorXd v = ForwardModel(mesh).frame(random_conductivity(mesh.num_triangles(), 9));
+  const Eigen::VectorXd v =
+      ForwardModel(mesh).frame(testing::random_conductivity(mesh.num_triangles(), 9));
   const FrameSymmetry sym(16);
   std::vector<Eigen::VectorXd> frames;
   for (const GroupElement& g : group_elements(AugmentGroup::dihedral, 16))

@@ -10,14 +10,6 @@
 namespace eitbench {
 namespace {
 
-Eigen::VectorXd random_conductivity(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0.5, 2.0);
-  Eigen::VectorXd sigma(n);
-  for (auto& s : sigma) s = u(rng);
-  return sigma;
-}
-
 // Point electrodes on a homogeneous unit disk (issue 2): current I into electrode a, out of b.
 double analytic_voltage(int L, int a, int b, int m, double current, double sigma) {
   auto s = [L](int j) { return std::sin(M_PI * std::abs(j) / L); };
@@ -50,7 +42,7 @@ TEST(ForwardModel, FramesAreReciprocal) {
   for (int L : {8, 16, 32}) {
     const Mesh& mesh = testing::disk(L, MeshDensity::coarse);
     const ForwardModel model(mesh);
-    const Eigen::VectorXd v = model.frame(random_conductivity(mesh.num_triangles(), L));
+    const Eigen::VectorXd v = model.frame(testing::random_conductivity(mesh.num_triangles(), L));
     EXPECT_LT(model.protocol().reciprocity_error(v, MeasurementOrder::rotating), 1e-10)
         << "L = " << L;
   }
@@ -59,7 +51,7 @@ TEST(ForwardModel, FramesAreReciprocal) {
 TEST(ForwardModel, CurrentsFollowThePatternAndSumToZero) {
   const Mesh& mesh = testing::disk(16, MeshDensity::medium);
   const ForwardModel model(mesh, {0.7, 0.02});
-  const ForwardSolution s = model.solve(random_conductivity(mesh.num_triangles(), 1));
+  const ForwardSolution s = model.solve(testing::random_conductivity(mesh.num_triangles(), 1));
   const Eigen::MatrixXd I = model.electrode_currents(s);
   for (int d = 0; d < 16; ++d) {
     EXPECT_NEAR(I.col(d).sum(), 0.0, 1e-12);
@@ -74,7 +66,7 @@ TEST(ForwardModel, ScalingConductivityScalesVoltagesInversely) {
   // v(c sigma, z / c) = v(sigma, z) / c exactly: the contact impedance is a boundary resistance
   // and must scale with the bulk for the law to hold.
   const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
-  const Eigen::VectorXd sigma = random_conductivity(mesh.num_triangles(), 2);
+  const Eigen::VectorXd sigma = testing::random_conductivity(mesh.num_triangles(), 2);
   const double c = 7.5;
   const ForwardModel base(mesh, {1.0, 0.03}), scaled(mesh, {1.0, 0.03 / c});
   const Eigen::VectorXd v = base.frame(sigma), w = scaled.frame(c * sigma);
@@ -90,7 +82,7 @@ TEST(ForwardModel, RotatingTheConductivityRotatesTheFrame) {
   const int L = 16;
   const Mesh& mesh = testing::disk(L, MeshDensity::coarse);
   const ForwardModel model(mesh);
-  const Eigen::VectorXd sigma = random_conductivity(mesh.num_triangles(), 3);
+  const Eigen::VectorXd sigma = testing::random_conductivity(mesh.num_triangles(), 3);
   const Eigen::VectorXd v = model.frame(sigma);
   const Protocol& p = model.protocol();
   for (int s : {1, 5}) {

@@ -9,14 +9,6 @@
 namespace eitbench {
 namespace {
 
-Eigen::VectorXd random_conductivity(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0.5, 2.0);
-  Eigen::VectorXd sigma(n);
-  for (auto& s : sigma) s = u(rng);
-  return sigma;
-}
-
 // Central difference of the frame along direction `dir`, with a step relative to sigma.
 Eigen::VectorXd central_difference(const ForwardModel& model, const Eigen::VectorXd& sigma,
                                    const Eigen::VectorXd& dir) {
@@ -28,7 +20,7 @@ TEST(Jacobian, ElementColumnsMatchFiniteDifferences) {
   for (int L : {8, 16}) {
     const Mesh& mesh = testing::disk(L, MeshDensity::coarse);
     const ForwardModel model(mesh, {1.5, 0.02});
-    const Eigen::VectorXd sigma = random_conductivity(mesh.num_triangles(), 11);
+    const Eigen::VectorXd sigma = testing::random_conductivity(mesh.num_triangles(), 11);
     const Eigen::MatrixXd J = model.jacobian(sigma);
     ASSERT_EQ(J.rows(), L * (L - 3));
     ASSERT_EQ(J.cols(), mesh.num_triangles());
@@ -38,7 +30,8 @@ TEST(Jacobian, ElementColumnsMatchFiniteDifferences) {
       EXPECT_LT((J.col(t) - fd).norm() / fd.norm(), 1e-5) << "L = " << L << ", element " << t;
     }
     // A random direction exercises every column at once.
-    const Eigen::VectorXd dir = random_conductivity(mesh.num_triangles(), 12).array() - 1.25;
+    const Eigen::VectorXd dir =
+        testing::random_conductivity(mesh.num_triangles(), 12).array() - 1.25;
     const Eigen::VectorXd fd = central_difference(model, sigma, dir);
     EXPECT_LT((J * dir - fd).norm() / fd.norm(), 1e-5);
   }
@@ -49,7 +42,7 @@ TEST(Jacobian, PixelColumnsMatchFiniteDifferences) {
   const ForwardModel model(mesh);
   const PixelGrid grid(64, 1.0);
   const auto P = pixel_to_element(mesh, grid);
-  const Eigen::VectorXd sigma = random_conductivity(mesh.num_triangles(), 13);
+  const Eigen::VectorXd sigma = testing::random_conductivity(mesh.num_triangles(), 13);
   const Eigen::MatrixXd Jp = model.jacobian(sigma) * P;
   ASSERT_EQ(Jp.cols(), 4096);
   for (int p : {32 * 64 + 32, 10 * 64 + 20, 50 * 64 + 40, 31 * 64 + 1}) {
@@ -72,7 +65,7 @@ TEST(Jacobian, SatisfiesEulersRelationForTheScalingLaw) {
   const Mesh& mesh = testing::disk(16, MeshDensity::medium);
   const double z = 0.05, h = 1e-4 * z;
   const ForwardModel model(mesh, {1.0, z}), up(mesh, {1.0, z + h}), down(mesh, {1.0, z - h});
-  const Eigen::VectorXd sigma = random_conductivity(mesh.num_triangles(), 14);
+  const Eigen::VectorXd sigma = testing::random_conductivity(mesh.num_triangles(), 14);
   const Eigen::VectorXd v = model.frame(sigma);
   const Eigen::VectorXd dv_dz = (up.frame(sigma) - down.frame(sigma)) / (2 * h);
   const Eigen::VectorXd lhs = model.jacobian(sigma) * sigma - z * dv_dz;

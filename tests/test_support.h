@@ -3,12 +3,22 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <map>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "eitbench/jacobian.h"
 
 namespace eitbench::testing {
+
+// Element conductivities uniform in [0.5, 2]: a generic, far from symmetric medium.
+inline Eigen::VectorXd random_conductivity(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.5, 2.0);
+  Eigen::VectorXd sigma(n);
+  for (auto& s : sigma) s = u(rng);
+  return sigma;
+}
 
 inline const Mesh& disk(int electrodes, MeshDensity density, double coverage = 0.5) {
   static std::map<std::tuple<int, int, double>, Mesh> cache;
