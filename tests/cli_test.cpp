@@ -324,6 +324,53 @@ TEST_F(Cli, AugmentDataSets) {
   EXPECT_FALSE(fs::exists(path("x.h5")));
 }
 
+TEST_F(Cli, ReconstructWritesImagesScoresAndPictures) {
+  ASSERT_EQ(run("simulate --preset tiny --seed 6 --density coarse --quiet --out " + path("d.h5"))
+                .exit_code,
+            0);
+  const Result r = run("reconstruct --method noser --choose validation --data " + path("d.h5") +
+                       " --frames 0:5 --snr 40 --png 2 --out " + path("img.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("CC "), std::string::npos) << r.output;
+  H5::H5File file(path("img.h5"), H5F_ACC_RDONLY);
+  hsize_t dims[3];
+  file.openDataSet("images").getSpace().getSimpleExtentDims(dims);
+  EXPECT_EQ(dims[0], 5u);
+  EXPECT_EQ(dims[1], 64u);
+  file.openDataSet("scores").getSpace().getSimpleExtentDims(dims);
+  EXPECT_EQ(dims[1], 4u);
+  EXPECT_TRUE(fs::exists(path("img_0.png")));
+  EXPECT_TRUE(fs::exists(path("img_1.png")));
+  EXPECT_FALSE(fs::exists(path("img_2.png")));
+  ASSERT_EQ(run("reconstruct --method tv --data " + path("d.h5") + " --frames 0:2 --png 0 --out " +
+                path("tv.h5"))
+                .exit_code,
+            0);
+  // Measured frames without labels: images, no scores.
+  const std::string data = kCorpus + "/../data/";
+  const Result m = run("reconstruct --method laplace --data " + data + "frames.csv --reference " +
+                       data + "reference.csv --png 0 --out " + path("m.h5"));
+  ASSERT_EQ(m.exit_code, 0) << m.output;
+  H5::H5File measured(path("m.h5"), H5F_ACC_RDONLY);
+  EXPECT_FALSE(measured.nameExists("scores"));
+  for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
+           {"reconstruct --data " + path("d.h5") + " --frames 5:2 --out " + path("x.h5"),
+            "--frames"},
+           {"reconstruct --data " + data + "frames.csv --choose validation --out " + path("x.h5"),
+            "validation"},
+           {"reconstruct --data " + path("d.h5") + " --electrodes 8 --out " + path("x.h5"),
+            "electrodes"},
+           {"reconstruct --data " + data + "bad_nan.npy --out " + path("x.h5"), "bad_nan.npy"}}) {
+    const Result bad = run(args);
+    EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
+    EXPECT_NE(bad.output.find(words), std::string::npos) << bad.output;
+  }
+  EXPECT_NE(
+      run("reconstruct --data " + path("d.h5") + " --lambda -1 --out " + path("x.h5")).exit_code,
+      0);
+  EXPECT_FALSE(fs::exists(path("x.h5")));
+}
+
 TEST_F(Cli, ImportMeasuredFrames) {
   const std::string data = kCorpus + "/../data/";
   const Result r = run("import --in " + data + "frames_v73.mat --reference " + data +

@@ -12,5 +12,6 @@ std::function<void()> add_simulate_command(CLI::App& app);
 std::function<void()> add_info_command(CLI::App& app);
 std::function<void()> add_show_command(CLI::App& app);
 std::function<void()> add_import_command(CLI::App& app);
+std::function<void()> add_reconstruct_command(CLI::App& app);
 std::function<void()> add_run_command(CLI::App& app);
 }  // namespace eitbench::cli

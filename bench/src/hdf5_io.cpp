@@ -1,5 +1,8 @@
 #include <H5Cpp.h>
 
+#include <cmath>
+
+#include "eitbench/bench/images_file.h"
 #include "eitbench/bench/io.h"
 #include "eitbench/jacobian/error.h"
 
@@ -39,6 +42,52 @@ void write_hdf5_matrix(const std::string& path, const Hdf5Matrix& c) {
       }
     } catch (const H5::Exception& e) {
       throw InputError(path, c.name, "HDF5 write failed: " + e.getDetailMsg());
+    }
+  });
+}
+
+void write_images_file(const std::string& path, const ImagesFile& c) {
+  write_atomically(path, [&](const std::string& temp) {
+    try {
+      H5::Exception::dontPrint();
+      H5::H5File file(temp, H5F_ACC_TRUNC);
+      const hsize_t n = static_cast<hsize_t>(c.images.rows());
+      const hsize_t side =
+          static_cast<hsize_t>(std::lround(std::sqrt(static_cast<double>(c.images.cols()))));
+      const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> images =
+          c.images.cast<float>();
+      const hsize_t dims[3] = {n, side, side};
+      H5::DSetCreatPropList props;
+      if (n > 0) {
+        const hsize_t chunk[3] = {std::min<hsize_t>(n, 64), side, side};
+        props.setChunk(3, chunk);
+        props.setDeflate(1);
+      }
+      file.createDataSet("images", H5::PredType::NATIVE_FLOAT, H5::DataSpace(3, dims), props)
+          .write(images.data(), H5::PredType::NATIVE_FLOAT);
+      const hsize_t count = c.frame_index.size();
+      file.createDataSet("frame_index", H5::PredType::NATIVE_INT, H5::DataSpace(1, &count))
+          .write(c.frame_index.data(), H5::PredType::NATIVE_INT);
+      if (!c.scores.empty()) {
+        std::vector<double> table;
+        for (const auto& s : c.scores) table.insert(table.end(), {s.cc, s.re, s.mse, s.ssim});
+        const hsize_t sdims[2] = {c.scores.size(), 4};
+        H5::DataSet set =
+            file.createDataSet("scores", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, sdims));
+        set.write(table.data(), H5::PredType::NATIVE_DOUBLE);
+        H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+        set.createAttribute("columns", type, H5::DataSpace(H5S_SCALAR))
+            .write(type, std::string("cc, re, mse, ssim"));
+      }
+      H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+      type.setCset(H5T_CSET_UTF8);
+      for (const auto& [key, value] : c.text)
+        file.createAttribute(key, type, H5::DataSpace(H5S_SCALAR)).write(type, value);
+      for (const auto& [key, value] : c.numbers)
+        file.createAttribute(key, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(H5S_SCALAR))
+            .write(H5::PredType::NATIVE_DOUBLE, &value);
+    } catch (const H5::Exception& e) {
+      throw InputError(path, "", "HDF5 write failed: " + e.getDetailMsg());
     }
   });
 }

@@ -10,3 +10,4 @@
 #include "eitbench/jacobian/msh_io.h"
 #include "eitbench/jacobian/pixel_grid.h"
 #include "eitbench/jacobian/protocol.h"
+#include "eitbench/jacobian/sample_matrix.h"

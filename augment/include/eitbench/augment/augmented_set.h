@@ -7,11 +7,9 @@
 
 #include "eitbench/augment/label_transform.h"
 #include "eitbench/augment/symmetry.h"
+#include "eitbench/jacobian/sample_matrix.h"
 
 namespace eitbench {
-
-// One sample a row, stored row-major so that a sample is contiguous (as LibTorch wants it).
-using SampleMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // One sample a row. Labels and circles are optional (zero columns / empty vector); when a sample's
 // circles are given, its label is transformed exactly by re-rasterising them.

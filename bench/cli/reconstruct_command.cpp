@@ -1,0 +1,236 @@
+// eitbench reconstruct: images from frames by one method, with scores when labels are known.
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/bench/dataset.h"
+#include "eitbench/bench/figures.h"
+#include "eitbench/bench/images_file.h"
+#include "eitbench/bench/measurements.h"
+#include "eitbench/bench/metrics.h"
+#include "eitbench/bench/noise.h"
+#include "eitbench/bench/reconstructors.h"
+#include "eitbench/bench/version.h"
+#include "eitbench/jacobian.h"
+#include "options.h"
+
+namespace eitbench::cli {
+namespace {
+
+// "A:B" -> [A, B) within n frames.
+std::pair<int, int> parse_range(const std::string& text, int n) {
+  if (text.empty()) return {0, n};
+  const auto colon = text.find(':');
+  auto number = [&](const std::string& s, int fallback) {
+    if (s.empty()) return fallback;
+    char* end = nullptr;
+    const long v = std::strtol(s.c_str(), &end, 10);
+    if (*end != '\0') throw InputError("--frames", "", "'" + text + "' is not a range A:B");
+    return static_cast<int>(v);
+  };
+  if (colon == std::string::npos)
+    throw InputError("--frames", "", "'" + text + "' is not a range A:B");
+  const int a = number(text.substr(0, colon), 0), b = number(text.substr(colon + 1), n);
+  if (a < 0 || b > n || a >= b)
+    throw InputError("--frames", "",
+                     "range " + text + " is empty or outside the " + std::to_string(n) + " frames");
+  return {a, b};
+}
+
+double percentile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+}  // namespace
+
+std::function<void()> add_reconstruct_command(CLI::App& app) {
+  struct Args {
+    std::string method = "noser", data, reference, frames, order = "rotating", variable, choose,
+                out;
+    MeshSource mesh;
+    double background = 0, lambda = 0, snr = INFINITY;
+    std::uint64_t noise_seed = 1;
+    int pngs = 4;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "reconstruct", "Reconstruct images from frames (difference voltages) by one method");
+  cmd->add_option("--method", args->method, "tikhonov | noser | laplace | tv")
+      ->capture_default_str()
+      ->check(CLI::IsMember(method_names()));
+  cmd->add_option("--data", args->data,
+                  "an eitbench data set (its test split), or frames in .csv/.npy/.npz/.mat")
+      ->required();
+  cmd->add_option("--reference", args->reference,
+                  "reference frame for measured data (see 'import')");
+  cmd->add_option("--variable", args->variable,
+                  "array or variable holding the frames (.npz, .mat)");
+  cmd->add_option("--frames", args->frames, "frames A:B of those selected (0-based, B excluded)");
+  cmd->add_option("--order", args->order, "order of L(L-3)-value measured frames")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rotating", "ascending"}));
+  add_mesh_options(*cmd, args->mesh);
+  cmd->add_option("--background", args->background,
+                  "conductivity the Jacobian is linearised at (default: the data set's, else 1)")
+      ->check(CLI::PositiveNumber);
+  auto* lambda = cmd->add_option("--lambda", args->lambda,
+                                 "regularisation weight (lambda; the TV weight alpha for tv)")
+                     ->check(CLI::PositiveNumber);
+  auto* choose =
+      cmd->add_option(
+             "--choose", args->choose,
+             "choose lambda: gcv (default) | lcurve | validation (needs a validation split)")
+          ->check(CLI::IsMember({"gcv", "lcurve", "validation"}));
+  lambda->excludes(choose);
+  cmd->add_option("--snr", args->snr,
+                  "add white Gaussian noise at this SNR (dB) before reconstructing");
+  cmd->add_option("--noise-seed", args->noise_seed, "seed of that noise")->capture_default_str();
+  cmd->add_option("--png", args->pngs, "PNG pictures of the first N frames beside --out")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100));
+  cmd->add_option("--out", args->out, "HDF5 file of images (and scores when labels are known)")
+      ->required();
+  return [args, cmd] {
+    // The frames, their labels (if any) and the sensor.
+    Dataset data;
+    if (is_hdf5_file(args->data) && args->data.find(".mat") == std::string::npos) {
+      data = read_dataset(args->data);
+    } else {
+      ImportOptions o;
+      o.electrodes = args->mesh.file.empty() ? args->mesh.disk.electrodes
+                                             : read_msh_file(args->mesh.file).num_electrodes();
+      o.order = parse_order(args->order);
+      o.variable = args->variable;
+      data = import_measurements(args->data, args->reference, o);
+    }
+    std::vector<int> selected = data.indices(Split::test);
+    if (selected.empty()) throw InputError(args->data, "split", "no test frames to reconstruct");
+    const auto [a, b] = parse_range(args->frames, static_cast<int>(selected.size()));
+    selected = std::vector<int>(selected.begin() + a, selected.begin() + b);
+    SampleMatrix frames(static_cast<Eigen::Index>(selected.size()), data.differences.cols());
+    SampleMatrix labels(static_cast<Eigen::Index>(selected.size()), data.labels.cols());
+    for (std::size_t k = 0; k < selected.size(); ++k) {
+      frames.row(k) = data.differences.row(selected[k]);
+      if (data.has_labels()) labels.row(k) = data.labels.row(selected[k]);
+    }
+    if (std::isfinite(args->snr)) add_noise(frames, args->snr, args->noise_seed);
+
+    if (args->mesh.file.empty() && !cmd->count("--electrodes"))
+      args->mesh.disk.electrodes = data.electrodes;
+    args->mesh.disk.electrode_coverage = data.electrode_coverage;
+    const Mesh mesh = load_mesh(args->mesh);
+    if (mesh.num_electrodes() != data.electrodes)
+      throw InputError(args->mesh.file.empty() ? "--electrodes" : args->mesh.file, "electrodes",
+                       "the mesh has " + std::to_string(mesh.num_electrodes()) +
+                           " electrodes, the data " + std::to_string(data.electrodes));
+    const double background = cmd->count("--background")  ? args->background
+                              : data.preset == "imported" ? 1.0
+                                                          : data.background;
+    ForwardOptions forward;
+    forward.contact_impedance = data.contact_impedance;
+    forward.current = data.current;
+
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto model = std::make_shared<const ForwardModel>(
+        mesh, forward, args->mesh.file.empty() ? "mesh" : args->mesh.file);
+    const PixelGrid grid(data.image_size, data.radius);
+    const LinearProblem problem = make_linear_problem(model, background, grid);
+    MethodOptions mo;
+    mo.choose = cmd->count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
+    mo.lambda = args->lambda;
+    auto method = make_reconstructor(args->method, problem, mo);
+    if (mo.choose != "fixed") {
+      // Hyperparameters from the validation split when the data have one, else from the frames.
+      const std::vector<int> val = data.indices(Split::validation);
+      if (mo.choose == "validation" && (val.empty() || !data.has_labels()))
+        throw InputError(args->data, "split",
+                         "--choose validation needs a data set with a labelled validation split");
+      SampleMatrix vframes = frames, vlabels = labels;
+      if (!val.empty()) {
+        vframes.resize(static_cast<Eigen::Index>(val.size()), data.differences.cols());
+        vlabels.resize(static_cast<Eigen::Index>(val.size()), data.labels.cols());
+        for (std::size_t k = 0; k < val.size(); ++k) {
+          vframes.row(k) = data.differences.row(val[k]);
+          if (data.has_labels()) vlabels.row(k) = data.labels.row(val[k]);
+        }
+        if (std::isfinite(args->snr)) add_noise(vframes, args->snr, args->noise_seed + 1);
+      }
+      method->fit(vframes, vlabels, [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+        return correlation(x, y, grid);
+      });
+    }
+    const double setup_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    SampleMatrix images(frames.rows(), grid.num_pixels());
+    std::vector<double> latency_ms;
+    for (Eigen::Index i = 0; i < frames.rows(); ++i) {
+      const auto s = std::chrono::steady_clock::now();
+      images.row(i) = method->reconstruct(frames.row(i).transpose()).transpose();
+      latency_ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s).count());
+    }
+    ImagesFile file;
+    file.images = images;
+    file.frame_index = selected;
+    ScoreSummary summary;
+    if (data.has_labels()) summary = score_images(images, labels, grid, &file.scores);
+    file.text = {{"method", args->method},
+                 {"settings", method->settings()},
+                 {"data", args->data},
+                 {"program", program_version()},
+                 {"mesh", args->mesh.file.empty() ? "disk " + to_string(args->mesh.disk.density)
+                                                  : args->mesh.file}};
+    file.numbers = {{"background", background},
+                    {"setup_s", setup_s},
+                    {"latency_median_ms", percentile(latency_ms, 0.5)},
+                    {"latency_p95_ms", percentile(latency_ms, 0.95)},
+                    {"snr_db", args->snr}};
+    write_images_file(args->out, file);
+    const std::string stem =
+        (std::filesystem::path(args->out).parent_path() / std::filesystem::path(args->out).stem())
+            .string();
+    for (int k = 0; k < std::min<int>(args->pngs, static_cast<int>(images.rows())); ++k) {
+      SampleFigure f;
+      f.title = fmt::format("{} frame {}{}", args->method, selected[k],
+                            data.has_labels() ? fmt::format(", CC {:.3f}", file.scores[k].cc) : "");
+      f.image = images.row(k).transpose();
+      f.mask = grid.mask();
+      f.image_min = std::min(0.0, f.image.minCoeff());
+      f.image_max = std::max(1e-12, f.image.maxCoeff());
+      f.outline = &mesh;
+      f.radius = data.radius;
+      f.plot_title = data.has_labels() ? "label (truth), row through the centre" : "frame";
+      f.x_label = data.has_labels() ? "pixel column" : "measurement";
+      f.y_label = data.has_labels() ? "intensity" : "dv";
+      if (data.has_labels()) {
+        const int n = grid.size(), row = n / 2;
+        std::vector<double> truth(n), recon(n);
+        for (int j = 0; j < n; ++j)
+          truth[j] = labels(k, row * n + j), recon[j] = images(k, row * n + j);
+        f.series = {{{}, truth, "truth", {40, 160, 40}}, {{}, recon, args->method, {200, 90, 20}}};
+      } else {
+        const Eigen::VectorXd dv = frames.row(k).transpose();
+        f.series = {
+            {{}, std::vector<double>(dv.data(), dv.data() + dv.size()), "dv", {200, 90, 20}}};
+      }
+      draw_sample_png(f, fmt::format("{}_{}.png", stem, k));
+    }
+    fmt::print("{} ({}): {} frames, setup {:.3f} s, latency median {:.3f} ms, p95 {:.3f} ms\n",
+               args->method, method->settings(), images.rows(), setup_s,
+               percentile(latency_ms, 0.5), percentile(latency_ms, 0.95));
+    if (data.has_labels())
+      fmt::print("  CC {:.4f} +- {:.4f}, RE {:.4f} +- {:.4f}, SSIM {:.4f}, MSE {:.3g}{}\n",
+                 summary.mean.cc, summary.std.cc, summary.mean.re, summary.std.re,
+                 summary.mean.ssim, summary.mean.mse,
+                 std::isfinite(args->snr) ? fmt::format(" at {} dB", args->snr) : "");
+    fmt::print("wrote {}\n", args->out);
+  };
+}
+
+}  // namespace eitbench::cli

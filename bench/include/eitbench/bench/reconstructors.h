@@ -1,0 +1,21 @@
+#pragma once
+// Every reconstruction method by its command-line name, built on one linear problem.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "eitbench/solvers.h"
+
+namespace eitbench {
+
+struct MethodOptions {
+  std::string choose = "gcv";  // gcv | lcurve | validation | fixed
+  double lambda = 0;           // with choose == fixed
+};
+
+const std::vector<std::string>& method_names();  // tikhonov noser laplace ...
+std::unique_ptr<Reconstructor> make_reconstructor(const std::string& method,
+                                                  const LinearProblem& problem,
+                                                  const MethodOptions& options);
+
+}  // namespace eitbench

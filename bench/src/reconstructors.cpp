@@ -1,0 +1,32 @@
+#include "eitbench/bench/reconstructors.h"
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+
+const std::vector<std::string>& method_names() {
+  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "tv"};
+  return names;
+}
+
+std::unique_ptr<Reconstructor> make_reconstructor(const std::string& method,
+                                                  const LinearProblem& problem,
+                                                  const MethodOptions& o) {
+  if (method == "tikhonov" || method == "noser" || method == "laplace") {
+    TikhonovOptions t;
+    t.prior = parse_prior(method);
+    t.choice = o.choose == "fixed" ? Choice::fixed : parse_choice(o.choose);
+    t.lambda = o.lambda;
+    return std::make_unique<Tikhonov>(problem, t);
+  }
+  if (method == "tv") {
+    // GCV and the L-curve are defined for linear methods only; TV keeps its default weight then.
+    TotalVariationOptions t;
+    if (o.choose == "fixed") t.alpha = o.lambda;
+    t.choose_by_validation = o.choose == "validation";
+    return std::make_unique<TotalVariation>(problem, t);
+  }
+  throw InputError("--method", "", "unknown method '" + method + "'");
+}
+
+}  // namespace eitbench

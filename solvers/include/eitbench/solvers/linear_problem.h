@@ -1,0 +1,36 @@
+#pragma once
+// The linearised inverse problem every model-based reconstructor starts from, on the label scale:
+//   dv ~= A x,   x = -dsigma / sigma_0 on the in-disk pixels,   A = -sigma_0 J_pix,
+// with the Jacobian J_pix = J_elem P taken at the background sigma_0 on the reconstruction mesh,
+// rows in the reduced (104) layout. Solutions are images on the label scale directly (SPEC 5).
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+#include <vector>
+
+#include "eitbench/jacobian/forward_model.h"
+#include "eitbench/jacobian/pixel_grid.h"
+
+namespace eitbench {
+
+struct LinearProblem {
+  Eigen::MatrixXd A;        // m x n: m reduced measurements, n in-disk pixels
+  std::vector<int> pixels;  // column j is image pixel pixels[j]
+  int image_size = 64;
+  double background = 1.0;
+  // What Gauss-Newton needs to re-linearise: the model and the pixel-to-element map.
+  std::shared_ptr<const ForwardModel> model;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_to_element;  // triangles x n (in-disk columns)
+
+  int measurements() const { return static_cast<int>(A.rows()); }
+  int unknowns() const { return static_cast<int>(A.cols()); }
+  // An n-vector of pixel values as an image of image_size^2 values (masked pixels 0), and back.
+  Eigen::VectorXd to_image(const Eigen::VectorXd& x) const;
+  Eigen::VectorXd from_image(const Eigen::VectorXd& image) const;
+};
+
+// Builds A for a mesh, a background conductivity and a pixel grid.
+LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, double background,
+                                  const PixelGrid& grid);
+
+}  // namespace eitbench

@@ -1,0 +1,32 @@
+#pragma once
+// One interface for every reconstructor (SPEC section 6): an optional fit on labelled data, then
+// difference frame -> image. Frames are difference voltages in the reduced (104) layout; images
+// are image_size^2 values on the label scale, -dsigma/sigma_0, row-major, 0 outside the disk.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+
+#include "eitbench/jacobian/sample_matrix.h"
+
+namespace eitbench {
+
+// How good an image is against its label (higher is better): the caller's metric, e.g. the mean
+// correlation coefficient of bench/metrics. Reconstructors choose hyperparameters by it.
+using ScoreFn = std::function<double(const Eigen::VectorXd& image, const Eigen::VectorXd& label)>;
+
+class Reconstructor {
+ public:
+  virtual ~Reconstructor() = default;
+  virtual std::string name() const = 0;
+  // Hyperparameters and how they were chosen, for reports ("lambda=0.012 (gcv)").
+  virtual std::string settings() const = 0;
+
+  // Chooses hyperparameters on labelled frames (one a row) by `score`. Does nothing by default.
+  virtual void fit(const SampleMatrix& frames, const SampleMatrix& labels, const ScoreFn& score);
+
+  virtual Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const = 0;
+  // Many frames at once (linear methods use one matrix product).
+  virtual SampleMatrix reconstruct_all(const SampleMatrix& frames) const;
+};
+
+}  // namespace eitbench

@@ -1,0 +1,236 @@
+#include "eitbench/solvers/tikhonov.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+#include <cmath>
+#include <stdexcept>
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+// The 4-neighbour graph Laplacian of the in-disk pixels.
+Eigen::SparseMatrix<double> pixel_laplacian(const LinearProblem& p) {
+  const int n = p.image_size;
+  std::vector<int> column(static_cast<std::size_t>(n) * n, -1);
+  for (std::size_t j = 0; j < p.pixels.size(); ++j) column[p.pixels[j]] = static_cast<int>(j);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (std::size_t j = 0; j < p.pixels.size(); ++j) {
+    const int i = p.pixels[j] / n, k = p.pixels[j] % n;
+    int degree = 0;
+    for (const auto& [di, dk] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+      const int a = i + di, b = k + dk;
+      if (a < 0 || a >= n || b < 0 || b >= n || column[a * n + b] < 0) continue;
+      entries.emplace_back(static_cast<int>(j), column[a * n + b], -1.0);
+      ++degree;
+    }
+    entries.emplace_back(static_cast<int>(j), static_cast<int>(j), degree);
+  }
+  Eigen::SparseMatrix<double> L(static_cast<Eigen::Index>(p.pixels.size()),
+                                static_cast<Eigen::Index>(p.pixels.size()));
+  L.setFromTriplets(entries.begin(), entries.end());
+  return L;
+}
+
+}  // namespace
+
+Prior parse_prior(const std::string& method) {
+  if (method == "tikhonov" || method == "identity") return Prior::identity;
+  if (method == "noser") return Prior::noser;
+  if (method == "laplace") return Prior::laplace;
+  throw InputError("--method", "", "unknown prior '" + method + "'");
+}
+
+Choice parse_choice(const std::string& name) {
+  if (name == "gcv") return Choice::gcv;
+  if (name == "lcurve") return Choice::lcurve;
+  if (name == "validation") return Choice::validation;
+  throw InputError("--choose", "", "unknown choice '" + name + "' (gcv, lcurve or validation)");
+}
+
+Tikhonov::Tikhonov(const LinearProblem& problem, const TikhonovOptions& options)
+    : problem_(problem), options_(options) {
+  const Eigen::MatrixXd& A = problem.A;
+  // B = P A^T with P = (R^T R)^-1.
+  Eigen::MatrixXd B;
+  switch (options.prior) {
+    case Prior::identity:
+      B = A.transpose();
+      break;
+    case Prior::noser: {
+      const Eigen::VectorXd w =
+          A.colwise().squaredNorm().transpose().array().pow(options.noser_exponent);
+      const double floor = 1e-12 * w.maxCoeff();  // pixels the data do not see keep a finite weight
+      B = (1.0 / w.array().max(floor)).matrix().asDiagonal() * A.transpose();
+      break;
+    }
+    case Prior::laplace: {
+      const Eigen::SparseMatrix<double> L = pixel_laplacian(problem);
+      Eigen::SparseMatrix<double> RtR = L.transpose() * L;
+      const double eps = options.laplace_epsilon * RtR.diagonal().mean();
+      for (Eigen::Index j = 0; j < RtR.rows(); ++j) RtR.coeffRef(j, j) += eps;
+      Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(RtR);
+      if (solver.info() != Eigen::Success)
+        throw std::runtime_error("Tikhonov: the Laplace prior could not be factorised");
+      B = solver.solve(Eigen::MatrixXd(A.transpose()));
+      break;
+    }
+  }
+  const Eigen::MatrixXd G = A * B;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (G + G.transpose()));
+  g_ = eig.eigenvalues().cwiseMax(0.0);
+  U_ = eig.eigenvectors();
+  C_ = B * U_;
+  const double scale = g_.sum() / static_cast<double>(g_.size());
+  for (int k = 0; k < options.grid; ++k)
+    grid_.push_back(scale * std::pow(10.0, -8.0 + 10.0 * k / std::max(1, options.grid - 1)));
+  if (options.choice == Choice::fixed) {
+    if (!(options.lambda > 0) || !std::isfinite(options.lambda))
+      throw InputError("--lambda", "", "must be positive and finite");
+    set_lambda(options.lambda, "fixed");
+  } else {
+    set_lambda(grid_[grid_.size() / 2], "default");  // until a choice is made
+  }
+}
+
+std::string Tikhonov::name() const {
+  switch (options_.prior) {
+    case Prior::identity:
+      return "tikhonov";
+    case Prior::noser:
+      return "noser";
+    case Prior::laplace:
+      return "laplace";
+  }
+  return "?";
+}
+
+std::string Tikhonov::settings() const {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "lambda=%.4g (%s)", lambda_, how_.c_str());
+  return buffer;
+}
+
+void Tikhonov::set_lambda(double lambda, const std::string& how) {
+  lambda_ = lambda;
+  how_ = how;
+  const Eigen::VectorXd f = (g_.array() + lambda).inverse();
+  if (options_.single_precision)
+    M_ = (C_ * f.asDiagonal() * U_.transpose()).cast<float>();
+  else
+    Md_ = C_ * f.asDiagonal() * U_.transpose();
+}
+
+void Tikhonov::fit(const SampleMatrix& frames, const SampleMatrix& labels, const ScoreFn& score) {
+  switch (options_.choice) {
+    case Choice::fixed:
+      return;
+    case Choice::gcv:
+      choose_gcv(frames);
+      return;
+    case Choice::lcurve:
+      choose_lcurve(frames);
+      return;
+    case Choice::validation:
+      choose_validation(frames, labels, score);
+      return;
+  }
+}
+
+std::vector<double> Tikhonov::gcv_curve(const SampleMatrix& frames) const {
+  const Eigen::MatrixXd Z = frames * U_;  // frames in G's eigenbasis
+  const Eigen::VectorXd z2 = Z.colwise().squaredNorm().transpose();
+  std::vector<double> out;
+  for (double lambda : grid_) {
+    const Eigen::ArrayXd keep = lambda / (g_.array() + lambda);  // the diagonal of I - H
+    out.push_back((keep.square() * z2.array()).sum() / std::pow(keep.sum(), 2));
+  }
+  return out;
+}
+
+double Tikhonov::choose_gcv(const SampleMatrix& frames) {
+  const std::vector<double> curve = gcv_curve(frames);
+  const std::size_t best = std::min_element(curve.begin(), curve.end()) - curve.begin();
+  set_lambda(grid_[best], "gcv");
+  return lambda_;
+}
+
+double Tikhonov::choose_lcurve(const SampleMatrix& frames) {
+  const Eigen::MatrixXd Z = frames * U_;
+  const Eigen::ArrayXd z2 = Z.colwise().squaredNorm().transpose().array();
+  const std::size_t n = grid_.size();
+  std::vector<double> t(n), rho(n), eta(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double lambda = grid_[k];
+    const Eigen::ArrayXd d = g_.array() + lambda;
+    t[k] = std::log(lambda);
+    rho[k] = 0.5 * std::log(((lambda / d).square() * z2).sum());             // log residual norm
+    eta[k] = 0.5 * std::log((g_.array() / d.square() * z2).sum() + 1e-300);  // log seminorm ||R x||
+  }
+  // Maximum curvature of (rho, eta) along log lambda, by central differences.
+  double best_kappa = -INFINITY;
+  std::size_t best = n / 2;
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    const double h = t[k + 1] - t[k];
+    const double r1 = (rho[k + 1] - rho[k - 1]) / (2 * h), e1 = (eta[k + 1] - eta[k - 1]) / (2 * h);
+    const double r2 = (rho[k + 1] - 2 * rho[k] + rho[k - 1]) / (h * h),
+                 e2 = (eta[k + 1] - 2 * eta[k] + eta[k - 1]) / (h * h);
+    const double kappa = (r1 * e2 - r2 * e1) / std::pow(r1 * r1 + e1 * e1, 1.5);
+    if (kappa > best_kappa) best_kappa = kappa, best = k;
+  }
+  set_lambda(grid_[best], "lcurve");
+  return lambda_;
+}
+
+double Tikhonov::choose_validation(const SampleMatrix& frames, const SampleMatrix& labels,
+                                   const ScoreFn& score) {
+  if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
+    throw InputError("--choose validation", "", "needs labelled validation frames and a score");
+  // At most 500 frames, evenly spread: the sweep costs frames x grid matrix products.
+  std::vector<Eigen::Index> rows;
+  const Eigen::Index step = std::max<Eigen::Index>(1, frames.rows() / 500);
+  for (Eigen::Index i = 0; i < frames.rows(); i += step) rows.push_back(i);
+  Eigen::MatrixXd Z(static_cast<Eigen::Index>(rows.size()), frames.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) Z.row(k) = frames.row(rows[k]) * U_;
+  double best_score = -INFINITY;
+  double best = grid_.front();
+  for (double lambda : grid_) {
+    const Eigen::MatrixXd X =
+        Z * (g_.array() + lambda).inverse().matrix().asDiagonal() * C_.transpose();
+    double total = 0;
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      total += score(problem_.to_image(X.row(k).transpose()), labels.row(rows[k]).transpose());
+    if (total > best_score) best_score = total, best = lambda;
+  }
+  set_lambda(best, "validation");
+  return lambda_;
+}
+
+Eigen::VectorXd Tikhonov::reconstruct(const Eigen::VectorXd& frame) const {
+  if (frame.size() != problem_.measurements())
+    throw InputError("frame", "",
+                     "has " + std::to_string(frame.size()) + " values, the model " +
+                         std::to_string(problem_.measurements()));
+  if (!options_.single_precision) return problem_.to_image(Md_ * frame);
+  const Eigen::VectorXf x = M_ * frame.cast<float>();
+  return problem_.to_image(x.cast<double>());
+}
+
+SampleMatrix Tikhonov::reconstruct_all(const SampleMatrix& frames) const {
+  if (frames.cols() != problem_.measurements())
+    throw InputError("frames", "",
+                     "have " + std::to_string(frames.cols()) + " values, the model " +
+                         std::to_string(problem_.measurements()));
+  const Eigen::MatrixXd X =
+      options_.single_precision
+          ? Eigen::MatrixXd((frames.cast<float>() * M_.transpose()).cast<double>())
+          : Eigen::MatrixXd(frames * Md_.transpose());
+  SampleMatrix images = SampleMatrix::Zero(
+      frames.rows(), static_cast<Eigen::Index>(problem_.image_size) * problem_.image_size);
+  for (std::size_t j = 0; j < problem_.pixels.size(); ++j)
+    images.col(problem_.pixels[j]) = X.col(static_cast<Eigen::Index>(j));
+  return images;
+}
+
+}  // namespace eitbench
