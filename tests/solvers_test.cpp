@@ -199,5 +199,51 @@ TEST(EidorsCase, TotalVariationReachesEidorsAndBeatsTikhonov) {
   EXPECT_GT(cc, best);
 }
 
+TEST(GaussNewton, ResidualFallsEveryStepAndEndsBelowTheOneStepSolution) {
+  const Reconstruction& s = medium();
+  const GaussNewton gn(s.problem, {});
+  GaussNewton::Report report;
+  const Eigen::VectorXd image = gn.solve(two_discs().frame, &report);
+  ASSERT_GE(report.residual.size(), 2u);
+  EXPECT_TRUE(report.converged);
+  for (std::size_t k = 1; k < report.objective.size(); ++k)
+    EXPECT_LT(report.objective[k], report.objective[k - 1]) << "step " << k;
+  // The one-step (linear) NOSER solution at its L-curve lambda, put through the nonlinear model.
+  TikhonovOptions o;
+  o.prior = Prior::noser;
+  Tikhonov t(s.problem, o);
+  SampleMatrix y(1, 104);
+  y.row(0) = two_discs().frame.transpose();
+  t.choose_lcurve(y);
+  const Mesh& mesh = s.model->mesh();
+  auto residual = [&](const Eigen::VectorXd& img) {  // sigma = sigma_0 (1 - x) on the label scale
+    const Eigen::VectorXd sigma_pix = (1.0 - s.problem.from_image(img).array()).max(1e-3).matrix();
+    const Eigen::VectorXd v = s.model->protocol().reduce(
+        s.model->frame(s.problem.pixel_to_element * sigma_pix), MeasurementOrder::rotating);
+    const Eigen::VectorXd v0 = s.model->protocol().reduce(
+        s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles())), MeasurementOrder::rotating);
+    return (v - v0 - two_discs().frame).norm();
+  };
+  EXPECT_LT(residual(image), residual(t.reconstruct(two_discs().frame)));
+  EXPECT_NEAR(residual(image), report.residual.back(), 1e-9 * report.residual.back() + 1e-15);
+  EXPECT_GT(correlation(image, two_discs().truth, s.grid), 0.8);
+}
+
+TEST(GaussNewton, AbsoluteModeRecoversAHomogeneousConductivity) {
+  const Reconstruction& s = medium();
+  const Mesh& mesh = s.model->mesh();
+  for (double sigma : {0.5, 2.0}) {
+    const Eigen::VectorXd frame = s.model->protocol().reduce(
+        s.model->frame(Eigen::VectorXd::Constant(mesh.num_triangles(), sigma)),
+        MeasurementOrder::rotating);
+    GaussNewtonOptions o;
+    o.absolute = true;
+    const GaussNewton gn(s.problem, o);
+    const Eigen::VectorXd image = gn.reconstruct(frame);
+    for (int p : s.problem.pixels)
+      EXPECT_NEAR(image[p], 1.0 - sigma, 0.02 * sigma) << "pixel " << p;
+  }
+}
+
 }  // namespace
 }  // namespace eitbench

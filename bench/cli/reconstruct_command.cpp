@@ -56,11 +56,12 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     double background = 0, lambda = 0, snr = INFINITY;
     std::uint64_t noise_seed = 1;
     int pngs = 4;
+    bool absolute = false;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "reconstruct", "Reconstruct images from frames (difference voltages) by one method");
-  cmd->add_option("--method", args->method, "tikhonov | noser | laplace | tv")
+  cmd->add_option("--method", args->method, "tikhonov | noser | laplace | tv | gn")
       ->capture_default_str()
       ->check(CLI::IsMember(method_names()));
   cmd->add_option("--data", args->data,
@@ -87,6 +88,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
              "choose lambda: gcv (default) | lcurve | validation (needs a validation split)")
           ->check(CLI::IsMember({"gcv", "lcurve", "validation"}));
   lambda->excludes(choose);
+  cmd->add_flag("--absolute", args->absolute, "gn: fit the absolute frames, not the differences");
   cmd->add_option("--snr", args->snr,
                   "add white Gaussian noise at this SNR (dB) before reconstructing");
   cmd->add_option("--noise-seed", args->noise_seed, "seed of that noise")->capture_default_str();
@@ -114,8 +116,15 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     selected = std::vector<int>(selected.begin() + a, selected.begin() + b);
     SampleMatrix frames(static_cast<Eigen::Index>(selected.size()), data.differences.cols());
     SampleMatrix labels(static_cast<Eigen::Index>(selected.size()), data.labels.cols());
+    if (args->absolute && args->method != "gn")
+      throw InputError("--absolute", "", "only the gn method fits absolute frames");
+    const Protocol data_protocol(data.electrodes);
     for (std::size_t k = 0; k < selected.size(); ++k) {
-      frames.row(k) = data.differences.row(selected[k]);
+      frames.row(k) = args->absolute ? data_protocol
+                                           .reduce(data.frames.row(selected[k]).transpose(),
+                                                   MeasurementOrder::rotating)
+                                           .transpose()
+                                     : Eigen::RowVectorXd(data.differences.row(selected[k]));
       if (data.has_labels()) labels.row(k) = data.labels.row(selected[k]);
     }
     if (std::isfinite(args->snr)) add_noise(frames, args->snr, args->noise_seed);
@@ -143,6 +152,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     MethodOptions mo;
     mo.choose = cmd->count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
     mo.lambda = args->lambda;
+    mo.absolute = args->absolute;
     auto method = make_reconstructor(args->method, problem, mo);
     if (mo.choose != "fixed") {
       // Hyperparameters from the validation split when the data have one, else from the frames.

@@ -55,9 +55,18 @@ void BM_TotalVariationFrame(benchmark::State& state) {
   state.counters["iterations"] = report.iterations;
 }
 
+void BM_GaussNewtonFrame(benchmark::State& state) {  // to convergence, difference mode
+  const auto& f = fixture();
+  const GaussNewton gn(f.problem, {});
+  GaussNewton::Report report;
+  for (auto _ : state) benchmark::DoNotOptimize(gn.solve(f.frame, &report).data());
+  state.counters["iterations"] = report.iterations;
+}
+
 BENCHMARK(BM_LinearProblemSetup)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TikhonovSetup)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TikhonovFrame)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_TotalVariationFrame)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GaussNewtonFrame)->Unit(benchmark::kMillisecond);
 
 }  // namespace

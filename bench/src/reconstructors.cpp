@@ -5,7 +5,7 @@
 namespace eitbench {
 
 const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "tv"};
+  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "tv", "gn"};
   return names;
 }
 
@@ -25,6 +25,13 @@ std::unique_ptr<Reconstructor> make_reconstructor(const std::string& method,
     if (o.choose == "fixed") t.alpha = o.lambda;
     t.choose_by_validation = o.choose == "validation";
     return std::make_unique<TotalVariation>(problem, t);
+  }
+  if (method == "gn") {
+    GaussNewtonOptions g;
+    if (o.choose == "fixed") g.lambda = o.lambda;
+    g.choose_by_validation = o.choose == "validation";
+    g.absolute = o.absolute;
+    return std::make_unique<GaussNewton>(problem, g);
   }
   throw InputError("--method", "", "unknown method '" + method + "'");
 }

@@ -11,6 +11,7 @@ namespace eitbench {
 struct MethodOptions {
   std::string choose = "gcv";  // gcv | lcurve | validation | fixed
   double lambda = 0;           // with choose == fixed
+  bool absolute = false;       // gn: absolute frames instead of differences
 };
 
 const std::vector<std::string>& method_names();  // tikhonov noser laplace ...

@@ -1,0 +1,153 @@
+#include "eitbench/solvers/gauss_newton.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <cstdio>
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+struct State {
+  Eigen::VectorXd v;  // reduced frame of sigma(theta)
+  Eigen::MatrixXd J;  // d v / d theta (m x n)
+};
+
+State evaluate(const LinearProblem& p, const Eigen::VectorXd& theta, bool jacobian) {
+  const Eigen::VectorXd sigma_pix = p.background * theta.array().exp();
+  const Eigen::VectorXd sigma = p.pixel_to_element * sigma_pix;
+  const ForwardSolution s = p.model->solve(sigma);
+  State out;
+  out.v = p.model->protocol().reduce(p.model->frame(s), MeasurementOrder::rotating);
+  if (jacobian) {
+    const Eigen::MatrixXd J =
+        p.model->protocol().select_rows(p.model->jacobian(s), MeasurementOrder::rotating, true);
+    out.J = (J * p.pixel_to_element) * sigma_pix.asDiagonal();
+  }
+  return out;
+}
+
+}  // namespace
+
+GaussNewton::GaussNewton(const LinearProblem& problem, const GaussNewtonOptions& options)
+    : problem_(problem), options_(options) {
+  if (!problem.model)
+    throw std::invalid_argument("GaussNewton: the linear problem has no forward model");
+  if (options.lambda < 0 || !std::isfinite(options.lambda))
+    throw InputError("--lambda", "", "must be positive");
+  if (options.lambda > 0) lambda_ = options.lambda, how_ = "fixed";
+  const State s0 = evaluate(problem, Eigen::VectorXd::Zero(problem.unknowns()), true);
+  reference_ = s0.v;
+  const Eigen::VectorXd w =
+      s0.J.colwise().squaredNorm().transpose().array().sqrt();  // NOSER, p = 1/2
+  weight_ = w.cwiseMax(1e-12 * w.maxCoeff());
+  scale_ = (s0.J * weight_.cwiseInverse().asDiagonal() * s0.J.transpose()).trace() /
+           problem.measurements();
+}
+
+std::string GaussNewton::settings() const {
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, "lambda=%.4g (%s), %s mode", lambda_, how_.c_str(),
+                options_.absolute ? "absolute" : "difference");
+  return buffer;
+}
+
+void GaussNewton::set_lambda(double relative, const std::string& how) {
+  lambda_ = relative;
+  how_ = how;
+}
+
+Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report) const {
+  const LinearProblem& p = problem_;
+  if (frame.size() != p.measurements())
+    throw InputError("frame", "",
+                     "has " + std::to_string(frame.size()) + " values, the model " +
+                         std::to_string(p.measurements()));
+  const Eigen::VectorXd target = options_.absolute ? frame : Eigen::VectorXd(reference_ + frame);
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(p.unknowns());
+  if (options_.absolute) {  // the best homogeneous start: v scales as 1 / sigma
+    const double c = reference_.dot(target) / reference_.squaredNorm();
+    if (!(c > 0))
+      throw InputError("frame", "",
+                       "does not look like an absolute frame (negative fit to the model)");
+    theta.setConstant(-std::log(c));
+  }
+  const double lambda = lambda_ * scale_;
+  // The prior's centre: sigma_0 in difference mode, the best homogeneous fit in absolute mode.
+  const Eigen::VectorXd prior = theta;
+  auto objective = [&](const Eigen::VectorXd& v, const Eigen::VectorXd& t) {
+    return (v - target).squaredNorm() +
+           lambda * (weight_.array() * (t - prior).array().square()).sum();
+  };
+  State s = evaluate(p, theta, true);
+  double phi = objective(s.v, theta);
+  Report local;
+  local.residual.push_back((s.v - target).norm());
+  local.objective.push_back(phi);
+  const Eigen::VectorXd winv = weight_.cwiseInverse() / lambda;  // (lambda W)^-1
+  for (int it = 0; it < options_.max_iterations; ++it) {
+    // (J^T J + lambda W) delta = -(J^T r + lambda W theta), by Woodbury in measurement space.
+    const Eigen::VectorXd r = s.v - target;
+    const Eigen::VectorXd g = s.J.transpose() * r + lambda * weight_.cwiseProduct(theta - prior);
+    const Eigen::VectorXd a = winv.cwiseProduct(g);
+    const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(p.measurements(), p.measurements()) +
+                              s.J * winv.asDiagonal() * s.J.transpose();
+    const Eigen::VectorXd delta =
+        -(a - winv.cwiseProduct(s.J.transpose() * S.ldlt().solve(s.J * a)));
+    // Backtracking: halve the step until Phi decreases.
+    double step = 1.0, next_phi = INFINITY;
+    Eigen::VectorXd next;
+    State trial;
+    for (int k = 0; k < 12; ++k, step *= 0.5) {
+      next = theta + step * delta;
+      trial = evaluate(p, next, false);
+      next_phi = objective(trial.v, next);
+      if (next_phi < phi) break;
+    }
+    ++local.iterations;
+    if (!(next_phi < phi)) {  // no descent along the Gauss-Newton direction: at a minimum
+      local.converged = true;
+      break;
+    }
+    const double decrease = (phi - next_phi) / phi;
+    theta = next;
+    phi = next_phi;
+    s = evaluate(p, theta, true);
+    local.residual.push_back((s.v - target).norm());
+    local.objective.push_back(phi);
+    if (decrease < options_.tolerance ||
+        local.residual.back() < options_.residual_tolerance * target.norm()) {
+      local.converged = true;
+      break;
+    }
+  }
+  if (report) *report = local;
+  // On the label scale: -dsigma / sigma_0 = 1 - sigma / sigma_0 (against sigma_0 in both modes).
+  return p.to_image((1.0 - theta.array().exp()).matrix());
+}
+
+Eigen::VectorXd GaussNewton::reconstruct(const Eigen::VectorXd& frame) const {
+  return solve(frame, nullptr);
+}
+
+void GaussNewton::fit(const SampleMatrix& frames, const SampleMatrix& labels,
+                      const ScoreFn& score) {
+  if (!options_.choose_by_validation) return;
+  if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
+    throw InputError("--choose validation", "", "needs labelled validation frames");
+  std::vector<Eigen::Index> rows;
+  const Eigen::Index step = std::max<Eigen::Index>(1, frames.rows() / 20);
+  for (Eigen::Index i = 0; i < frames.rows(); i += step) rows.push_back(i);
+  double best_score = -INFINITY, best = lambda_;
+  for (double relative : {1e-5, 1e-4, 1e-3, 1e-2, 1e-1}) {
+    lambda_ = relative;
+    double total = 0;
+    for (Eigen::Index i : rows)
+      total += score(reconstruct(frames.row(i).transpose()), labels.row(i).transpose());
+    if (total > best_score) best_score = total, best = relative;
+  }
+  set_lambda(best, "validation");
+}
+
+}  // namespace eitbench
