@@ -245,5 +245,50 @@ TEST(GaussNewton, AbsoluteModeRecoversAHomogeneousConductivity) {
   }
 }
 
+// GREIT's figures of merit (Adler et al. 2009) for small targets across the disk, simulated with
+// the nonlinear forward model (5 % contrast), not with the training's linear model.
+struct FiguresOfMerit {
+  double amplitude, position_error;
+};
+FiguresOfMerit greit_figures(const Reconstruction& s, const Reconstructor& method, double x,
+                             double y) {
+  const Mesh& mesh = s.model->mesh();
+  const std::vector<Circle> target{{x, y, 0.05, 0.95}};
+  const Eigen::VectorXd v0 = s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles()));
+  const Eigen::VectorXd v1 = s.model->frame(conductivity_from_circles(mesh, target, 1.0));
+  const Eigen::VectorXd image =
+      method.reconstruct(s.model->protocol().reduce(v1 - v0, MeasurementOrder::rotating));
+  const Eigen::VectorXd truth = circles_image(s.grid, target, 1.0);
+  // Position: the centroid of the pixels above a quarter of the maximum (GREIT's threshold).
+  const double quarter = 0.25 * image.maxCoeff();
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  double mass = 0;
+  for (int p = 0; p < image.size(); ++p)
+    if (image[p] >= quarter) centroid += image[p] * s.grid.center(p / 64, p % 64), mass += image[p];
+  centroid /= mass;
+  return {image.sum() / truth.sum(), (centroid - Eigen::Vector2d(x, y)).norm()};
+}
+
+TEST(Greit, AmplitudeAndPositionAreUniformAcrossTheDisk) {
+  const Reconstruction& s = medium();
+  const Greit greit(s.problem, {});
+  std::vector<double> amplitude, position;
+  for (double r : {0.0, 0.2, 0.4, 0.6, 0.8})
+    for (int k = 0; k < (r == 0 ? 1 : 8); ++k) {
+      const double a = 2 * M_PI * (k + 0.3) / 8;  // off the symmetry axes
+      const FiguresOfMerit f = greit_figures(s, greit, r * std::cos(a), r * std::sin(a));
+      amplitude.push_back(f.amplitude);
+      position.push_back(f.position_error);
+    }
+  const Eigen::Map<const Eigen::ArrayXd> ar(amplitude.data(), amplitude.size()),
+      pe(position.data(), position.size());
+  const double mean = ar.mean(), spread = std::sqrt((ar - mean).square().mean()) / mean;
+  std::printf("greit: amplitude response %.3f +- %.1f %%, position error max %.3f R, mean %.3f R\n",
+              mean, 100 * spread, pe.maxCoeff(), pe.mean());
+  EXPECT_LT(spread, 0.10);         // amplitude response uniform within 10 %
+  EXPECT_NEAR(mean, 1.0, 0.15);    // and close to the true mass
+  EXPECT_LT(pe.maxCoeff(), 0.05);  // position error under 0.05 R everywhere up to 0.8 R
+}
+
 }  // namespace
 }  // namespace eitbench

@@ -2,8 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
-#include "eitbench/augment/random.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/random.h"
 
 namespace eitbench {
 namespace {

@@ -61,7 +61,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "reconstruct", "Reconstruct images from frames (difference voltages) by one method");
-  cmd->add_option("--method", args->method, "tikhonov | noser | laplace | tv | gn")
+  cmd->add_option("--method", args->method, "tikhonov | noser | laplace | tv | gn | greit")
       ->capture_default_str()
       ->check(CLI::IsMember(method_names()));
   cmd->add_option("--data", args->data,

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "eitbench/augment/random.h"
+#include "eitbench/jacobian/random.h"
 
 namespace eitbench {
 

@@ -5,7 +5,7 @@
 namespace eitbench {
 
 const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "tv", "gn"};
+  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "tv", "gn", "greit"};
   return names;
 }
 
@@ -32,6 +32,12 @@ std::unique_ptr<Reconstructor> make_reconstructor(const std::string& method,
     g.choose_by_validation = o.choose == "validation";
     g.absolute = o.absolute;
     return std::make_unique<GaussNewton>(problem, g);
+  }
+  if (method == "greit") {
+    GreitOptions g;
+    if (o.choose == "fixed") g.lambda = o.lambda;
+    g.choose_by_validation = o.choose == "validation";
+    return std::make_unique<Greit>(problem, g);
   }
   throw InputError("--method", "", "unknown method '" + method + "'");
 }

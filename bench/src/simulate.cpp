@@ -6,11 +6,11 @@
 #include <atomic>
 #include <cmath>
 
-#include "eitbench/augment/random.h"
 #include "eitbench/bench/version.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/forward_model.h"
 #include "eitbench/jacobian/pixel_grid.h"
+#include "eitbench/jacobian/random.h"
 
 namespace eitbench {
 

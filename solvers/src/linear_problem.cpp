@@ -26,6 +26,7 @@ LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, dou
   p.model = model;
   p.background = background;
   p.image_size = grid.size();
+  p.radius = grid.radius();
   for (int k = 0; k < grid.num_pixels(); ++k)
     if (grid.mask()[k]) p.pixels.push_back(k);
   const Mesh& mesh = model->mesh();

@@ -4,5 +4,4 @@
 #include "eitbench/augment/augmented_set.h"
 #include "eitbench/augment/impedance_map.h"
 #include "eitbench/augment/label_transform.h"
-#include "eitbench/augment/random.h"
 #include "eitbench/augment/symmetry.h"

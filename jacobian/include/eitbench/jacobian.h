@@ -10,4 +10,5 @@
 #include "eitbench/jacobian/msh_io.h"
 #include "eitbench/jacobian/pixel_grid.h"
 #include "eitbench/jacobian/protocol.h"
+#include "eitbench/jacobian/random.h"
 #include "eitbench/jacobian/sample_matrix.h"

@@ -1,7 +1,8 @@
 #pragma once
 // eitbench/solvers: model-based reconstruction on the Jacobian: one-step Tikhonov (identity, NOSER,
-// Laplace priors) with GCV, L-curve and validation choices; total variation; Gauss-Newton.
+// Laplace priors) with GCV, L-curve and validation choices; total variation; Gauss-Newton; GREIT.
 #include "eitbench/solvers/gauss_newton.h"
+#include "eitbench/solvers/greit.h"
 #include "eitbench/solvers/linear_problem.h"
 #include "eitbench/solvers/reconstructor.h"
 #include "eitbench/solvers/tikhonov.h"

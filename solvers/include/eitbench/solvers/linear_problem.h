@@ -17,6 +17,7 @@ struct LinearProblem {
   Eigen::MatrixXd A;        // m x n: m reduced measurements, n in-disk pixels
   std::vector<int> pixels;  // column j is image pixel pixels[j]
   int image_size = 64;
+  double radius = 1.0;  // the grid covers [-radius, radius]^2
   double background = 1.0;
   // What Gauss-Newton needs to re-linearise: the model and the pixel-to-element map.
   std::shared_ptr<const ForwardModel> model;
