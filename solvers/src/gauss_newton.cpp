@@ -60,10 +60,7 @@ void GaussNewton::set_lambda(double relative, const std::string& how) {
 
 Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report) const {
   const LinearProblem& p = problem_;
-  if (frame.size() != p.measurements())
-    throw InputError("frame", "",
-                     "has " + std::to_string(frame.size()) + " values, the model " +
-                         std::to_string(p.measurements()));
+  p.check_frame_size(frame.size());
   const Eigen::VectorXd target = options_.absolute ? frame : Eigen::VectorXd(reference_ + frame);
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(p.unknowns());
   if (options_.absolute) {  // the best homogeneous start: v scales as 1 / sigma
@@ -134,19 +131,8 @@ Eigen::VectorXd GaussNewton::reconstruct(const Eigen::VectorXd& frame) const {
 void GaussNewton::fit(const SampleMatrix& frames, const SampleMatrix& labels,
                       const ScoreFn& score) {
   if (!options_.choose_by_validation) return;
-  if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
-    throw InputError("--choose validation", "", "needs labelled validation frames");
-  std::vector<Eigen::Index> rows;
-  const Eigen::Index step = std::max<Eigen::Index>(1, frames.rows() / 20);
-  for (Eigen::Index i = 0; i < frames.rows(); i += step) rows.push_back(i);
-  double best_score = -INFINITY, best = lambda_;
-  for (double relative : {1e-5, 1e-4, 1e-3, 1e-2, 1e-1}) {
-    lambda_ = relative;
-    double total = 0;
-    for (Eigen::Index i : rows)
-      total += score(reconstruct(frames.row(i).transpose()), labels.row(i).transpose());
-    if (total > best_score) best_score = total, best = relative;
-  }
+  const double best = best_by_score(
+      {1e-5, 1e-4, 1e-3, 1e-2, 1e-1}, [&](double l) { lambda_ = l; }, frames, labels, score, 20);
   set_lambda(best, "validation");
 }
 

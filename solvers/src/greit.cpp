@@ -56,40 +56,21 @@ void Greit::set_lambda(double relative, const std::string& how) {
 
 void Greit::fit(const SampleMatrix& frames, const SampleMatrix& labels, const ScoreFn& score) {
   if (!options_.choose_by_validation) return;
-  if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
-    throw InputError("--choose validation", "", "needs labelled validation frames");
-  double best_score = -INFINITY, best = lambda_;
-  for (double relative : {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0}) {
-    set_lambda(relative, "sweep");
-    const SampleMatrix images = reconstruct_all(frames);
-    double total = 0;
-    for (Eigen::Index i = 0; i < frames.rows(); ++i)
-      total += score(images.row(i).transpose(), labels.row(i).transpose());
-    if (total > best_score) best_score = total, best = relative;
-  }
+  const double best = best_by_score(
+      {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0}, [&](double l) { set_lambda(l, "sweep"); }, frames,
+      labels, score, 500);
   set_lambda(best, "validation");
 }
 
 Eigen::VectorXd Greit::reconstruct(const Eigen::VectorXd& frame) const {
-  if (frame.size() != problem_.measurements())
-    throw InputError("frame", "",
-                     "has " + std::to_string(frame.size()) + " values, the model " +
-                         std::to_string(problem_.measurements()));
+  problem_.check_frame_size(frame.size());
   const Eigen::VectorXf x = R_ * frame.cast<float>();
   return problem_.to_image(x.cast<double>());
 }
 
 SampleMatrix Greit::reconstruct_all(const SampleMatrix& frames) const {
-  if (frames.cols() != problem_.measurements())
-    throw InputError("frames", "",
-                     "have " + std::to_string(frames.cols()) + " values, the model " +
-                         std::to_string(problem_.measurements()));
-  const Eigen::MatrixXd X = (frames.cast<float>() * R_.transpose()).cast<double>();
-  SampleMatrix images = SampleMatrix::Zero(
-      frames.rows(), static_cast<Eigen::Index>(problem_.image_size) * problem_.image_size);
-  for (std::size_t j = 0; j < problem_.pixels.size(); ++j)
-    images.col(problem_.pixels[j]) = X.col(static_cast<Eigen::Index>(j));
-  return images;
+  problem_.check_frame_size(frames.cols());
+  return problem_.to_images((frames.cast<float>() * R_.transpose()).cast<double>());
 }
 
 }  // namespace eitbench

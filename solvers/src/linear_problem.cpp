@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "eitbench/jacobian/error.h"
+
 namespace eitbench {
 
 Eigen::VectorXd LinearProblem::to_image(const Eigen::VectorXd& x) const {
@@ -16,6 +18,21 @@ Eigen::VectorXd LinearProblem::from_image(const Eigen::VectorXd& image) const {
   for (std::size_t j = 0; j < pixels.size(); ++j)
     x[static_cast<Eigen::Index>(j)] = image[pixels[j]];
   return x;
+}
+
+SampleMatrix LinearProblem::to_images(const Eigen::MatrixXd& rows) const {
+  SampleMatrix images =
+      SampleMatrix::Zero(rows.rows(), static_cast<Eigen::Index>(image_size) * image_size);
+  for (std::size_t j = 0; j < pixels.size(); ++j)
+    images.col(pixels[j]) = rows.col(static_cast<Eigen::Index>(j));
+  return images;
+}
+
+void LinearProblem::check_frame_size(Eigen::Index values) const {
+  if (values != measurements())
+    throw InputError("frame", "",
+                     "has " + std::to_string(values) + " values; the model expects " +
+                         std::to_string(measurements()) + " (the reduced layout)");
 }
 
 LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, double background,

@@ -1,5 +1,9 @@
 #include "eitbench/solvers/reconstructor.h"
 
+#include <cmath>
+
+#include "eitbench/jacobian/error.h"
+
 namespace eitbench {
 
 void Reconstructor::fit(const SampleMatrix&, const SampleMatrix&, const ScoreFn&) {}
@@ -12,6 +16,29 @@ SampleMatrix Reconstructor::reconstruct_all(const SampleMatrix& frames) const {
     images.row(i) = image.transpose();
   }
   return images;
+}
+
+double Reconstructor::best_by_score(const std::vector<double>& candidates,
+                                    const std::function<void(double)>& set,
+                                    const SampleMatrix& frames, const SampleMatrix& labels,
+                                    const ScoreFn& score, Eigen::Index max_frames) const {
+  if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
+    throw InputError("--choose validation", "", "needs labelled validation frames");
+  const Eigen::Index step = std::max<Eigen::Index>(1, frames.rows() / max_frames);
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index i = 0; i < frames.rows(); i += step) rows.push_back(i);
+  SampleMatrix some(static_cast<Eigen::Index>(rows.size()), frames.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) some.row(k) = frames.row(rows[k]);
+  double best_score = -INFINITY, best = candidates.front();
+  for (double candidate : candidates) {
+    set(candidate);
+    const SampleMatrix images = reconstruct_all(some);
+    double total = 0;
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      total += score(images.row(k).transpose(), labels.row(rows[k]).transpose());
+    if (total > best_score) best_score = total, best = candidate;
+  }
+  return best;
 }
 
 }  // namespace eitbench

@@ -208,29 +208,16 @@ double Tikhonov::choose_validation(const SampleMatrix& frames, const SampleMatri
 }
 
 Eigen::VectorXd Tikhonov::reconstruct(const Eigen::VectorXd& frame) const {
-  if (frame.size() != problem_.measurements())
-    throw InputError("frame", "",
-                     "has " + std::to_string(frame.size()) + " values, the model " +
-                         std::to_string(problem_.measurements()));
+  problem_.check_frame_size(frame.size());
   if (!options_.single_precision) return problem_.to_image(Md_ * frame);
   const Eigen::VectorXf x = M_ * frame.cast<float>();
   return problem_.to_image(x.cast<double>());
 }
 
 SampleMatrix Tikhonov::reconstruct_all(const SampleMatrix& frames) const {
-  if (frames.cols() != problem_.measurements())
-    throw InputError("frames", "",
-                     "have " + std::to_string(frames.cols()) + " values, the model " +
-                         std::to_string(problem_.measurements()));
-  const Eigen::MatrixXd X =
-      options_.single_precision
-          ? Eigen::MatrixXd((frames.cast<float>() * M_.transpose()).cast<double>())
-          : Eigen::MatrixXd(frames * Md_.transpose());
-  SampleMatrix images = SampleMatrix::Zero(
-      frames.rows(), static_cast<Eigen::Index>(problem_.image_size) * problem_.image_size);
-  for (std::size_t j = 0; j < problem_.pixels.size(); ++j)
-    images.col(problem_.pixels[j]) = X.col(static_cast<Eigen::Index>(j));
-  return images;
+  problem_.check_frame_size(frames.cols());
+  if (!options_.single_precision) return problem_.to_images(frames * Md_.transpose());
+  return problem_.to_images((frames.cast<float>() * M_.transpose()).cast<double>());
 }
 
 }  // namespace eitbench

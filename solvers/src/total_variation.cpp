@@ -118,10 +118,7 @@ void TotalVariation::set_alpha(double alpha, const std::string& how) {
 }
 
 Eigen::VectorXd TotalVariation::solve(const Eigen::VectorXd& frame, Report* report) const {
-  if (frame.size() != problem_.measurements())
-    throw InputError("frame", "",
-                     "has " + std::to_string(frame.size()) + " values, the model " +
-                         std::to_string(problem_.measurements()));
+  problem_.check_frame_size(frame.size());
   const Eigen::VectorXd start = problem_.from_image(impl_->start->reconstruct(frame));
   return problem_.to_image(chambolle_pock(*impl_, frame, start, alpha_, options_.tolerance,
                                           options_.max_iterations, report));
@@ -134,20 +131,10 @@ Eigen::VectorXd TotalVariation::reconstruct(const Eigen::VectorXd& frame) const 
 void TotalVariation::fit(const SampleMatrix& frames, const SampleMatrix& labels,
                          const ScoreFn& score) {
   if (!options_.choose_by_validation) return;
-  if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
-    throw InputError("--choose validation", "", "needs labelled validation frames");
-  // A TV solve costs a fraction of a second: sweep on at most 20 frames, evenly spread.
-  std::vector<Eigen::Index> rows;
-  const Eigen::Index step = std::max<Eigen::Index>(1, frames.rows() / 20);
-  for (Eigen::Index i = 0; i < frames.rows(); i += step) rows.push_back(i);
-  double best_score = -INFINITY, best = alpha_;
-  for (double alpha : {1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3}) {
-    alpha_ = alpha;
-    double total = 0;
-    for (Eigen::Index i : rows)
-      total += score(reconstruct(frames.row(i).transpose()), labels.row(i).transpose());
-    if (total > best_score) best_score = total, best = alpha;
-  }
+  // A TV solve costs a tenth of a second: sweep on at most 20 frames.
+  const double best = best_by_score(
+      {1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3}, [&](double a) { alpha_ = a; }, frames, labels,
+      score, 20);
   set_alpha(best, "validation");
 }
 

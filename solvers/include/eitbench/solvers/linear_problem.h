@@ -10,6 +10,7 @@
 
 #include "eitbench/jacobian/forward_model.h"
 #include "eitbench/jacobian/pixel_grid.h"
+#include "eitbench/jacobian/sample_matrix.h"
 
 namespace eitbench {
 
@@ -28,6 +29,10 @@ struct LinearProblem {
   // An n-vector of pixel values as an image of image_size^2 values (masked pixels 0), and back.
   Eigen::VectorXd to_image(const Eigen::VectorXd& x) const;
   Eigen::VectorXd from_image(const Eigen::VectorXd& image) const;
+  // Rows of pixel values (N x n) as images (N x image_size^2).
+  SampleMatrix to_images(const Eigen::MatrixXd& rows) const;
+  // Throws InputError when frames do not have `measurements()` values.
+  void check_frame_size(Eigen::Index values) const;
 };
 
 // Builds A for a mesh, a background conductivity and a pixel grid.

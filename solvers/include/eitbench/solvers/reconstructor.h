@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "eitbench/jacobian/sample_matrix.h"
 
@@ -27,6 +28,15 @@ class Reconstructor {
   virtual Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const = 0;
   // Many frames at once (linear methods use one matrix product).
   virtual SampleMatrix reconstruct_all(const SampleMatrix& frames) const;
+
+ protected:
+  // The validation sweep of the iterative and trained methods: for each candidate, set(candidate)
+  // then score reconstruct_all on at most `max_frames` frames spread evenly; returns the candidate
+  // with the best total score. InputError when labels or the score are missing.
+  double best_by_score(const std::vector<double>& candidates,
+                       const std::function<void(double)>& set, const SampleMatrix& frames,
+                       const SampleMatrix& labels, const ScoreFn& score,
+                       Eigen::Index max_frames) const;
 };
 
 }  // namespace eitbench
