@@ -179,6 +179,29 @@ TEST(EidorsCase, NoserWithTheLcurveReachesEidors) {
   EXPECT_GE(cc, 0.872);
 }
 
+TEST(EidorsCase, LaplaceOnElementNeighboursMatchesPixelNeighbours) {
+  // The same smoothness prior on two discretisations: the mesh's edge-neighbour graph (applied to
+  // P x) and the pixel grid's. Both at their L-curve lambda.
+  const Reconstruction& s = medium();
+  SampleMatrix y(1, 104);
+  y.row(0) = two_discs().frame.transpose();
+  double cc[2];
+  for (auto neighbours : {Neighbours::pixels, Neighbours::elements}) {
+    TikhonovOptions o;
+    o.prior = Prior::laplace;
+    o.neighbours = neighbours;
+    Tikhonov t(s.problem, o);
+    t.choose_lcurve(y);
+    cc[static_cast<int>(neighbours)] =
+        correlation(t.reconstruct(two_discs().frame), two_discs().truth, s.grid);
+  }
+  std::printf(
+      "laplace on the two-disc case: CC %.4f (pixel neighbours), %.4f (element neighbours)\n",
+      cc[0], cc[1]);
+  EXPECT_GT(cc[1], 0.8);
+  EXPECT_NEAR(cc[1], cc[0], 0.05);
+}
+
 TEST(EidorsCase, TotalVariationReachesEidorsAndBeatsTikhonov) {
   const Reconstruction& s = medium();
   const TotalVariation tv(s.problem, {});

@@ -57,6 +57,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     std::uint64_t noise_seed = 1;
     int pngs = 4;
     bool absolute = false;
+    std::string neighbours = "pixels";
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -88,6 +89,10 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
              "choose lambda: gcv (default) | lcurve | validation (needs a validation split)")
           ->check(CLI::IsMember({"gcv", "lcurve", "validation"}));
   lambda->excludes(choose);
+  cmd->add_option("--neighbours", args->neighbours,
+                  "laplace: couple pixels (4-neighbour) or mesh elements (edge-sharing)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"pixels", "elements"}));
   cmd->add_flag("--absolute", args->absolute, "gn: fit the absolute frames, not the differences");
   cmd->add_option("--snr", args->snr,
                   "add white Gaussian noise at this SNR (dB) before reconstructing");
@@ -153,6 +158,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     mo.choose = cmd->count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
     mo.lambda = args->lambda;
     mo.absolute = args->absolute;
+    mo.neighbours = args->neighbours;
     auto method = make_reconstructor(args->method, problem, mo);
     if (mo.choose != "fixed") {
       // Hyperparameters from the validation split when the data have one, else from the frames.

@@ -17,6 +17,7 @@ std::unique_ptr<Reconstructor> make_reconstructor(const std::string& method,
     t.prior = parse_prior(method);
     t.choice = o.choose == "fixed" ? Choice::fixed : parse_choice(o.choose);
     t.lambda = o.lambda;
+    t.neighbours = parse_neighbours(o.neighbours);
     return std::make_unique<Tikhonov>(problem, t);
   }
   if (method == "tv") {

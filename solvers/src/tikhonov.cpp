@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include "eitbench/jacobian/error.h"
@@ -33,7 +34,31 @@ Eigen::SparseMatrix<double> pixel_laplacian(const LinearProblem& p) {
   return L;
 }
 
+// The edge-neighbour graph Laplacian of the mesh's triangles, applied to the elements' values P x.
+Eigen::SparseMatrix<double> element_laplacian(const LinearProblem& p) {
+  const Mesh& mesh = p.model->mesh();
+  std::map<std::pair<int, int>, int> first;  // edge -> the first triangle seen on it
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int t = 0; t < mesh.num_triangles(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.triangles(t, k), b = mesh.triangles(t, (k + 1) % 3);
+      const auto [it, fresh] = first.emplace(std::make_pair(std::min(a, b), std::max(a, b)), t);
+      if (fresh) continue;
+      const int u = it->second;
+      entries.insert(entries.end(), {{u, u, 1.0}, {t, t, 1.0}, {u, t, -1.0}, {t, u, -1.0}});
+    }
+  Eigen::SparseMatrix<double> L(mesh.num_triangles(), mesh.num_triangles());
+  L.setFromTriplets(entries.begin(), entries.end());
+  return L * Eigen::SparseMatrix<double>(p.pixel_to_element);
+}
+
 }  // namespace
+
+Neighbours parse_neighbours(const std::string& name) {
+  if (name == "pixels") return Neighbours::pixels;
+  if (name == "elements") return Neighbours::elements;
+  throw InputError("--neighbours", "", "unknown neighbours '" + name + "' (pixels or elements)");
+}
 
 Prior parse_prior(const std::string& method) {
   if (method == "tikhonov" || method == "identity") return Prior::identity;
@@ -66,7 +91,9 @@ Tikhonov::Tikhonov(const LinearProblem& problem, const TikhonovOptions& options)
       break;
     }
     case Prior::laplace: {
-      const Eigen::SparseMatrix<double> L = pixel_laplacian(problem);
+      const Eigen::SparseMatrix<double> L = options.neighbours == Neighbours::pixels
+                                                ? pixel_laplacian(problem)
+                                                : element_laplacian(problem);
       Eigen::SparseMatrix<double> RtR = L.transpose() * L;
       const double eps = options.laplace_epsilon * RtR.diagonal().mean();
       for (Eigen::Index j = 0; j < RtR.rows(); ++j) RtR.coeffRef(j, j) += eps;

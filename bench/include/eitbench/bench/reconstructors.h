@@ -9,9 +9,10 @@
 namespace eitbench {
 
 struct MethodOptions {
-  std::string choose = "gcv";  // gcv | lcurve | validation | fixed
-  double lambda = 0;           // with choose == fixed
-  bool absolute = false;       // gn: absolute frames instead of differences
+  std::string choose = "gcv";         // gcv | lcurve | validation | fixed
+  double lambda = 0;                  // with choose == fixed
+  bool absolute = false;              // gn: absolute frames instead of differences
+  std::string neighbours = "pixels";  // laplace: pixels | elements
 };
 
 const std::vector<std::string>& method_names();  // tikhonov noser laplace ...

@@ -19,6 +19,11 @@ enum class Prior {
 };
 Prior parse_prior(const std::string& method);  // tikhonov | noser | laplace
 
+// Whose neighbours the Laplace prior couples: the image's pixels (4-neighbour), or the mesh's
+// triangles (those sharing an edge), applied to the elements' values P x.
+enum class Neighbours { pixels, elements };
+Neighbours parse_neighbours(const std::string& name);  // pixels | elements
+
 enum class Choice { fixed, gcv, lcurve, validation };
 Choice parse_choice(const std::string& name);  // gcv | lcurve | validation
 
@@ -29,6 +34,7 @@ struct TikhonovOptions {
   Choice choice = Choice::gcv;
   int grid = 41;                  // lambdas tried: trace(G)/m x 10^[-8, 2], log-spaced
   double laplace_epsilon = 1e-3;  // relative to the Laplacian's mean diagonal
+  Neighbours neighbours = Neighbours::pixels;
   // The reconstruction matrix in single precision: 39 us a frame instead of 85 us (medium mesh,
   // this machine), at 7 significant digits; double for exact work (tiny lambdas amplify rounding).
   bool single_precision = true;
