@@ -58,6 +58,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     int pngs = 4;
     bool absolute = false;
     std::string neighbours = "pixels";
+    double tolerance = 0;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -93,6 +94,10 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
                   "laplace: couple pixels (4-neighbour) or mesh elements (edge-sharing)")
       ->capture_default_str()
       ->check(CLI::IsMember({"pixels", "elements"}));
+  cmd->add_option("--tolerance", args->tolerance,
+                  "tv: relative change of x to stop at (default 1e-4); gn: relative decrease of "
+                  "the objective (1e-4)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--absolute", args->absolute, "gn: fit the absolute frames, not the differences");
   cmd->add_option("--snr", args->snr,
                   "add white Gaussian noise at this SNR (dB) before reconstructing");
@@ -159,6 +164,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     mo.lambda = args->lambda;
     mo.absolute = args->absolute;
     mo.neighbours = args->neighbours;
+    mo.tolerance = args->tolerance;
     auto method = make_reconstructor(args->method, problem, mo);
     if (mo.choose != "fixed") {
       // Hyperparameters from the validation split when the data have one, else from the frames.

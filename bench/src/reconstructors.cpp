@@ -25,6 +25,7 @@ std::unique_ptr<Reconstructor> make_reconstructor(const std::string& method,
     TotalVariationOptions t;
     if (o.choose == "fixed") t.alpha = o.lambda;
     t.choose_by_validation = o.choose == "validation";
+    if (o.tolerance > 0) t.tolerance = o.tolerance;
     return std::make_unique<TotalVariation>(problem, t);
   }
   if (method == "gn") {
@@ -32,6 +33,7 @@ std::unique_ptr<Reconstructor> make_reconstructor(const std::string& method,
     if (o.choose == "fixed") g.lambda = o.lambda;
     g.choose_by_validation = o.choose == "validation";
     g.absolute = o.absolute;
+    if (o.tolerance > 0) g.tolerance = o.tolerance;
     return std::make_unique<GaussNewton>(problem, g);
   }
   if (method == "greit") {

@@ -13,6 +13,7 @@ struct MethodOptions {
   double lambda = 0;                  // with choose == fixed
   bool absolute = false;              // gn: absolute frames instead of differences
   std::string neighbours = "pixels";  // laplace: pixels | elements
+  double tolerance = 0;               // tv, gn: stopping tolerance (0: the method's default)
 };
 
 const std::vector<std::string>& method_names();  // tikhonov noser laplace ...
