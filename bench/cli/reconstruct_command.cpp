@@ -91,7 +91,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
           ->check(CLI::IsMember({"gcv", "lcurve", "validation"}));
   lambda->excludes(choose);
   cmd->add_option("--neighbours", args->neighbours,
-                  "laplace: couple pixels (4-neighbour) or mesh elements (edge-sharing)")
+                  "laplace, tv: couple pixels (4-neighbour) or mesh elements (edge-sharing)")
       ->capture_default_str()
       ->check(CLI::IsMember({"pixels", "elements"}));
   cmd->add_option("--tolerance", args->tolerance,

@@ -26,6 +26,7 @@ std::unique_ptr<Reconstructor> make_reconstructor(const std::string& method,
     if (o.choose == "fixed") t.alpha = o.lambda;
     t.choose_by_validation = o.choose == "validation";
     if (o.tolerance > 0) t.tolerance = o.tolerance;
+    t.neighbours = parse_neighbours(o.neighbours);
     return std::make_unique<TotalVariation>(problem, t);
   }
   if (method == "gn") {

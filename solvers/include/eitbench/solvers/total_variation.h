@@ -1,15 +1,16 @@
 #pragma once
 // Total variation: x = argmin ||A x - y||^2 / ||y||^2 + alpha sum_p |grad x|_p, exact isotropic TV
-// (forward differences over in-disk pixel neighbours), by the primal-dual method of Chambolle and
-// Pock (2011). The data term's proximal step is exact and cheap in measurement space, so only the
-// gradient operator sets the pace. Starts from the NOSER solution; stops when the relative change
-// of x falls below `tolerance` (not after a fixed count; max_iterations is a guard and is
-// reported).
+// (forward differences over in-disk pixel neighbours, or differences across mesh edges), by the
+// primal-dual method of Chambolle and Pock (2011). The data term's proximal step is exact and cheap
+// in measurement space, so only the gradient operator sets the pace. Starts from the NOSER
+// solution; stops when the relative change of x falls below `tolerance` (not after a fixed count;
+// max_iterations is a guard and is reported).
 #include <memory>
 #include <string>
 
 #include "eitbench/solvers/linear_problem.h"
 #include "eitbench/solvers/reconstructor.h"
+#include "eitbench/solvers/tikhonov.h"
 
 namespace eitbench {
 
@@ -18,6 +19,9 @@ struct TotalVariationOptions {
   double tolerance = 1e-4;  // on ||x_k+1 - x_k|| / ||x_k+1||
   int max_iterations = 20000;
   bool choose_by_validation = false;
+  // pixels: isotropic TV of the image; elements: sum over interior mesh edges of
+  // (edge length / pixel width) |difference of the two elements' values P x| (anisotropic).
+  Neighbours neighbours = Neighbours::pixels;
 };
 
 class TotalVariation : public Reconstructor {
