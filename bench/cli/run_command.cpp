@@ -54,9 +54,8 @@ std::function<void()> add_run_command(CLI::App& app) {
     fs::create_directories(out);
     const int L = args->electrodes;
     // Reconstruction mesh and a finer simulation mesh: data never come from the mesh that inverts
-    // them.
-    const MeshDensity recon_density =
-        args->preset == "quick" ? MeshDensity::medium : MeshDensity::medium;
+    // them. The presets differ in data-set size (issue 7), not in meshes.
+    const MeshDensity recon_density = MeshDensity::medium;
     const MeshDensity sim_density = MeshDensity::fine;
     fmt::print("{} run --preset {}: L = {} electrodes, output in {}/\n", program_version(),
                args->preset, L, out);
