@@ -14,6 +14,7 @@
 #include "eitbench/bench/metrics.h"
 #include "eitbench/bench/noise.h"
 #include "eitbench/bench/reconstructors.h"
+#include "eitbench/bench/timing.h"
 #include "eitbench/bench/version.h"
 #include "eitbench/jacobian.h"
 #include "options.h"
@@ -39,11 +40,6 @@ std::pair<int, int> parse_range(const std::string& text, int n) {
     throw InputError("--frames", "",
                      "range " + text + " is empty or outside the " + std::to_string(n) + " frames");
   return {a, b};
-}
-
-double percentile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
 }
 
 }  // namespace

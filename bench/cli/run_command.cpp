@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "eitbench/bench/figures.h"
 #include "eitbench/bench/io.h"
+#include "eitbench/bench/timing.h"
 #include "eitbench/bench/version.h"
 #include "eitbench/jacobian.h"
 
@@ -20,15 +21,7 @@ namespace {
 // Median wall time of `repeats` calls, in milliseconds.
 template <typename F>
 double median_ms(int repeats, F&& f) {
-  std::vector<double> ms;
-  for (int i = 0; i < repeats; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    ms.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-  }
-  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-  return ms[ms.size() / 2];
+  return percentile(time_calls_ms(repeats, std::forward<F>(f)), 0.5);
 }
 
 }  // namespace
