@@ -110,14 +110,14 @@ Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report)
     const double decrease = (phi - next_phi) / phi;
     theta = next;
     phi = next_phi;
-    s = evaluate(p, theta, true);
-    local.residual.push_back((s.v - target).norm());
+    local.residual.push_back((trial.v - target).norm());  // the line search solved this theta
     local.objective.push_back(phi);
     if (decrease < options_.tolerance ||
         local.residual.back() < options_.residual_tolerance * target.norm()) {
       local.converged = true;
       break;
     }
+    s = evaluate(p, theta, true);  // re-linearise only when another step follows
   }
   if (report) *report = local;
   // On the label scale: -dsigma / sigma_0 = 1 - sigma / sigma_0 (against sigma_0 in both modes).
