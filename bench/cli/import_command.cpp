@@ -37,9 +37,9 @@ std::function<void()> add_import_command(CLI::App& app) {
       ->required();
   return [args] {
     args->options.order = parse_order(args->order);
-    const Dataset d =
-        import_measurements(args->in, args->reference, args->options, args->reference_variable);
     const Measurements m = read_measurements(args->in, args->options);
+    const Dataset d =
+        import_measurements(m, args->reference, args->options, args->reference_variable);
     fmt::print("{}: {}\n", args->in, m.description);
     if (m.reduced_input)
       fmt::print("  reciprocity: not measurable (reduced frames are reciprocal by construction)\n");

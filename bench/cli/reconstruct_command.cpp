@@ -5,6 +5,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "commands.h"
 #include "eitbench/bench/dataset.h"
@@ -104,14 +105,16 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "HDF5 file of images (and scores when labels are known)")
       ->required();
   return [args, cmd] {
+    // The mesh file, read once: its electrode count sets how measured frames are read.
+    std::optional<Mesh> mesh_file;
+    if (!args->mesh.file.empty()) mesh_file = read_msh_file(args->mesh.file);
     // The frames, their labels (if any) and the sensor.
     Dataset data;
     if (is_hdf5_file(args->data) && args->data.find(".mat") == std::string::npos) {
       data = read_dataset(args->data);
     } else {
       ImportOptions o;
-      o.electrodes = args->mesh.file.empty() ? args->mesh.disk.electrodes
-                                             : read_msh_file(args->mesh.file).num_electrodes();
+      o.electrodes = mesh_file ? mesh_file->num_electrodes() : args->mesh.disk.electrodes;
       o.order = parse_order(args->order);
       o.variable = args->variable;
       data = import_measurements(args->data, args->reference, o);
@@ -138,7 +141,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     if (args->mesh.file.empty() && !cmd->count("--electrodes"))
       args->mesh.disk.electrodes = data.electrodes;
     args->mesh.disk.electrode_coverage = data.electrode_coverage;
-    const Mesh mesh = load_mesh(args->mesh);
+    const Mesh mesh = mesh_file ? std::move(*mesh_file) : load_mesh(args->mesh);
     if (mesh.num_electrodes() != data.electrodes)
       throw InputError(args->mesh.file.empty() ? "--electrodes" : args->mesh.file, "electrodes",
                        "the mesh has " + std::to_string(mesh.num_electrodes()) +

@@ -155,7 +155,11 @@ Measurements read_measurements(const std::string& path, const ImportOptions& o) 
 
 Dataset import_measurements(const std::string& path, const std::string& reference_path,
                             const ImportOptions& o, const std::string& reference_variable) {
-  const Measurements m = read_measurements(path, o);
+  return import_measurements(read_measurements(path, o), reference_path, o, reference_variable);
+}
+
+Dataset import_measurements(const Measurements& m, const std::string& reference_path,
+                            const ImportOptions& o, const std::string& reference_variable) {
   const int L = o.electrodes;
   Dataset d;
   d.electrodes = L;

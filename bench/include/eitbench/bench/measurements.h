@@ -39,5 +39,9 @@ Measurements read_measurements(const std::string& path, const ImportOptions& opt
 Dataset import_measurements(const std::string& path, const std::string& reference_path,
                             const ImportOptions& options,
                             const std::string& reference_variable = "");
+// The same for frames already read (read_measurements), so that callers read the file once.
+Dataset import_measurements(const Measurements& frames, const std::string& reference_path,
+                            const ImportOptions& options,
+                            const std::string& reference_variable = "");
 
 }  // namespace eitbench
