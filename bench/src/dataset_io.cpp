@@ -225,19 +225,6 @@ std::vector<int> Dataset::indices(Split which) const {
   return out;
 }
 
-LabelledFrames Dataset::labelled(const std::vector<int>& rows) const {
-  LabelledFrames set;
-  set.background = background;
-  set.frames.resize(static_cast<Eigen::Index>(rows.size()), differences.cols());
-  set.labels.resize(static_cast<Eigen::Index>(rows.size()), labels.cols());
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    set.frames.row(k) = differences.row(rows[k]);
-    if (has_labels()) set.labels.row(k) = labels.row(rows[k]);
-    if (!circles.empty()) set.circles.push_back(circles[rows[k]]);
-  }
-  return set;
-}
-
 bool is_hdf5_file(const std::string& path) {
   H5E_BEGIN_TRY {
     return H5Fis_hdf5(path.c_str()) > 0;

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "eitbench/augment/augmented_set.h"
+#include "eitbench/jacobian/sample_matrix.h"
 #include "eitbench/jacobian/geometry.h"
 
 namespace eitbench {
@@ -54,8 +54,6 @@ struct Dataset {
   int size() const { return static_cast<int>(differences.rows()); }
   bool has_labels() const { return labels.cols() > 0; }
   std::vector<int> indices(Split which) const;
-  // The rows of `indices`, as a set the augmenter takes.
-  LabelledFrames labelled(const std::vector<int>& indices) const;
 };
 
 // Writes atomically (temporary, then rename); chunked and compressed.

@@ -9,7 +9,7 @@
 // frame a column, prefer columns when both fit).
 #include <string>
 
-#include "eitbench/augment/augmented_set.h"
+#include "eitbench/jacobian/sample_matrix.h"
 #include "eitbench/bench/dataset.h"
 #include "eitbench/jacobian/protocol.h"
 
