@@ -165,17 +165,29 @@ const TwoDiscs& two_discs() {
   return c;
 }
 
-TEST(EidorsCase, NoserWithTheLcurveReachesEidors) {
-  const Reconstruction& s = medium();
+// A Tikhonov reconstructor with lambda at the L-curve corner of the two-disc frame.
+std::unique_ptr<Tikhonov> lcurve_on_two_discs(const Reconstruction& s, Prior prior,
+                                              Neighbours neighbours = Neighbours::pixels) {
   TikhonovOptions o;
-  o.prior = Prior::noser;
-  Tikhonov t(s.problem, o);
+  o.prior = prior;
+  o.neighbours = neighbours;
+  auto t = std::make_unique<Tikhonov>(s.problem, o);
   SampleMatrix y(1, 104);
   y.row(0) = two_discs().frame.transpose();
-  t.choose_lcurve(y);
-  const double cc = correlation(t.reconstruct(two_discs().frame), two_discs().truth, s.grid);
+  t->choose_lcurve(y);
+  return t;
+}
+
+double two_disc_cc(const Reconstruction& s, const Eigen::VectorXd& image) {
+  return correlation(image, two_discs().truth, s.grid);
+}
+
+TEST(EidorsCase, NoserWithTheLcurveReachesEidors) {
+  const Reconstruction& s = medium();
+  const auto t = lcurve_on_two_discs(s, Prior::noser);
+  const double cc = two_disc_cc(s, t->reconstruct(two_discs().frame));
   RecordProperty("cc", std::to_string(cc));
-  std::printf("noser on the two-disc case: CC %.4f at the L-curve lambda %.3g\n", cc, t.lambda());
+  std::printf("noser on the two-disc case: CC %.4f at the L-curve lambda %.3g\n", cc, t->lambda());
   EXPECT_GE(cc, 0.872);
 }
 
@@ -183,18 +195,10 @@ TEST(EidorsCase, LaplaceOnElementNeighboursMatchesPixelNeighbours) {
   // The same smoothness prior on two discretisations: the mesh's edge-neighbour graph (applied to
   // P x) and the pixel grid's. Both at their L-curve lambda.
   const Reconstruction& s = medium();
-  SampleMatrix y(1, 104);
-  y.row(0) = two_discs().frame.transpose();
   double cc[2];
-  for (auto neighbours : {Neighbours::pixels, Neighbours::elements}) {
-    TikhonovOptions o;
-    o.prior = Prior::laplace;
-    o.neighbours = neighbours;
-    Tikhonov t(s.problem, o);
-    t.choose_lcurve(y);
-    cc[static_cast<int>(neighbours)] =
-        correlation(t.reconstruct(two_discs().frame), two_discs().truth, s.grid);
-  }
+  for (auto neighbours : {Neighbours::pixels, Neighbours::elements})
+    cc[static_cast<int>(neighbours)] = two_disc_cc(
+        s, lcurve_on_two_discs(s, Prior::laplace, neighbours)->reconstruct(two_discs().frame));
   std::printf(
       "laplace on the two-disc case: CC %.4f (pixel neighbours), %.4f (element neighbours)\n",
       cc[0], cc[1]);
@@ -209,20 +213,13 @@ TEST(EidorsCase, TotalVariationOnElementNeighbours) {
   const TotalVariation tv(s.problem, o);
   TotalVariation::Report report;
   const Eigen::VectorXd image = tv.solve(two_discs().frame, &report);
-  const double cc = correlation(image, two_discs().truth, s.grid);
+  const double cc = two_disc_cc(s, image);
   std::printf("tv over element neighbours on the two-disc case: CC %.4f, %d iterations\n", cc,
               report.iterations);
   EXPECT_TRUE(report.converged);
   // On a piecewise-constant phantom TV beats the smooth prior on the same element graph.
-  TikhonovOptions l;
-  l.prior = Prior::laplace;
-  l.neighbours = Neighbours::elements;
-  Tikhonov laplace(s.problem, l);
-  SampleMatrix y(1, 104);
-  y.row(0) = two_discs().frame.transpose();
-  laplace.choose_lcurve(y);
-  EXPECT_GT(cc,
-            correlation(laplace.reconstruct(two_discs().frame), two_discs().truth, s.grid) + 0.02);
+  const auto laplace = lcurve_on_two_discs(s, Prior::laplace, Neighbours::elements);
+  EXPECT_GT(cc, two_disc_cc(s, laplace->reconstruct(two_discs().frame)) + 0.02);
 }
 
 TEST(EidorsCase, TotalVariationReachesEidorsAndBeatsTikhonov) {
@@ -230,7 +227,7 @@ TEST(EidorsCase, TotalVariationReachesEidorsAndBeatsTikhonov) {
   const TotalVariation tv(s.problem, {});
   TotalVariation::Report report;
   const Eigen::VectorXd image = tv.solve(two_discs().frame, &report);
-  const double cc = correlation(image, two_discs().truth, s.grid);
+  const double cc = two_disc_cc(s, image);
   RecordProperty("cc", std::to_string(cc));
   std::printf("tv on the two-disc case: CC %.4f, RE %.3f, %d iterations\n", cc,
               (image - two_discs().truth).norm() / two_discs().truth.norm(), report.iterations);
@@ -243,7 +240,7 @@ TEST(EidorsCase, TotalVariationReachesEidorsAndBeatsTikhonov) {
   double best = -1;
   for (double lambda : t.lambda_grid()) {
     t.set_lambda(lambda);
-    best = std::max(best, correlation(t.reconstruct(two_discs().frame), two_discs().truth, s.grid));
+    best = std::max(best, two_disc_cc(s, t.reconstruct(two_discs().frame)));
   }
   EXPECT_GT(cc, best);
 }
@@ -258,12 +255,7 @@ TEST(GaussNewton, ResidualFallsEveryStepAndEndsBelowTheOneStepSolution) {
   for (std::size_t k = 1; k < report.objective.size(); ++k)
     EXPECT_LT(report.objective[k], report.objective[k - 1]) << "step " << k;
   // The one-step (linear) NOSER solution at its L-curve lambda, put through the nonlinear model.
-  TikhonovOptions o;
-  o.prior = Prior::noser;
-  Tikhonov t(s.problem, o);
-  SampleMatrix y(1, 104);
-  y.row(0) = two_discs().frame.transpose();
-  t.choose_lcurve(y);
+  const auto t = lcurve_on_two_discs(s, Prior::noser);
   const Mesh& mesh = s.model->mesh();
   auto residual = [&](const Eigen::VectorXd& img) {  // sigma = sigma_0 (1 - x) on the label scale
     const Eigen::VectorXd sigma_pix = (1.0 - s.problem.from_image(img).array()).max(1e-3).matrix();
@@ -273,9 +265,9 @@ TEST(GaussNewton, ResidualFallsEveryStepAndEndsBelowTheOneStepSolution) {
         s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles())), MeasurementOrder::rotating);
     return (v - v0 - two_discs().frame).norm();
   };
-  EXPECT_LT(residual(image), residual(t.reconstruct(two_discs().frame)));
+  EXPECT_LT(residual(image), residual(t->reconstruct(two_discs().frame)));
   EXPECT_NEAR(residual(image), report.residual.back(), 1e-9 * report.residual.back() + 1e-15);
-  EXPECT_GT(correlation(image, two_discs().truth, s.grid), 0.8);
+  EXPECT_GT(two_disc_cc(s, image), 0.8);
 }
 
 TEST(GaussNewton, AbsoluteModeRecoversAHomogeneousConductivity) {
