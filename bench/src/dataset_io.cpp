@@ -9,6 +9,7 @@
 #include "eitbench/bench/dataset.h"
 #include "eitbench/bench/io.h"
 #include "eitbench/jacobian/error.h"
+#include "hdf5_attributes.h"
 
 namespace eitbench {
 namespace {
@@ -73,24 +74,7 @@ class GrowingArray {
   hsize_t rows_ = 0;
 };
 
-// Variable-length UTF-8 strings: h5py reads them as str, MATLAB's h5readatt as char.
-void write_attribute(H5::H5File& file, const std::string& name, const std::string& value) {
-  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-  type.setCset(H5T_CSET_UTF8);
-  file.createAttribute(name, type, H5::DataSpace(H5S_SCALAR)).write(type, value);
-}
-void write_attribute(H5::H5File& file, const std::string& name, double value) {
-  file.createAttribute(name, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(H5S_SCALAR))
-      .write(H5::PredType::NATIVE_DOUBLE, &value);
-}
-void write_attribute(H5::H5File& file, const std::string& name, long long value) {
-  file.createAttribute(name, H5::PredType::NATIVE_LLONG, H5::DataSpace(H5S_SCALAR))
-      .write(H5::PredType::NATIVE_LLONG, &value);
-}
-void write_attribute(H5::H5File& file, const std::string& name, std::uint64_t value) {
-  file.createAttribute(name, H5::PredType::NATIVE_UINT64, H5::DataSpace(H5S_SCALAR))
-      .write(H5::PredType::NATIVE_UINT64, &value);
-}
+using detail::write_attribute;
 
 class Reader {
  public:

@@ -5,6 +5,7 @@
 #include "eitbench/bench/images_file.h"
 #include "eitbench/bench/io.h"
 #include "eitbench/jacobian/error.h"
+#include "hdf5_attributes.h"
 
 namespace eitbench {
 
@@ -75,17 +76,10 @@ void write_images_file(const std::string& path, const ImagesFile& c) {
         H5::DataSet set =
             file.createDataSet("scores", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, sdims));
         set.write(table.data(), H5::PredType::NATIVE_DOUBLE);
-        H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-        set.createAttribute("columns", type, H5::DataSpace(H5S_SCALAR))
-            .write(type, std::string("cc, re, mse, ssim"));
+        detail::write_attribute(set, "columns", std::string("cc, re, mse, ssim"));
       }
-      H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
-      type.setCset(H5T_CSET_UTF8);
-      for (const auto& [key, value] : c.text)
-        file.createAttribute(key, type, H5::DataSpace(H5S_SCALAR)).write(type, value);
-      for (const auto& [key, value] : c.numbers)
-        file.createAttribute(key, H5::PredType::NATIVE_DOUBLE, H5::DataSpace(H5S_SCALAR))
-            .write(H5::PredType::NATIVE_DOUBLE, &value);
+      for (const auto& [key, value] : c.text) detail::write_attribute(file, key, value);
+      for (const auto& [key, value] : c.numbers) detail::write_attribute(file, key, value);
     } catch (const H5::Exception& e) {
       throw InputError(path, "", "HDF5 write failed: " + e.getDetailMsg());
     }
