@@ -8,12 +8,12 @@
 namespace eitbench {
 namespace {
 
-// Sample i's label under g: exact from its circles when it has them, bilinear otherwise.
+// Sample i's label under g: exact from its circles when the set has them, bilinear otherwise.
 Eigen::VectorXd transformed_label(const LabelledFrames& set, int i, const GroupElement& g, int L,
                                   const ImageSymmetry& images) {
-  if (!set.circles.empty())
-    return circles_image(images.grid(), transform_circles(set.circles[i], g, L), set.background);
-  return images.apply(g, set.labels.row(i).transpose());
+  return moved_label(
+      set.labels.cols() > 0 ? Eigen::VectorXd(set.labels.row(i).transpose()) : Eigen::VectorXd(),
+      set.circles.empty() ? nullptr : &set.circles[i], set.background, g, L, images);
 }
 
 }  // namespace

@@ -27,7 +27,13 @@ class ImageSymmetry {
       map_y_;  // per element: source column and row of each pixel
 };
 
-// One-off convenience: ImageSymmetry(electrodes, grid).apply(g, image).
+// A sample's label under g: exact, by re-rasterising its moved circles, when `circles` is given
+// (touch intensity against `background`); bilinear from `label` otherwise.
+Eigen::VectorXd moved_label(const Eigen::VectorXd& label, const std::vector<Circle>* circles,
+                            double background, const GroupElement& g, int electrodes,
+                            const ImageSymmetry& images);
+
+// One-off: the same as ImageSymmetry(electrodes, grid).apply(g, image), computing g's maps only.
 Eigen::VectorXd transform_image(const Eigen::VectorXd& image, const GroupElement& g, int electrodes,
                                 const PixelGrid& grid);
 
