@@ -10,23 +10,16 @@ namespace eitbench {
 
 long long augment_dataset_file(const std::string& in, const std::string& out,
                                const FileAugmentOptions& o) {
-  const Dataset data = read_dataset(in);
+  Dataset data = read_dataset(in);
   const int L = data.electrodes;
   const std::vector<GroupElement> elements =
       o.elements.empty() ? group_elements(o.group, L) : o.elements;
   const FrameSymmetry symmetry(L);
-  AugmentSetup setup;
-  setup.group = o.group;
-  setup.layout = FrameLayout::reduced;
-  setup.electrodes = L;
-  setup.image_size = data.image_size;
-  setup.radius = data.radius;
   const ImageSymmetry images(L, PixelGrid(data.image_size, data.radius));
 
-  Dataset header = data;
-  header.augmentation =
-      o.elements.size() == 1 ? o.elements.front().to_string() : to_string(o.group);
-  DatasetWriter writer(out, header, data.has_labels(), !data.circles.empty());
+  // The writer takes the attributes and the reference from `data` itself (no copy of the samples).
+  data.augmentation = o.elements.size() == 1 ? o.elements.front().to_string() : to_string(o.group);
+  DatasetWriter writer(out, data, data.has_labels(), !data.circles.empty());
   for (int begin = 0; begin < data.size(); begin += o.block) {
     const int end = std::min(data.size(), begin + o.block);
     // Where each input sample's rows start in this block: chosen samples get |G| rows, others 1.
@@ -61,12 +54,10 @@ long long augment_dataset_file(const std::string& in, const std::string& out,
         if (!data.circles.empty())
           block.circles[static_cast<std::size_t>(r)] = transform_circles(data.circles[i], g, L);
         if (data.has_labels())
-          block.labels.row(r) =
-              (!data.circles.empty()
-                   ? circles_image(images.grid(), block.circles[static_cast<std::size_t>(r)],
-                                   data.background)
-                   : images.apply(g, data.labels.row(i).transpose()))
-                  .transpose();
+          block.labels.row(r) = moved_label(data.labels.row(i).transpose(),
+                                            data.circles.empty() ? nullptr : &data.circles[i],
+                                            data.background, g, L, images)
+                                    .transpose();
       }
     });
     writer.append(block);
