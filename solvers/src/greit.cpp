@@ -10,10 +10,11 @@
 namespace eitbench {
 
 Greit::Greit(const LinearProblem& problem, const GreitOptions& options)
-    : problem_(problem), options_(options), lambda_(options.lambda) {
+    : problem_(problem), options_(options), lambda_(options.lambda > 0 ? options.lambda : 1e-2) {
   if (options.targets < 10)
     throw InputError("targets", "", "GREIT needs at least 10 training targets");
-  if (!(options.lambda > 0)) throw InputError("--lambda", "", "must be positive");
+  if (options.lambda < 0 || !std::isfinite(options.lambda))
+    throw InputError("--lambda", "", "must be positive");
   const PixelGrid grid(problem.image_size, problem.radius);
   const double R = problem.radius;
   const int m = problem.measurements(), n = problem.unknowns();
@@ -35,7 +36,7 @@ Greit::Greit(const LinearProblem& problem, const GreitOptions& options)
   DYt_ = D * Y.transpose();
   YYt_ = Y * Y.transpose();
   N_ = YYt_.diagonal().asDiagonal();  // noise power proportional to each measurement's signal power
-  set_lambda(lambda_, options.lambda == GreitOptions{}.lambda ? "default" : "fixed");
+  set_lambda(lambda_, options.lambda > 0 ? "fixed" : "default");
 }
 
 std::string Greit::settings() const {

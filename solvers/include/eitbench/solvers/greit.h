@@ -18,7 +18,7 @@ struct GreitOptions {
   int targets = 1000;            // training targets, uniform over the disk
   double target_radius = 0.05;   // relative to R
   double desired_radius = 0.15;  // the desired image's disc, relative to R
-  double lambda = 1e-2;          // relative to trace(Y Y^T) / trace(N)
+  double lambda = 0;             // relative to trace(Y Y^T) / trace(N); 0: the default 1e-2
   std::uint64_t seed = 1;
   bool choose_by_validation = false;
 };
