@@ -5,6 +5,26 @@
 #include "eitbench/bench/io.h"
 
 namespace eitbench::cli {
+namespace {
+
+CLI::Validator number_check(bool allow_zero) {
+  return CLI::Validator(
+      [allow_zero](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(v) || v < 0 ||
+            (!allow_zero && v == 0))
+          return "'" + text + "' must be a " +
+                 (allow_zero ? "finite number, zero or more" : "positive, finite number");
+        return "";
+      },
+      allow_zero ? "NONNEGATIVE" : "POSITIVE");
+}
+
+}  // namespace
+
+const CLI::Validator kPositive = number_check(false);
+const CLI::Validator kNonNegative = number_check(true);
 
 void add_mesh_options(CLI::App& app, MeshSource& s) {
   auto* mesh = app.add_option("--mesh", s.file,
@@ -22,7 +42,7 @@ void add_mesh_options(CLI::App& app, MeshSource& s) {
                        ->check(CLI::Range(0.001, 0.999));
   auto* radius = app.add_option("--radius", s.disk.radius, "disk radius R")
                      ->capture_default_str()
-                     ->check(CLI::PositiveNumber);
+                     ->check(kPositive);
   for (auto* o : {electrodes, density, coverage, radius}) mesh->excludes(o);
 }
 
@@ -33,15 +53,15 @@ Mesh load_mesh(MeshSource& s) {
 }
 
 void add_conductivity_options(CLI::App& app, ConductivitySource& s) {
-  auto* uniform = app.add_option("--conductivity", s.uniform, "uniform conductivity S (S/m)")
-                      ->check(CLI::PositiveNumber);
+  auto* uniform =
+      app.add_option("--conductivity", s.uniform, "uniform conductivity S (S/m)")->check(kPositive);
   auto* file =
       app.add_option("--element-conductivity", s.file, "CSV with one conductivity per triangle");
   auto* circles =
       app.add_option("--circles", s.circles, "circular inclusions \"x,y,r,s;...\" on --background");
   app.add_option("--background", s.background, "background conductivity for --circles (S/m)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   uniform->excludes(file)->excludes(circles);
   file->excludes(circles);
 }
@@ -73,7 +93,7 @@ void add_model_options(CLI::App& app, ModelSetup& s) {
   app.add_option("--contact-impedance", s.forward.contact_impedance,
                  "contact impedance z_c of every electrode")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   app.add_option("--current", s.forward.current, "drive current I")->capture_default_str();
   app.add_option("--order", s.order, "measurement order: rotating | ascending")
       ->capture_default_str()

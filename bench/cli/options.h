@@ -8,6 +8,11 @@
 
 namespace eitbench::cli {
 
+// "must be a positive number" / "... zero or more": CLI11's own PositiveNumber names its range up
+// to the largest double, a 300-digit number.
+extern const CLI::Validator kPositive;
+extern const CLI::Validator kNonNegative;
+
 struct MeshSource {
   std::string file;  // --mesh
   DiskMeshOptions disk;

@@ -77,10 +77,10 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
   add_mesh_options(*cmd, args->mesh);
   cmd->add_option("--background", args->background,
                   "conductivity the Jacobian is linearised at (default: the data set's, else 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   auto* lambda = cmd->add_option("--lambda", args->lambda,
                                  "regularisation weight (lambda; the TV weight alpha for tv)")
-                     ->check(CLI::PositiveNumber);
+                     ->check(kPositive);
   auto* choose =
       cmd->add_option(
              "--choose", args->choose,
@@ -94,7 +94,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
   cmd->add_option("--tolerance", args->tolerance,
                   "tv: relative change of x to stop at (default 1e-4); gn: relative decrease of "
                   "the objective (1e-4)")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_flag("--absolute", args->absolute, "gn: fit the absolute frames, not the differences");
   cmd->add_option("--snr", args->snr,
                   "add white Gaussian noise at this SNR (dB) before reconstructing");

@@ -8,6 +8,7 @@
 #include "eitbench/bench/dataset.h"
 #include "eitbench/bench/figures.h"
 #include "eitbench/jacobian.h"
+#include "options.h"
 
 namespace eitbench::cli {
 
@@ -22,7 +23,7 @@ std::function<void()> add_show_command(CLI::App& app) {
   cmd->add_option("file", args->file, "an eitbench HDF5 data set")->required();
   cmd->add_option("--index", args->index, "sample index (0-based)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd->add_option("--out", args->out, "PNG file to write")->required();
   return [args] {
     const Dataset d = read_dataset(args->file);

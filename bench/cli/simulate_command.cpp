@@ -8,6 +8,7 @@
 #include "eitbench/bench/dataset.h"
 #include "eitbench/bench/progress.h"
 #include "eitbench/bench/simulate.h"
+#include "options.h"
 
 namespace eitbench::cli {
 
@@ -39,10 +40,10 @@ std::function<void()> add_simulate_command(CLI::App& app) {
       ->check(CLI::IsMember({"coarse", "medium", "fine"}));
   cmd->add_option("--background", args->options.background, "background conductivity sigma_0 (S/m)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_option("--contact-impedance", args->options.contact_impedance, "contact impedance z_c")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_option("--out", args->out, "HDF5 file to write")->required();
   cmd->add_flag("--quiet", args->quiet, "no progress output");
   return [args] {
