@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <map>
 
+#include <tbb/parallel_invoke.h>
+
 #include "eitbench/jacobian/error.h"
 #include "eitbench/solvers/tikhonov.h"
 
@@ -13,8 +15,11 @@ namespace eitbench {
 
 struct TotalVariation::Impl {
   std::vector<int> right, down;  // in-disk neighbour of each unknown, or -1
-  Eigen::VectorXd g;             // A A^T = U diag(g) U^T: the data term's proximal step
-  Eigen::MatrixXf Uf, Af, At;    // U, A and A^T in single precision
+  // A A^T = U diag(g) U^T, kept on the directions with g > 0. B = U^T A (single precision) gives
+  // the data term's proximal step. Only B^T is stored: B w as B^T's transpose times w takes the
+  // dot-product form, 1.3x faster here than a column-major B.
+  Eigen::VectorXd g;
+  Eigen::MatrixXf Bt, At;
   // Element neighbours: K (edges x n) = edge differences of P x, weights w_e, and ||K||^2.
   Eigen::SparseMatrix<double, Eigen::RowMajor> K;
   Eigen::SparseMatrix<double, Eigen::RowMajor> Kt;
@@ -28,8 +33,8 @@ namespace {
 // Chambolle-Pock for min_x ||A x - y||^2 / s + alpha sum_p |grad x|_p, over-relaxed (rho = 1.8,
 // Condat's form: primal step, dual step on 2 x~ - x, then both moved rho of the way). The dual
 // variable z lives on the pixel gradients (projected onto |z_p| <= alpha); the primal step is the
-// exact proximal map of the data term, (I + c A^T A)^-1 w = w - c A^T U diag(1 / (1 + c g)) U^T A
-// w, evaluated in single precision (the products with A are most of the cost).
+// exact proximal map of the data term, (I + c A^T A)^-1 w = w - c B^T diag(1 / (1 + c g)) B w
+// with B = U^T A, evaluated in single precision (the products with B are most of the cost).
 Eigen::VectorXd chambolle_pock(const TotalVariation::Impl& im, const Eigen::VectorXd& y,
                                Eigen::VectorXd x, double alpha, double tolerance,
                                int max_iterations, TotalVariation::Report* report) {
@@ -46,7 +51,10 @@ Eigen::VectorXd chambolle_pock(const TotalVariation::Impl& im, const Eigen::Vect
   const Eigen::VectorXf shrink = (c * (1.0 + c * im.g.array()).inverse()).cast<float>().matrix();
   const Eigen::VectorXd cAty = c * (im.At * y.cast<float>()).cast<double>();
   const Eigen::Index duals = im.K.rows() > 0 ? im.K.rows() : n;
-  Eigen::VectorXd zx = Eigen::VectorXd::Zero(duals), zy = Eigen::VectorXd::Zero(duals), v(n), xt(n);
+  Eigen::VectorXd zx = Eigen::VectorXd::Zero(duals), zy = Eigen::VectorXd::Zero(duals), v(n), xt(n),
+                  bar(n);
+  const Eigen::Index half = n / 2;
+  Eigen::VectorXf w1(shrink.size()), w2(shrink.size()), u(n);
   int it = 0;
   bool converged = false;
   while (it < max_iterations) {
@@ -62,25 +70,36 @@ Eigen::VectorXd chambolle_pock(const TotalVariation::Impl& im, const Eigen::Vect
     }
     v += cAty;
     const Eigen::VectorXf vf = v.cast<float>();
-    xt = v -
-         (im.At * (im.Uf * shrink.cwiseProduct(im.Uf.transpose() * (im.Af * vf)))).cast<double>();
+    // The two products with B are 2/3 of an iteration: each is split in two halves over pixels
+    // that run as two tasks. The halves are summed in a fixed order, so the result does not depend
+    // on the thread count.
+    tbb::parallel_invoke(
+        [&] { w1.noalias() = im.Bt.topRows(half).transpose() * vf.head(half); },
+        [&] { w2.noalias() = im.Bt.bottomRows(n - half).transpose() * vf.tail(n - half); });
+    w1 = shrink.cwiseProduct(w1 + w2);
+    tbb::parallel_invoke([&] { u.head(half).noalias() = im.Bt.topRows(half) * w1; },
+                         [&] { u.tail(n - half).noalias() = im.Bt.bottomRows(n - half) * w1; });
+    xt = v - u.cast<double>();
     double change = 0, size = 0;
     if (im.K.rows() > 0) {  // element edges: anisotropic, |z_e| <= alpha w_e
-      const Eigen::VectorXd kz = zx + sigma * (im.K * (2 * xt - x));
+      bar = 2 * xt - x;
+      const Eigen::VectorXd kz = zx + sigma * (im.K * bar);
       for (Eigen::Index e = 0; e < kz.size(); ++e) {
         const double bound = alpha * im.weight[e];
         zx[e] += rho * (std::clamp(kz[e], -bound, bound) - zx[e]);
       }
-    } else
+    } else {
+      bar = 2 * xt - x;
       for (Eigen::Index p = 0; p < n; ++p) {  // dual step on 2 x~ - x, projected; then relax both
-        const double bx = 2 * xt[p] - x[p];
-        const double dx = im.right[p] >= 0 ? (2 * xt[im.right[p]] - x[im.right[p]]) - bx : 0.0;
-        const double dy = im.down[p] >= 0 ? (2 * xt[im.down[p]] - x[im.down[p]]) - bx : 0.0;
+        const double bx = bar[p];
+        const double dx = im.right[p] >= 0 ? bar[im.right[p]] - bx : 0.0;
+        const double dy = im.down[p] >= 0 ? bar[im.down[p]] - bx : 0.0;
         double a = zx[p] + sigma * dx, b = zy[p] + sigma * dy;
         const double norm = std::sqrt(a * a + b * b);
         if (norm > alpha) a *= alpha / norm, b *= alpha / norm;
         zx[p] += rho * (a - zx[p]), zy[p] += rho * (b - zy[p]);
       }
+    }
     for (Eigen::Index p = 0; p < n; ++p) {
       const double step = rho * (xt[p] - x[p]);
       x[p] += step;
@@ -143,10 +162,12 @@ TotalVariation::TotalVariation(const LinearProblem& problem, const TotalVariatio
     impl_->norm2 = 1.05 * estimate;
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(problem.A * problem.A.transpose());
-  impl_->Uf = eig.eigenvectors().cast<float>();
-  impl_->g = eig.eigenvalues().cwiseMax(0.0);
-  impl_->Af = problem.A.cast<float>();
-  impl_->At = impl_->Af.transpose();
+  // Eigenvalues ascend: the rank largest are the last columns.
+  const Eigen::Index rank =
+      (eig.eigenvalues().array() > 1e-10 * eig.eigenvalues().maxCoeff()).count();
+  impl_->g = eig.eigenvalues().tail(rank);
+  impl_->Bt = (problem.A.transpose() * eig.eigenvectors().rightCols(rank)).cast<float>();
+  impl_->At = problem.A.transpose().cast<float>();
   TikhonovOptions start;  // the starting point: NOSER, regularised near its usual optimum
   start.prior = Prior::noser;
   start.choice = Choice::gcv;  // placeholder choice; lambda is set just below
