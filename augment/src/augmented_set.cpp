@@ -94,7 +94,9 @@ void OnTheFlyAugmenter::batch(const std::vector<int>& indices, int epoch, Sample
     const GroupElement& g = element(i, epoch);
     frames.row(b) =
         symmetry_.apply(setup_.group, g, set_.frames.row(i).transpose(), setup_.layout).transpose();
-    if (labelled)
+    if (labelled && g == GroupElement{} && set_.labels.cols() > 0)
+      labels.row(b) = set_.labels.row(i);  // the identity: the stored label, no re-rasterising
+    else if (labelled)
       labels.row(b) = transformed_label(set_, i, g, setup_.electrodes, images_).transpose();
   }
 }

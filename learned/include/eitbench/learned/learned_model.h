@@ -1,0 +1,63 @@
+#pragma once
+// A trained network with everything needed to use it: its shape, the input normalisation it was
+// trained with (stored inside the network), the sensor it was trained for, and how it was trained.
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+
+#include "eitbench/jacobian/sample_matrix.h"
+#include "eitbench/learned/network_options.h"
+
+namespace eitbench {
+
+struct ModelInfo {
+  NetworkOptions network;
+  int electrodes = 16;
+  std::string augment = "none";  // the group it was trained with
+  std::string training = "{}";   // JSON: the training options, budget, history, best epoch
+};
+
+// "auto" (CUDA when LibTorch has it and a GPU is present, else CPU), "cpu" or "cuda".
+// InputError(source) when CUDA is asked for and not available.
+std::string resolve_device(const std::string& name, const std::string& source = "--device");
+// True when this LibTorch build can use a GPU now.
+bool cuda_available();
+// LibTorch's intra-op threads (0: leave its default, one per core).
+void set_torch_threads(int threads);
+int torch_threads();
+
+class LearnedModel {
+ public:
+  // A freshly initialised network (weights from `seed`), input mean 0 and scale 1.
+  LearnedModel(const NetworkOptions& network, int electrodes, std::uint64_t seed);
+  ~LearnedModel();
+  LearnedModel(const LearnedModel&);  // a deep copy
+  LearnedModel& operator=(const LearnedModel&);
+  LearnedModel(LearnedModel&&) noexcept;
+  LearnedModel& operator=(LearnedModel&&) noexcept;
+
+  const ModelInfo& info() const;
+  ModelInfo& info();
+  long long parameters() const;
+  // Frames (N x inputs, reduced layout, difference voltages) -> images (N x n^2, 0 outside the
+  // disk), in evaluation mode, in batches of `batch`. InputError("frames") on a wrong length.
+  SampleMatrix reconstruct(const SampleMatrix& frames, int batch = 512) const;
+  Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const;
+  // Runs on "cpu" or "cuda" (see resolve_device).
+  void to_device(const std::string& device);
+  std::string device() const;
+
+  // The model file's bytes (a LibTorch archive; bench/ writes them to disk), and back.
+  // from_bytes throws InputError(source, ...) on anything that is not such a model.
+  std::string to_bytes() const;
+  static LearnedModel from_bytes(const std::string& bytes, const std::string& source);
+
+  struct Impl;  // defined in learned/src (LibTorch)
+  Impl& impl() const { return *impl_; }
+
+ private:
+  explicit LearnedModel(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace eitbench

@@ -1,0 +1,191 @@
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "eitbench/jacobian/error.h"
+#include "network.h"
+
+namespace eitbench {
+namespace {
+
+constexpr const char* kModelFormat = "eitbench-learned-model-1";
+
+// The shapes of every parameter and buffer, to check a loaded archive against: LibTorch's
+// Module::load replaces a tensor by whatever the file holds, whatever its shape.
+std::vector<std::pair<std::string, std::vector<long>>> shapes(const Network& net) {
+  std::vector<std::pair<std::string, std::vector<long>>> out;
+  for (const auto& p : net->named_parameters(true))
+    out.emplace_back(p.key(), p.value().sizes().vec());
+  for (const auto& b : net->named_buffers(true)) out.emplace_back(b.key(), b.value().sizes().vec());
+  return out;
+}
+
+}  // namespace
+
+bool cuda_available() {
+  return torch::cuda::is_available();
+}
+
+std::string resolve_device(const std::string& name, const std::string& source) {
+  if (name == "cpu") return "cpu";
+  if (name == "auto") return cuda_available() ? "cuda" : "cpu";
+  if (name == "cuda") {
+    if (!cuda_available())
+      throw InputError(source, "",
+                       "CUDA is not available (this LibTorch has no CUDA, or no GPU "
+                       "is present); use --device cpu or auto");
+    return "cuda";
+  }
+  throw InputError(source, "", "unknown device '" + name + "' (auto, cpu or cuda)");
+}
+
+void set_torch_threads(int threads) {
+  if (threads > 0) torch::set_num_threads(threads);
+}
+
+int torch_threads() {
+  return torch::get_num_threads();
+}
+
+LearnedModel::LearnedModel(const NetworkOptions& network, int electrodes, std::uint64_t seed)
+    : impl_(std::make_unique<Impl>()) {
+  check_network_options(network, "network");
+  torch::manual_seed(seed);
+  impl_->info.network = network;
+  impl_->info.electrodes = electrodes;
+  impl_->net = Network(network);
+}
+
+LearnedModel::LearnedModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+LearnedModel::~LearnedModel() = default;
+LearnedModel::LearnedModel(LearnedModel&&) noexcept = default;
+LearnedModel& LearnedModel::operator=(LearnedModel&&) noexcept = default;
+
+LearnedModel::LearnedModel(const LearnedModel& other) : impl_(std::make_unique<Impl>()) {
+  impl_->info = other.impl_->info;
+  impl_->device = other.impl_->device;
+  impl_->net = Network(other.impl_->info.network);
+  impl_->net->to(impl_->device);
+  copy_state(other.impl_->net, impl_->net);
+}
+
+LearnedModel& LearnedModel::operator=(const LearnedModel& other) {
+  if (this != &other) *this = LearnedModel(other);
+  return *this;
+}
+
+const ModelInfo& LearnedModel::info() const {
+  return impl_->info;
+}
+ModelInfo& LearnedModel::info() {
+  return impl_->info;
+}
+
+long long LearnedModel::parameters() const {
+  long long n = 0;
+  for (const auto& p : impl_->net->parameters()) n += p.numel();
+  return n;
+}
+
+void LearnedModel::to_device(const std::string& device) {
+  impl_->device = torch::Device(resolve_device(device, "device"));
+  impl_->net->to(impl_->device);
+}
+
+std::string LearnedModel::device() const {
+  return impl_->device.str();
+}
+
+SampleMatrix LearnedModel::reconstruct(const SampleMatrix& frames, int batch) const {
+  const NetworkOptions& o = impl_->info.network;
+  if (frames.cols() != o.inputs)
+    throw InputError("frames", "length",
+                     std::to_string(frames.cols()) + " values a frame, but the model takes " +
+                         std::to_string(o.inputs));
+  if (!frames.allFinite()) throw InputError("frames", "values", "NaN or infinite values");
+  SampleMatrix images(frames.rows(), o.image_size * o.image_size);
+  if (frames.rows() == 0) return images;
+  torch::InferenceMode guard;
+  impl_->net->eval();
+  batch = std::max(1, batch);
+  for (Eigen::Index start = 0; start < frames.rows(); start += batch) {
+    const Eigen::Index rows = std::min<Eigen::Index>(batch, frames.rows() - start);
+    const SampleMatrix part = frames.middleRows(start, rows);
+    images.middleRows(start, rows) =
+        to_samples(impl_->net->forward(to_tensor(part, impl_->device)));
+  }
+  return images;
+}
+
+Eigen::VectorXd LearnedModel::reconstruct(const Eigen::VectorXd& frame) const {
+  const SampleMatrix one = frame.transpose();
+  return reconstruct(one, 1).row(0).transpose();
+}
+
+std::string LearnedModel::to_bytes() const {
+  torch::serialize::OutputArchive archive, weights;
+  const ModelInfo& i = impl_->info;
+  const nlohmann::json meta = {{"electrodes", i.electrodes},
+                               {"augment", i.augment},
+                               {"training", nlohmann::json::parse(i.training)}};
+  archive.write("format", c10::IValue(std::string(kModelFormat)));
+  archive.write("network", c10::IValue(network_to_json(i.network)));
+  archive.write("meta", c10::IValue(meta.dump()));
+  impl_->net->save(weights);
+  archive.write("weights", weights);
+  std::ostringstream out;
+  archive.save_to(out);
+  return out.str();
+}
+
+LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::string& source) {
+  auto impl = std::make_unique<Impl>();
+  torch::serialize::InputArchive archive, weights;
+  c10::IValue format, network, meta;
+  try {
+    std::istringstream in(bytes);
+    archive.load_from(in, torch::kCPU);
+    if (!archive.try_read("format", format) || !format.isString() ||
+        format.toStringRef() != kModelFormat)
+      throw InputError(source, "format",
+                       "not an eitbench model file (a training checkpoint, or another program's "
+                       "file?)");
+    archive.read("network", network);
+    archive.read("meta", meta);
+    archive.read("weights", weights);
+  } catch (const c10::Error& e) {
+    const std::string what = e.what_without_backtrace();
+    throw InputError(source, "",
+                     "not a readable model file (" + what.substr(0, what.find('\n')) + ")");
+  }
+  if (!network.isString() || !meta.isString())
+    throw InputError(source, "meta", "the model's description is missing");
+  impl->info.network = network_from_json(network.toStringRef(), source);
+  try {
+    const auto j = nlohmann::json::parse(meta.toStringRef());
+    impl->info.electrodes = j.at("electrodes").get<int>();
+    impl->info.augment = j.at("augment").get<std::string>();
+    impl->info.training = j.at("training").dump();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(source, "meta", std::string("unreadable: ") + e.what());
+  }
+  if (impl->info.electrodes < 3) throw InputError(source, "electrodes", "must be at least 3");
+  impl->net = Network(impl->info.network);
+  const auto expected = shapes(impl->net);
+  try {
+    impl->net->load(weights);
+  } catch (const c10::Error& e) {
+    const std::string what = e.what_without_backtrace();
+    throw InputError(source, "weights", what.substr(0, what.find('\n')));
+  }
+  if (shapes(impl->net) != expected)
+    throw InputError(source, "weights", "tensor shapes differ from the network's description");
+  for (const auto& p : impl->net->named_parameters(true))
+    if (!torch::isfinite(p.value()).all().item<bool>())
+      throw InputError(source, "weights", p.key() + " holds NaN or infinite values");
+  for (const auto& b : impl->net->named_buffers(true))
+    if (b.value().is_floating_point() && !torch::isfinite(b.value()).all().item<bool>())
+      throw InputError(source, "weights", b.key() + " holds NaN or infinite values");
+  return LearnedModel(std::move(impl));
+}
+
+}  // namespace eitbench

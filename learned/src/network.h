@@ -1,0 +1,44 @@
+#pragma once
+// The LibTorch side of learned/ (internal): the network module and conversions between Eigen's
+// row-major sample matrices and tensors.
+#include <torch/torch.h>
+
+#include <string>
+
+#include "eitbench/jacobian/sample_matrix.h"
+#include "eitbench/learned/learned_model.h"
+#include "eitbench/learned/network_options.h"
+
+namespace eitbench {
+
+// frames [B, inputs] (raw difference voltages) -> images [B, n^2], zero outside the disk. The input
+// normalisation (mean, scale) and the disk mask are buffers: saved with the weights, moved with
+// them to the device.
+struct NetworkImpl : torch::nn::Module {
+  explicit NetworkImpl(const NetworkOptions& options);
+  torch::Tensor forward(const torch::Tensor& frames);
+
+  NetworkOptions options;
+  torch::nn::Sequential encoder{nullptr}, decoder{nullptr};
+  torch::Tensor mean, scale, mask;
+};
+TORCH_MODULE(Network);
+
+// A copy of `from`'s parameters and buffers into `to` (same shape).
+void copy_state(const Network& from, Network& to);
+
+struct LearnedModel::Impl {
+  ModelInfo info;
+  Network net{nullptr};
+  torch::Device device = torch::kCPU;
+};
+
+// Row-major samples <-> float32 tensors.
+torch::Tensor to_tensor(const SampleMatrix& rows, const torch::Device& device);
+SampleMatrix to_samples(const torch::Tensor& tensor);
+
+// The JSON of NetworkOptions, and back (InputError(source) on a missing or wrong field).
+std::string network_to_json(const NetworkOptions& options);
+NetworkOptions network_from_json(const std::string& json, const std::string& source);
+
+}  // namespace eitbench

@@ -1,0 +1,284 @@
+// The learned reconstructor: training, its augmentation, checkpoints and the model file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "eitbench/augment.h"
+#include "eitbench/bench/simulate.h"
+#include "eitbench/bench/training_data.h"
+#include "eitbench/jacobian.h"
+#include "eitbench/jacobian/error.h"
+#include "eitbench/learned.h"
+
+namespace eitbench {
+namespace {
+
+// The tiny preset on the coarse mesh: 60 training samples, 14 validation, 7 test, in seconds.
+const Dataset& tiny() {
+  static const Dataset data = [] {
+    SimulationOptions o;
+    o.preset = "tiny";
+    o.seed = 7;
+    o.density = MeshDensity::coarse;
+    return simulate_dataset(o);
+  }();
+  return data;
+}
+
+// A network small enough for tests: 104 -> 64 -> 8 x 8 x 8 -> 8, 4, 4 -> 64 x 64.
+NetworkOptions test_network() {
+  NetworkOptions n;
+  n.hidden = {64};
+  n.latent_channels = 8;
+  n.decoder_channels = {8, 4, 4};
+  n.dropout = 0.1;
+  return n;
+}
+
+double mse(const SampleMatrix& a, const SampleMatrix& b) {
+  return (a - b).squaredNorm() / a.size();
+}
+
+TEST(Network, FlopsCountMultiplyAddsOfEveryLayer) {
+  NetworkOptions n;  // the default small network, by hand
+  const double linear = 104.0 * 256 + 256.0 * 32 * 64;
+  const double conv =
+      9.0 * (32 * 16 * 16 * 16 + 16 * 8 * 32 * 32 + 8 * 4 * 64 * 64) + 9.0 * 4 * 64 * 64;
+  EXPECT_DOUBLE_EQ(forward_flops(n), 2 * (linear + conv));
+  n.image_size = 32;  // 8 * 2^3 != 32
+  EXPECT_THROW(check_network_options(n, "test"), InputError);
+}
+
+TEST(Trainer, SmallModelOverfits64Samples) {
+  const Dataset& data = tiny();
+  const LabelledFrames train = labelled_frames(data, Split::train, 64);
+  ASSERT_EQ(train.frames.rows(), 60);  // the tiny preset has 60: all of them
+  NetworkOptions n = test_network();
+  n.dropout = 0;
+  TrainingOptions o;
+  o.batch_size = 20;
+  o.learning_rate = 3e-3;
+  o.epochs = 60;
+  Trainer trainer(n, o, train, train, sensor_of(data));
+  const double before = mse(trainer.best_model().reconstruct(train.frames), train.labels);
+  while (!trainer.done()) trainer.run_epoch();
+  const double after = mse(trainer.best_model().reconstruct(train.frames), train.labels);
+  std::printf("overfitting 60 samples: MSE %.4g -> %.4g (%.0fx)\n", before, after, before / after);
+  EXPECT_LT(after, before / 10);
+  // The validation loss the trainer records is the model's MSE on those frames.
+  EXPECT_NEAR(trainer.history()[trainer.best_epoch() - 1].validation_loss, after, 1e-6 * after);
+}
+
+TEST(Trainer, SaveAndLoadGiveIdenticalOutputs) {
+  const Dataset& data = tiny();
+  TrainingOptions o;
+  o.epochs = 2;
+  o.batch_size = 16;
+  Trainer trainer(test_network(), o, labelled_frames(data, Split::train),
+                  labelled_frames(data, Split::validation), sensor_of(data));
+  while (!trainer.done()) trainer.run_epoch();
+  const LearnedModel model = trainer.best_model();
+  const LearnedModel loaded = LearnedModel::from_bytes(model.to_bytes(), "memory");
+  const SampleMatrix frames = labelled_frames(data, Split::test).frames;
+  const SampleMatrix a = model.reconstruct(frames), b = loaded.reconstruct(frames);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(loaded.info().electrodes, 16);
+  EXPECT_EQ(loaded.info().network.hidden, test_network().hidden);
+  EXPECT_NE(loaded.info().training.find("\"best_epoch\""), std::string::npos);
+  // One frame at a time gives the batch's rows (evaluation mode: no batch statistics).
+  EXPECT_LT(
+      (model.reconstruct(Eigen::VectorXd(frames.row(3).transpose())) - a.row(3).transpose()).norm(),
+      1e-5 * a.row(3).norm());
+  // Outside the disk the image is exactly zero.
+  const PixelGrid grid(64, 1.0);
+  for (Eigen::Index p = 0; p < a.cols(); ++p) {
+    if (!grid.mask()[p]) {
+      ASSERT_EQ(a(0, p), 0.0);
+    }
+  }
+}
+
+TEST(Trainer, ResumedRunMatchesUninterruptedRun) {
+  const Dataset& data = tiny();
+  const LabelledFrames train = labelled_frames(data, Split::train),
+                       validation = labelled_frames(data, Split::validation);
+  TrainingOptions o;
+  o.augment = AugmentGroup::dihedral;
+  o.steps = 10;  // 4 steps an epoch: epochs 1, 2 and half of 3
+  o.batch_size = 16;
+  Trainer whole(test_network(), o, train, validation, sensor_of(data));
+  while (!whole.done()) whole.run_epoch();
+  ASSERT_EQ(whole.history().size(), 3u);
+  EXPECT_EQ(whole.history().back().steps, 10);
+
+  std::string checkpoint;
+  {
+    Trainer first(test_network(), o, train, validation, sensor_of(data));
+    first.run_epoch();
+    checkpoint = first.checkpoint();
+  }  // "killed" after epoch 1
+  auto resumed = Trainer::resume(checkpoint, "checkpoint", train, validation, sensor_of(data));
+  while (!resumed->done()) resumed->run_epoch();
+  ASSERT_EQ(resumed->history().size(), 3u);
+  for (int e = 0; e < 3; ++e) {
+    EXPECT_EQ(resumed->history()[e].train_loss, whole.history()[e].train_loss) << "epoch " << e;
+    EXPECT_EQ(resumed->history()[e].validation_loss, whole.history()[e].validation_loss);
+  }
+  const SampleMatrix frames = validation.frames;
+  EXPECT_EQ(resumed->best_model().reconstruct(frames), whole.best_model().reconstruct(frames));
+
+  // A checkpoint resumes only on its own data.
+  LabelledFrames other = train;
+  other.frames(0, 0) += 1e-9;
+  EXPECT_THROW(Trainer::resume(checkpoint, "checkpoint", other, validation, sensor_of(data)),
+               InputError);
+}
+
+TEST(Trainer, OnTheFlyPairsEachFrameWithItsLabel) {
+  // Each training sample as the network receives it must be a frame and label of the same
+  // touch: find the circles whose exact label it is, simulate them, compare with the frame.
+  const Dataset& data = tiny();
+  const LabelledFrames train = labelled_frames(data, Split::train);
+  TrainingOptions o;
+  o.augment = AugmentGroup::dihedral;
+  o.batch_size = 12;
+  Trainer trainer(test_network(), o, train, labelled_frames(data, Split::validation),
+                  sensor_of(data));
+  DiskMeshOptions disk;
+  disk.density = MeshDensity::coarse;  // the mesh the tiny set was simulated on
+  const Mesh mesh = generate_disk_mesh(disk);
+  const ForwardModel model(mesh, {});
+  const PixelGrid grid(64, 1.0);
+  const Eigen::VectorXd reference =
+      model.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), data.background));
+  const auto elements = group_elements(AugmentGroup::dihedral, 16);
+  SampleMatrix frames, labels;
+  int non_identity = 0;
+  for (int epoch : {1, 2}) {
+    trainer.batch(epoch, 0, frames, labels);
+    for (Eigen::Index k = 0; k < frames.rows(); ++k) {
+      std::vector<Circle> found;
+      int which = -1;
+      for (int i = 0; i < train.frames.rows() && which < 0; ++i)
+        for (std::size_t e = 0; e < elements.size() && which < 0; ++e) {
+          const auto moved = transform_circles(train.circles[i], elements[e], 16);
+          if ((circles_image(grid, moved, data.background) - labels.row(k).transpose()).norm() <
+              1e-12) {
+            found = moved, which = static_cast<int>(e);
+          }
+        }
+      ASSERT_GE(which, 0) << "row " << k << ": the label is no transformed training label";
+      non_identity += which != 0;
+      const Eigen::VectorXd simulated = model.protocol().reduce(
+          model.frame(conductivity_from_circles(mesh, found, data.background)) - reference,
+          MeasurementOrder::rotating);
+      EXPECT_LT((simulated - frames.row(k).transpose()).norm(), 1e-8 * simulated.norm())
+          << "epoch " << epoch << " row " << k << " element " << elements[which].to_string();
+    }
+  }
+  EXPECT_GT(non_identity, 12);  // 24 draws from 32 elements: nearly all move the touch
+}
+
+TEST(Trainer, InputStatisticsAreThoseOfTheAugmentedSet) {
+  const Dataset& data = tiny();
+  const LabelledFrames train = labelled_frames(data, Split::train);
+  for (AugmentGroup group :
+       {AugmentGroup::none, AugmentGroup::rotations, AugmentGroup::dihedral, AugmentGroup::paper}) {
+    TrainingOptions o;
+    o.augment = group;
+    const Trainer trainer(test_network(), o, train, labelled_frames(data, Split::validation),
+                          sensor_of(data));
+    LabelledFrames frames_only;
+    frames_only.frames = train.frames;
+    const SampleMatrix all = expand(frames_only, sensor_of(data, group)).frames;
+    const Eigen::VectorXd mean = all.colwise().mean().transpose();
+    const Eigen::VectorXd std =
+        ((all.rowwise() - mean.transpose()).colwise().squaredNorm() / double(all.rows()))
+            .cwiseSqrt()
+            .transpose();
+    EXPECT_LT((trainer.input_mean() - mean).norm(), 1e-10 * mean.norm() + 1e-300)
+        << to_string(group);
+    EXPECT_LT((trainer.input_std() - std).norm(), 1e-10 * std.norm()) << to_string(group);
+  }
+  // Under D_L the statistics are invariant: measurements in one orbit share mean and deviation.
+  TrainingOptions o;
+  o.augment = AugmentGroup::dihedral;
+  const Trainer d16(test_network(), o, train, labelled_frames(data, Split::validation),
+                    sensor_of(data));
+  const FrameSymmetry symmetry(16);
+  for (const GroupElement& g : group_elements(AugmentGroup::dihedral, 16)) {
+    EXPECT_LT((symmetry.apply(g, d16.input_std(), FrameLayout::reduced) - d16.input_std()).norm(),
+              1e-12 * d16.input_std().norm())
+        << g.to_string();
+    EXPECT_LT((symmetry.apply(g, d16.input_mean(), FrameLayout::reduced) - d16.input_mean()).norm(),
+              1e-12 * d16.input_mean().norm())
+        << g.to_string();
+  }
+}
+
+TEST(Trainer, SameSeedSameModel) {
+  const Dataset& data = tiny();
+  TrainingOptions o;
+  o.augment = AugmentGroup::rotations;
+  o.epochs = 2;
+  o.batch_size = 16;
+  auto run = [&] {
+    Trainer t(test_network(), o, labelled_frames(data, Split::train),
+              labelled_frames(data, Split::validation), sensor_of(data));
+    while (!t.done()) t.run_epoch();
+    return t.best_model().reconstruct(labelled_frames(data, Split::test).frames);
+  };
+  EXPECT_EQ(run(), run());
+}
+
+TEST(Trainer, BadInputIsRefused) {
+  const Dataset& data = tiny();
+  const LabelledFrames train = labelled_frames(data, Split::train);
+  LabelledFrames empty = train;
+  empty.frames.resize(0, train.frames.cols());
+  empty.labels.resize(0, train.labels.cols());
+  empty.circles.clear();
+  LabelledFrames unlabelled;
+  unlabelled.frames = train.frames;
+  const TrainingOptions o;
+  EXPECT_THROW(Trainer(test_network(), o, empty, train, sensor_of(data)), InputError);
+  EXPECT_THROW(Trainer(test_network(), o, train, empty, sensor_of(data)), InputError);
+  EXPECT_THROW(Trainer(test_network(), o, unlabelled, train, sensor_of(data)), InputError);
+  NetworkOptions wide = test_network();
+  wide.inputs = 208;
+  EXPECT_THROW(Trainer(wide, o, train, train, sensor_of(data)), InputError);
+  TrainingOptions cuda;
+  cuda.device = "cuda";
+  if (!cuda_available()) {
+    EXPECT_THROW(Trainer(test_network(), cuda, train, train, sensor_of(data)), InputError);
+  }
+}
+
+TEST(LearnedModel, CorruptBytesAreRefused) {
+  const LearnedModel model(test_network(), 16, 1);
+  const std::string bytes = model.to_bytes();
+  EXPECT_NO_THROW(LearnedModel::from_bytes(bytes, "good"));
+  EXPECT_THROW(LearnedModel::from_bytes("", "empty"), InputError);
+  EXPECT_THROW(LearnedModel::from_bytes(bytes.substr(0, bytes.size() / 2), "truncated"),
+               InputError);
+  std::string flipped = bytes;
+  for (std::size_t k = 100; k < flipped.size(); k += 97)
+    flipped[k] = static_cast<char>(~flipped[k]);
+  EXPECT_THROW(LearnedModel::from_bytes(flipped, "flipped"), InputError);
+  EXPECT_THROW(LearnedModel::from_bytes("plain text, not a model", "text"), InputError);
+  // A training checkpoint is not a model file.
+  const Dataset& data = tiny();
+  const Trainer t(test_network(), {}, labelled_frames(data, Split::train),
+                  labelled_frames(data, Split::validation), sensor_of(data));
+  try {
+    LearnedModel::from_bytes(t.checkpoint(), "model.pt");
+    FAIL() << "a checkpoint loaded as a model";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("model.pt"), std::string::npos);
+  }
+  SampleMatrix wrong = SampleMatrix::Zero(2, 103);
+  EXPECT_THROW(model.reconstruct(wrong), InputError);
+}
+
+}  // namespace
+}  // namespace eitbench
