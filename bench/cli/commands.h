@@ -14,4 +14,5 @@ std::function<void()> add_show_command(CLI::App& app);
 std::function<void()> add_import_command(CLI::App& app);
 std::function<void()> add_reconstruct_command(CLI::App& app);
 std::function<void()> add_run_command(CLI::App& app);
+std::function<void()> add_train_command(CLI::App& app);
 }  // namespace eitbench::cli

@@ -25,7 +25,8 @@ int main(int argc, char** argv) {
                    eitbench::cli::add_jacobian_command, eitbench::cli::add_augment_command,
                    eitbench::cli::add_simulate_command, eitbench::cli::add_info_command,
                    eitbench::cli::add_show_command, eitbench::cli::add_import_command,
-                   eitbench::cli::add_reconstruct_command, eitbench::cli::add_run_command}) {
+                   eitbench::cli::add_train_command, eitbench::cli::add_reconstruct_command,
+                   eitbench::cli::add_run_command}) {
     auto action = add(app);
     actions[app.get_subcommands({}).back()] = action;
   }

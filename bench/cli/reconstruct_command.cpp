@@ -13,6 +13,7 @@
 #include "eitbench/bench/images_file.h"
 #include "eitbench/bench/measurements.h"
 #include "eitbench/bench/metrics.h"
+#include "eitbench/bench/model_file.h"
 #include "eitbench/bench/noise.h"
 #include "eitbench/bench/reconstructors.h"
 #include "eitbench/bench/timing.h"
@@ -48,7 +49,7 @@ std::pair<int, int> parse_range(const std::string& text, int n) {
 std::function<void()> add_reconstruct_command(CLI::App& app) {
   struct Args {
     std::string method = "noser", data, reference, frames, order = "rotating", variable, choose,
-                out;
+                out, model;
     MeshSource mesh;
     double background = 0, lambda = 0, snr = INFINITY;
     std::uint64_t noise_seed = 1;
@@ -60,7 +61,8 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "reconstruct", "Reconstruct images from frames (difference voltages) by one method");
-  cmd->add_option("--method", args->method, "tikhonov | noser | laplace | tv | gn | greit")
+  cmd->add_option("--method", args->method,
+                  "tikhonov | noser | laplace | tv | gn | greit | dnn (needs --model)")
       ->capture_default_str()
       ->check(CLI::IsMember(method_names()));
   cmd->add_option("--data", args->data,
@@ -95,6 +97,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
                   "tv: relative change of x to stop at (default 1e-4); gn: relative decrease of "
                   "the objective (1e-4)")
       ->check(kPositive);
+  cmd->add_option("--model", args->model, "dnn: the model file made by 'eitbench train'");
   cmd->add_flag("--absolute", args->absolute, "gn: fit the absolute frames, not the differences");
   cmd->add_option("--snr", args->snr,
                   "add white Gaussian noise at this SNR (dB) before reconstructing");
@@ -153,37 +156,55 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     forward.contact_impedance = data.contact_impedance;
     forward.current = data.current;
 
-    const auto t0 = std::chrono::steady_clock::now();
-    const auto model = std::make_shared<const ForwardModel>(
-        mesh, forward, args->mesh.file.empty() ? "mesh" : args->mesh.file);
+    // A model-based method on the mesh, its hyperparameter chosen as --choose says.
     const PixelGrid grid(data.image_size, data.radius);
-    const LinearProblem problem = make_linear_problem(model, background, grid);
-    MethodOptions mo;
-    mo.choose = cmd->count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
-    mo.lambda = args->lambda;
-    mo.absolute = args->absolute;
-    mo.neighbours = args->neighbours;
-    mo.tolerance = args->tolerance;
-    auto method = make_reconstructor(args->method, problem, mo);
-    if (mo.choose != "fixed") {
-      // Hyperparameters from the validation split when the data have one, else from the frames.
-      const std::vector<int> val = data.indices(Split::validation);
-      if (mo.choose == "validation" && (val.empty() || !data.has_labels()))
-        throw InputError(args->data, "split",
-                         "--choose validation needs a data set with a labelled validation split");
-      SampleMatrix vframes = frames, vlabels = labels;
-      if (!val.empty()) {
-        vframes.resize(static_cast<Eigen::Index>(val.size()), data.differences.cols());
-        vlabels.resize(static_cast<Eigen::Index>(val.size()), data.labels.cols());
-        for (std::size_t k = 0; k < val.size(); ++k) {
-          vframes.row(k) = data.differences.row(val[k]);
-          if (data.has_labels()) vlabels.row(k) = data.labels.row(val[k]);
+    auto model_based = [&]() {
+      const auto model = std::make_shared<const ForwardModel>(
+          mesh, forward, args->mesh.file.empty() ? "mesh" : args->mesh.file);
+      const LinearProblem problem = make_linear_problem(model, background, grid);
+      MethodOptions mo;
+      mo.choose = cmd->count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
+      mo.lambda = args->lambda;
+      mo.absolute = args->absolute;
+      mo.neighbours = args->neighbours;
+      mo.tolerance = args->tolerance;
+      auto method = make_reconstructor(args->method, problem, mo);
+      if (mo.choose != "fixed") {
+        // Hyperparameters from the validation split when the data have one, else from the frames.
+        const std::vector<int> val = data.indices(Split::validation);
+        if (mo.choose == "validation" && (val.empty() || !data.has_labels()))
+          throw InputError(args->data, "split",
+                           "--choose validation needs a data set with a labelled validation split");
+        SampleMatrix vframes = frames, vlabels = labels;
+        if (!val.empty()) {
+          vframes.resize(static_cast<Eigen::Index>(val.size()), data.differences.cols());
+          vlabels.resize(static_cast<Eigen::Index>(val.size()), data.labels.cols());
+          for (std::size_t k = 0; k < val.size(); ++k) {
+            vframes.row(k) = data.differences.row(val[k]);
+            if (data.has_labels()) vlabels.row(k) = data.labels.row(val[k]);
+          }
+          if (std::isfinite(args->snr)) add_noise(vframes, args->snr, args->noise_seed + 1);
         }
-        if (std::isfinite(args->snr)) add_noise(vframes, args->snr, args->noise_seed + 1);
+        method->fit(vframes, vlabels, [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+          return correlation(x, y, grid);
+        });
       }
-      method->fit(vframes, vlabels, [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
-        return correlation(x, y, grid);
-      });
+      return method;
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    std::unique_ptr<Reconstructor> method;
+    if (args->method == "dnn") {
+      if (args->model.empty())
+        throw InputError("--model", "", "--method dnn needs a model file (eitbench train --out)");
+      if (cmd->count("--lambda") || cmd->count("--choose"))
+        throw InputError("--method dnn", "", "a trained model has no lambda to set or choose");
+      LearnedModel learned = read_model_file(args->model);
+      check_model_fits(learned, args->model, data.electrodes, data.image_size);
+      method = make_learned_reconstructor(std::move(learned));
+    } else {
+      if (!args->model.empty())
+        throw InputError("--model", "", "only --method dnn takes a model file");
+      method = model_based();
     }
     const double setup_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -78,15 +78,20 @@ void put_text(cv::Mat& img, const std::string& text, cv::Point at, double scale 
   cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, scale, colour, 1, cv::LINE_AA);
 }
 
-// The line plot inside `box`, with axes, ticks at the ends and a legend.
-void draw_plot(cv::Mat& img, cv::Rect box, const SampleFigure& f) {
+// The line plot inside `box`, with axes, ticks at the ends and a legend. On a log axis the
+// values are plotted as log10 and labelled back in the data's units.
+void draw_plot(cv::Mat& img, cv::Rect box, const LinePlot& f) {
+  auto tx = [&](double x) { return f.log_x ? (x > 0 ? std::log10(x) : NAN) : x; };
+  auto ty = [&](double y) { return f.log_y ? (y > 0 ? std::log10(y) : NAN) : y; };
+  auto back = [](bool log, double v) { return log ? std::pow(10.0, v) : v; };
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
   for (const auto& s : f.series)
     for (std::size_t i = 0; i < s.y.size(); ++i) {
-      const double x = s.x.empty() ? double(i) : s.x[i];
-      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, s.y[i]),
-      y1 = std::max(y1, s.y[i]);
+      const double x = tx(s.x.empty() ? double(i) : s.x[i]), y = ty(s.y[i]);
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     }
+  if (!std::isfinite(x0)) x0 = 0, x1 = 1, y0 = 0, y1 = 1;  // nothing to draw: empty axes
   if (!(x1 > x0)) x1 = x0 + 1;
   if (!(y1 > y0)) y1 = y0 + 1;
   const double pad = 0.05 * (y1 - y0);
@@ -99,32 +104,50 @@ void draw_plot(cv::Mat& img, cv::Rect box, const SampleFigure& f) {
   for (int k = 0; k <= 4; ++k) {  // horizontal grid with labels
     const double y = y0 + (y1 - y0) * k / 4;
     cv::line(img, px(x0, y), px(x1, y), kGrid, 1);
-    put_text(img, short_number(y), cv::Point(box.x + 5, static_cast<int>(px(x0, y).y) + 5), 0.42);
+    put_text(img, short_number(back(f.log_y, y)),
+             cv::Point(box.x + 5, static_cast<int>(px(x0, y).y) + 5), 0.42);
   }
-  if (y0 < 0 && y1 > 0) cv::line(img, px(x0, 0), px(x1, 0), cv::Scalar(160, 160, 160), 1);
+  if (!f.log_y && y0 < 0 && y1 > 0)
+    cv::line(img, px(x0, 0), px(x1, 0), cv::Scalar(160, 160, 160), 1);
   cv::rectangle(img, area, kInk, 1);
-  put_text(img, short_number(x0), cv::Point(area.x - 5, area.y + area.height + 18), 0.42);
-  put_text(img, short_number(x1), cv::Point(area.x + area.width - 20, area.y + area.height + 18),
+  put_text(img, short_number(back(f.log_x, x0)), cv::Point(area.x - 5, area.y + area.height + 18),
            0.42);
-  put_text(img, f.x_label, cv::Point(area.x + area.width / 2 - 60, area.y + area.height + 38),
-           0.48);
-  put_text(img, f.y_label, cv::Point(box.x + 5, box.y + 18), 0.48);
-  put_text(img, f.plot_title, cv::Point(area.x + 10, box.y + 18), 0.55);
+  put_text(img, short_number(back(f.log_x, x1)),
+           cv::Point(area.x + area.width - 20, area.y + area.height + 18), 0.42);
+  put_text(img, f.x_label + (f.log_x ? " (log)" : ""),
+           cv::Point(area.x + area.width / 2 - 60, area.y + area.height + 38), 0.48);
+  put_text(img, f.y_label + (f.log_y ? " (log)" : ""), cv::Point(box.x + 5, box.y + 18), 0.48);
+  put_text(img, f.title,
+           cv::Point(area.x + 10 + 8 * static_cast<int>(f.y_label.size()), box.y + 18), 0.55);
   int legend_y = area.y + 18;
   for (const auto& s : f.series) {
     const cv::Scalar colour(s.colour[0], s.colour[1], s.colour[2]);
-    for (std::size_t i = 1; i < s.y.size(); ++i) {
-      const double xa = s.x.empty() ? double(i - 1) : s.x[i - 1],
-                   xb = s.x.empty() ? double(i) : s.x[i];
-      cv::line(img, px(xa, s.y[i - 1]), px(xb, s.y[i]), colour, 2, cv::LINE_AA);
+    bool have_last = false;
+    cv::Point2d last;
+    for (std::size_t i = 0; i < s.y.size(); ++i) {
+      const double x = tx(s.x.empty() ? double(i) : s.x[i]), y = ty(s.y[i]);
+      if (!std::isfinite(x) || !std::isfinite(y)) {
+        have_last = false;
+        continue;
+      }
+      const cv::Point2d p = px(x, y);
+      if (have_last) cv::line(img, last, p, colour, 2, cv::LINE_AA);
+      if (s.y.size() < 30) cv::circle(img, p, 3, colour, cv::FILLED, cv::LINE_AA);
+      last = p, have_last = true;
     }
     if (!s.label.empty()) {
-      cv::line(img, cv::Point(area.x + area.width - 150, legend_y - 4),
-               cv::Point(area.x + area.width - 125, legend_y - 4), colour, 2);
-      put_text(img, s.label, cv::Point(area.x + area.width - 118, legend_y), 0.45);
+      cv::line(img, cv::Point(area.x + area.width - 190, legend_y - 4),
+               cv::Point(area.x + area.width - 165, legend_y - 4), colour, 2);
+      put_text(img, s.label, cv::Point(area.x + area.width - 158, legend_y), 0.45);
       legend_y += 18;
     }
   }
+}
+
+void write_png(const cv::Mat& canvas, const std::string& path) {
+  write_atomically(path, [&](const std::string& temp) {
+    if (!cv::imwrite(temp, canvas)) throw InputError(path, "", "cannot write the PNG");
+  });
 }
 
 }  // namespace
@@ -185,10 +208,17 @@ void draw_sample_png(const SampleFigure& f, const std::string& path) {
   }
   put_text(canvas, short_number(f.image_max), cv::Point(bar.x + 20, bar.y + 10), 0.42);
   put_text(canvas, short_number(f.image_min), cv::Point(bar.x + 20, bar.y + side), 0.42);
-  draw_plot(canvas, cv::Rect(origin.x + side + 70, origin.y - 20, 560, side + 40), f);
-  write_atomically(path, [&](const std::string& temp) {
-    if (!cv::imwrite(temp, canvas)) throw InputError(path, "", "cannot write the PNG");
-  });
+  LinePlot plot;
+  plot.title = f.plot_title, plot.x_label = f.x_label, plot.y_label = f.y_label;
+  plot.series = f.series;
+  draw_plot(canvas, cv::Rect(origin.x + side + 70, origin.y - 20, 560, side + 40), plot);
+  write_png(canvas, path);
+}
+
+void draw_plot_png(const LinePlot& plot, const std::string& path, int width, int height) {
+  cv::Mat canvas(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  draw_plot(canvas, cv::Rect(10, 10, width - 20, height - 20), plot);
+  write_png(canvas, path);
 }
 
 }  // namespace eitbench

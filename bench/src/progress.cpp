@@ -13,7 +13,7 @@ Progress::Progress(std::string label, int total, bool quiet)
   start_ = last_draw_ = std::chrono::steady_clock::now();
 }
 
-void Progress::update(int done) {
+void Progress::update(int done, const std::string& detail) {
   if (quiet_ || total_ <= 0) return;
   std::lock_guard<std::mutex> lock(mutex_);
   const auto now = std::chrono::steady_clock::now();
@@ -24,17 +24,26 @@ void Progress::update(int done) {
     if (done < total_ && now - last_draw_ < std::chrono::milliseconds(200)) return;
     last_draw_ = now;
     const int width = 30, filled = static_cast<int>(static_cast<long long>(width) * done / total_);
-    fmt::print(stderr, "\r{} [{}{}] {:3d}% {}/{} {:.0f}/s, {:.0f} s left   ", label_,
+    fmt::print(stderr, "\r{} [{}{}] {:3d}% {}/{} {:.0f}/s, {:.0f} s left{}{}   ", label_,
                std::string(filled, '='), std::string(width - filled, ' '),
-               static_cast<int>(100LL * done / total_), done, total_, rate, eta);
+               static_cast<int>(100LL * done / total_), done, total_, rate, eta,
+               detail.empty() ? "" : ", ", detail);
     if (done >= total_) fmt::print(stderr, "\n");
   } else {
     const int decile = static_cast<int>(10LL * done / total_);
     if (decile <= last_decile_) return;
     last_decile_ = decile;
-    fmt::print(stderr, "{}: {:3d}% ({}/{}, {:.0f}/s, {:.0f} s left)\n", label_, decile * 10, done,
-               total_, rate, eta);
+    fmt::print(stderr, "{}: {:3d}% ({}/{}, {:.0f}/s, {:.0f} s left{}{})\n", label_, decile * 10,
+               done, total_, rate, eta, detail.empty() ? "" : ", ", detail);
   }
+}
+
+void Progress::note(const std::string& line) {
+  if (quiet_) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  // On a terminal: clear the bar's line, print, and let the next update redraw the bar.
+  fmt::print(stderr, "{}{}\n", terminal_ ? "\r\033[K" : "", line);
+  last_draw_ = std::chrono::steady_clock::time_point{};
 }
 
 void Progress::finish() {

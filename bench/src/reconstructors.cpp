@@ -5,7 +5,8 @@
 namespace eitbench {
 
 const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "tv", "gn", "greit"};
+  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "tv", "gn", "greit",
+                                               "dnn"};
   return names;
 }
 
@@ -43,7 +44,36 @@ std::unique_ptr<Reconstructor> make_reconstructor(const std::string& method,
     g.choose_by_validation = o.choose == "validation";
     return std::make_unique<Greit>(problem, g);
   }
+  if (method == "dnn")
+    throw InputError("--model", "", "the dnn method needs a trained model (eitbench train)");
   throw InputError("--method", "", "unknown method '" + method + "'");
+}
+
+namespace {
+
+class LearnedReconstructor : public Reconstructor {
+ public:
+  explicit LearnedReconstructor(LearnedModel model) : model_(std::move(model)) {}
+  std::string name() const override { return "dnn"; }
+  std::string settings() const override {
+    return "augment=" + model_.info().augment + ", " + std::to_string(model_.parameters()) +
+           " parameters";
+  }
+  Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const override {
+    return model_.reconstruct(frame);
+  }
+  SampleMatrix reconstruct_all(const SampleMatrix& frames) const override {
+    return model_.reconstruct(frames);
+  }
+
+ private:
+  LearnedModel model_;
+};
+
+}  // namespace
+
+std::unique_ptr<Reconstructor> make_learned_reconstructor(LearnedModel model) {
+  return std::make_unique<LearnedReconstructor>(std::move(model));
 }
 
 }  // namespace eitbench

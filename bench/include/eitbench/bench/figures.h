@@ -33,4 +33,13 @@ struct SampleFigure {
 };
 void draw_sample_png(const SampleFigure& figure, const std::string& path);
 
+// A line plot on its own (loss curves, data efficiency), optionally with logarithmic axes.
+struct LinePlot {
+  std::string title, x_label, y_label;
+  std::vector<PlotSeries> series;
+  bool log_x = false, log_y = false;  // non-positive values are left out on a log axis
+};
+void draw_plot_png(const LinePlot& plot, const std::string& path, int width = 900,
+                   int height = 560);
+
 }  // namespace eitbench

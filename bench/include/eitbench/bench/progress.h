@@ -11,7 +11,9 @@ namespace eitbench {
 class Progress {
  public:
   Progress(std::string label, int total, bool quiet = false);
-  void update(int done);  // done of total
+  void update(int done, const std::string& detail = "");  // done of total; detail: "loss 0.01"
+  // A line of its own (e.g. an epoch's summary), not overwritten by the bar.
+  void note(const std::string& line);
   void finish();
 
  private:

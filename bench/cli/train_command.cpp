@@ -1,0 +1,132 @@
+// eitbench train: the learned reconstructor from a data set's training and validation splits.
+#include <fmt/core.h>
+
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/bench/dataset.h"
+#include "eitbench/bench/model_file.h"
+#include "eitbench/bench/training_data.h"
+#include "eitbench/bench/training_run.h"
+#include "eitbench/jacobian/error.h"
+#include "eitbench/learned.h"
+#include "options.h"
+
+namespace eitbench::cli {
+
+std::function<void()> add_train_command(CLI::App& app) {
+  struct Args {
+    std::string data, augment = "none", model = "small", device = "cpu", out;
+    TrainingOptions options;
+    int threads = 2, train_size = 0;
+    double dropout = -1;
+    bool resume = false, quiet = false;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "train", "Train the learned reconstructor (MLP encoder, CNN decoder) on a data set");
+  cmd->add_option("--data", args->data,
+                  "an eitbench data set with labels and train/validation splits (HDF5)")
+      ->required();
+  cmd->add_option("--augment", args->augment,
+                  "none | rotations (16x) | d16 (D_L, 32x) | paper (the paper's literal mirror) | "
+                  "mirror")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "rotations", "d16", "dihedral", "paper", "mirror"}));
+  auto* epochs = cmd->add_option("--epochs", args->options.epochs,
+                                 "budget in epochs (default: 20 small, 300 paper)")
+                     ->check(CLI::Range(1, 1000000));
+  auto* steps = cmd->add_option("--steps", args->options.steps, "budget in optimiser steps")
+                    ->check(CLI::Range(1LL, 1LL << 40));
+  epochs->excludes(steps);
+  cmd->add_option("--model", args->model,
+                  "small (sized for a 2-core CPU) | paper (the paper's widths; GPU advised)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"small", "paper"}));
+  cmd->add_option("--device", args->device, "auto | cpu | cuda")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
+  cmd->add_flag("--resume", args->resume,
+                "continue the interrupted run whose checkpoint is beside --out (OUT.checkpoint)");
+  cmd->add_option("--out", args->out,
+                  "model file to write; OUT.checkpoint during training, <stem>_loss.csv/.png "
+                  "after")
+      ->required();
+  cmd->add_option("--batch", args->options.batch_size, "batch size (default: 128 small, 512 paper)")
+      ->check(CLI::Range(2, 1 << 20));
+  cmd->add_option("--lr", args->options.learning_rate,
+                  "Adam's learning rate (default: 1e-3 small, 1e-4 paper)")
+      ->check(kPositive);
+  cmd->add_option("--dropout", args->dropout, "dropout after the encoder's hidden layers")
+      ->check(CLI::Range(0.0, 0.95));
+  cmd->add_option("--patience", args->options.patience,
+                  "stop after N epochs without a better validation loss (0: never)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000000));
+  cmd->add_flag("--expanded", args->options.expanded,
+                "materialise every sample under every group element (an epoch sees all |G| N) "
+                "instead of one random element per sample and epoch");
+  cmd->add_option("--train-size", args->train_size,
+                  "use the first N training samples only (data-efficiency studies)")
+      ->check(CLI::Range(2, 1 << 30));
+  cmd->add_option("--seed", args->options.seed, "seed of weights, batch order and augmentation")
+      ->capture_default_str();
+  cmd->add_option("--threads", args->threads,
+                  "LibTorch threads; results are bit-identical for a seed and a thread count")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
+  cmd->add_flag("--quiet", args->quiet, "no progress output");
+  return [args, cmd] {
+    const ModelSize size = parse_model_size(args->model);
+    TrainingOptions& o = args->options;
+    o.augment = parse_group(args->augment, "--augment");
+    o.device = resolve_device(args->device);
+    if (!cmd->count("--batch")) o.batch_size = size == ModelSize::paper ? 512 : 128;
+    if (!cmd->count("--lr")) o.learning_rate = size == ModelSize::paper ? 1e-4 : 1e-3;
+    if (!cmd->count("--epochs") && !cmd->count("--steps"))
+      o.epochs = size == ModelSize::paper ? 300 : 20;
+    set_torch_threads(args->threads);
+
+    const Dataset data = read_dataset(args->data);
+    if (!data.has_labels())
+      throw InputError(args->data, "labels", "training needs labelled data (a simulated set)");
+    LabelledFrames train = labelled_frames(data, Split::train, args->train_size);
+    const LabelledFrames validation = labelled_frames(data, Split::validation);
+    if (train.frames.rows() == 0)
+      throw InputError(args->data, "split", "the training split is empty");
+    if (validation.frames.rows() == 0)
+      throw InputError(args->data, "split", "the validation split is empty");
+    NetworkOptions network =
+        NetworkOptions::preset(size, static_cast<int>(data.differences.cols()), data.image_size);
+    network.radius = data.radius;
+    if (args->dropout >= 0) network.dropout = args->dropout;
+
+    const long long train_count = train.frames.rows();
+    if (!args->quiet)
+      fmt::print(
+          "training the {} model ({:.1f} MFLOP a frame) on {} samples ({} augmentation{}), "
+          "{} validation; device {}, {} threads\n",
+          args->model, forward_flops(network) / 1e6, train_count, to_string(o.augment),
+          o.expanded ? ", expanded" : ", on the fly", validation.frames.rows(), o.device,
+          torch_threads());
+    TrainingRun run;
+    run.out = args->out;
+    run.resume = args->resume;
+    run.quiet = args->quiet;
+    const TrainingResult r =
+        train_and_save(network, o, std::move(train), validation, sensor_of(data), run);
+    const EpochRecord& best = r.history[r.best_epoch > 0 ? r.best_epoch - 1 : 0];
+    double samples = 0, seconds = 0;
+    for (const auto& e : r.history)
+      samples += e.samples_per_second * e.seconds, seconds += e.seconds;
+    fmt::print(
+        "{} epochs, {} steps ({} an epoch); best epoch {}: validation MSE {:.5g}; "
+        "{:.0f} samples/s\n",
+        r.history.size(), r.history.back().steps, r.steps_per_epoch, r.best_epoch,
+        best.validation_loss, seconds > 0 ? samples / seconds : 0.0);
+    fmt::print("wrote {} ({} parameters), {} and {}\n", args->out, r.model.parameters(),
+               loss_curve_path(args->out, "csv"), loss_curve_path(args->out, "png"));
+  };
+}
+
+}  // namespace eitbench::cli
