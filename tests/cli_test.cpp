@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_fixture.h"
 #include "eitbench/bench/dataset.h"
 #include "eitbench/bench/io.h"
 #include "eitbench/jacobian.h"
@@ -14,44 +15,6 @@
 namespace eitbench {
 namespace {
 namespace fs = std::filesystem;
-
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr together
-};
-
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("eitbench_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  Result run(const std::string& args) const {
-    const std::string log = path("log.txt");
-    const int status =
-        std::system((std::string(EITBENCH_CLI) + " " + args + " > " + log + " 2>&1").c_str());
-    std::ifstream in(log);
-    std::stringstream text;
-    text << in.rdbuf();
-    return {WEXITSTATUS(status), text.str()};
-  }
-
-  std::vector<std::string> files() const {
-    std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(dir_))
-      if (entry.path().filename() != "log.txt") names.push_back(entry.path().filename().string());
-    return names;
-  }
-
-  fs::path dir_;
-};
 
 const std::string kCorpus = EITBENCH_BAD_INPUTS;
 const std::string kSquare = kCorpus + "/../square_points.msh";
@@ -390,7 +353,7 @@ TEST_F(Cli, ImportMeasuredFrames) {
 
 TEST_F(Cli, HelpIsAvailableEverywhere) {
   for (const std::string sub : {"", "mesh", "forward", "jacobian", "augment", "simulate", "info",
-                                "show", "import", "run"}) {
+                                "show", "import", "reconstruct", "train", "run"}) {
     const Result r = run(sub + " --help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_NE(r.output.find("--"), std::string::npos);

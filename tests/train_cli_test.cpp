@@ -1,0 +1,180 @@
+// eitbench train and reconstruct --method dnn as users meet them: outputs, a run killed with
+// SIGKILL and resumed, and the bad inputs of issue 6.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <thread>
+
+#include "cli_fixture.h"
+#include "eitbench/bench/dataset.h"
+#include "eitbench/bench/model_file.h"
+#include "eitbench/bench/simulate.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+const std::string kTrain = " --epochs 2 --batch 16 --quiet";
+
+class TrainCli : public Cli {
+ protected:
+  // The tiny preset on the coarse mesh (60 training samples), simulated once per test.
+  std::string data(int electrodes = 16) {
+    const std::string file = path("d" + std::to_string(electrodes) + ".h5");
+    if (!fs::exists(file)) {
+      const Result r = run("simulate --preset tiny --density coarse --quiet --electrodes " +
+                           std::to_string(electrodes) + " --out " + file);
+      EXPECT_EQ(r.exit_code, 0) << r.output;
+    }
+    return file;
+  }
+};
+
+TEST_F(TrainCli, TrainsAndReconstructs) {
+  const Result r =
+      run("train --data " + data() + " --augment d16" + kTrain + " --out " + path("m.pt"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(path("m.pt")));
+  EXPECT_TRUE(fs::exists(path("m_loss.csv")));
+  EXPECT_TRUE(fs::exists(path("m_loss.png")));
+  EXPECT_FALSE(fs::exists(path("m.pt.checkpoint"))) << "a finished run leaves no checkpoint";
+  std::ifstream csv(path("m_loss.csv"));
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header,
+            "run,epoch,steps,samples,train_loss,validation_loss,seconds,samples_per_second");
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    EXPECT_EQ(line.rfind("d16,", 0), 0u) << line;
+  }
+  EXPECT_EQ(rows, 2);
+  const LearnedModel model = read_model_file(path("m.pt"));
+  EXPECT_EQ(model.info().augment, "d16");
+
+  const Result rec = run("reconstruct --method dnn --model " + path("m.pt") + " --data " + data() +
+                         " --png 1 --out " + path("images.h5"));
+  ASSERT_EQ(rec.exit_code, 0) << rec.output;
+  EXPECT_NE(rec.output.find("CC "), std::string::npos) << rec.output;
+  EXPECT_TRUE(fs::exists(path("images.h5")));
+  EXPECT_TRUE(fs::exists(path("images_0.png")));
+}
+
+TEST_F(TrainCli, KilledRunResumesToTheUninterruptedResult) {
+  const std::string args =
+      "train --data " + data() + " --augment rotations --epochs 30 --batch 8 " + "--quiet --out ";
+  ASSERT_EQ(run(args + path("whole.pt")).exit_code, 0);
+
+  // The same run in the background, killed with SIGKILL after its second checkpoint.
+  const std::string pid_file = path("pid");
+  ASSERT_EQ(std::system((std::string(EITBENCH_CLI) + " " + args + path("cut.pt") +
+                         " > /dev/null 2>&1 & echo $! > " + pid_file)
+                            .c_str()),
+            0);
+  pid_t pid = 0;
+  for (int k = 0; k < 100 && pid == 0; ++k) {
+    std::ifstream in(pid_file);
+    in >> pid;
+    if (pid == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_GT(pid, 0);
+  const std::string checkpoint = path("cut.pt.checkpoint");
+  const auto start = std::chrono::steady_clock::now();
+  fs::file_time_type first{};
+  bool second = false;
+  while (!second && std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
+    std::error_code error;
+    const auto t = fs::last_write_time(checkpoint, error);
+    if (!error && first == fs::file_time_type{}) first = t;
+    if (!error && t != first) second = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ::kill(pid, SIGKILL);
+  ASSERT_TRUE(second) << "no checkpoint appeared";
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_FALSE(fs::exists(path("cut.pt"))) << "the run finished before it was killed";
+  for (const auto& entry : fs::directory_iterator(dir_))  // no temporary left but the checkpoint's
+    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
+
+  const Result resumed = run(args + path("cut.pt") + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const LearnedModel a = read_model_file(path("whole.pt")), b = read_model_file(path("cut.pt"));
+  const SampleMatrix frames = read_dataset(data()).differences;
+  EXPECT_EQ(a.reconstruct(frames), b.reconstruct(frames));
+  // The same losses epoch by epoch (the CSV's columns up to validation_loss; times differ).
+  auto losses = [&](const std::string& csv_path) {
+    std::ifstream in(csv_path);
+    std::vector<std::string> rows;
+    for (std::string line; std::getline(in, line);) {
+      std::size_t comma = 0;
+      for (int k = 0; k < 6; ++k) comma = line.find(',', comma + 1);
+      rows.push_back(line.substr(0, comma));
+    }
+    return rows;
+  };
+  EXPECT_EQ(losses(path("whole_loss.csv")), losses(path("cut_loss.csv")));
+  EXPECT_EQ(losses(path("whole_loss.csv")).size(), 31u);
+}
+
+TEST_F(TrainCli, BadInputsFailWithAMessageAndNoOutput) {
+  ASSERT_EQ(run("train --data " + data() + kTrain + " --out " + path("m.pt")).exit_code, 0);
+  ASSERT_EQ(run("train --data " + data(8) + kTrain + " --out " + path("m8.pt")).exit_code, 0);
+  {
+    std::ofstream bad(path("garbage.pt"));
+    bad << "not a model";
+  }
+  const std::string bytes = read_file_bytes(path("m.pt"));
+  {
+    std::ofstream cut(path("truncated.pt"), std::ios::binary);
+    cut.write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+  }
+  { std::ofstream empty(path("empty.pt")); }
+  // An unlabelled set (measured frames) and a labelled one without a validation split.
+  Dataset unlabelled = read_dataset(data());
+  unlabelled.labels.resize(unlabelled.size(), 0);
+  unlabelled.circles.clear();
+  unlabelled.preset = "imported";
+  write_dataset(path("unlabelled.h5"), unlabelled);
+  Dataset no_validation = read_dataset(data());
+  for (auto& s : no_validation.split)
+    if (s == Split::validation) s = Split::test;
+  write_dataset(path("novalidation.h5"), no_validation);
+
+  const std::string rec =
+      "reconstruct --method dnn --data " + data() + " --out " + path("out.h5") + " --model ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {rec + path("missing.pt"), "missing.pt"},
+      {rec + path("garbage.pt"), "garbage.pt"},
+      {rec + path("truncated.pt"), "truncated.pt"},
+      {rec + path("empty.pt"), "empty.pt"},
+      {rec + path("m8.pt"), "electrodes"},
+      {"reconstruct --method dnn --data " + data() + " --out " + path("out.h5"), "--model"},
+      {"train --data " + path("unlabelled.h5") + kTrain + " --out " + path("out.pt"), "labels"},
+      {"train --data " + path("novalidation.h5") + kTrain + " --out " + path("out.pt"),
+       "validation"},
+      {"train --data " + data() + kTrain + " --resume --out " + path("out.pt"), "checkpoint"},
+      {"train --data " + data() + kTrain + " --device cuda --out " + path("out.pt"), "CUDA"},
+  };
+  for (const auto& [args, needle] : cases) {
+    if (needle == "CUDA" && cuda_available()) continue;
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(needle), std::string::npos) << args << "\n" << r.output;
+    EXPECT_EQ(r.output.find("terminate"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(path("out.h5")) || fs::exists(path("out.pt"))) << args;
+  }
+}
+
+TEST(ModelFile, ImageSizeMustMatch) {
+  NetworkOptions n;
+  n.image_size = 32;
+  n.latent_size = 4;
+  const LearnedModel model(n, 16, 1);
+  EXPECT_NO_THROW(check_model_fits(model, "m.pt", 16, 32));
+  EXPECT_THROW(check_model_fits(model, "m.pt", 16, 64), InputError);
+  EXPECT_THROW(check_model_fits(model, "m.pt", 8, 32), InputError);
+}
+
+}  // namespace
+}  // namespace eitbench
