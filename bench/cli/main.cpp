@@ -1,21 +1,17 @@
 // eitbench: the command-line tool. Each subcommand lives in its own file; this one dispatches and
 // turns errors into messages and exit codes (2 for bad input, 1 for anything else).
 #include <fmt/core.h>
-#include <malloc.h>
 
 #include <CLI/CLI.hpp>
 #include <map>
 
 #include "commands.h"
+#include "eitbench/bench/allocator.h"
 #include "eitbench/bench/version.h"
 #include "eitbench/jacobian/error.h"
 
 int main(int argc, char** argv) {
-  // Keep freed memory for reuse: every forward solve allocates and frees megabytes, and glibc's
-  // default of returning them to the system made the data generator fault them back in, page by
-  // page (sys time 3.0 s of 19 s; 300 instead of 365 samples/s on 2 cores).
-  mallopt(M_MMAP_THRESHOLD, 64 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  eitbench::keep_freed_memory();
   CLI::App app{
       "eitbench: electrical impedance tomography for tactile sensing, toolkit and benchmark"};
   app.set_version_flag("--version", eitbench::program_version());

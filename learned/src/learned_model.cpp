@@ -21,31 +21,6 @@ std::vector<std::pair<std::string, std::vector<long>>> shapes(const Network& net
 
 }  // namespace
 
-bool cuda_available() {
-  return torch::cuda::is_available();
-}
-
-std::string resolve_device(const std::string& name, const std::string& source) {
-  if (name == "cpu") return "cpu";
-  if (name == "auto") return cuda_available() ? "cuda" : "cpu";
-  if (name == "cuda") {
-    if (!cuda_available())
-      throw InputError(source, "",
-                       "CUDA is not available (this LibTorch has no CUDA, or no GPU "
-                       "is present); use --device cpu or auto");
-    return "cuda";
-  }
-  throw InputError(source, "", "unknown device '" + name + "' (auto, cpu or cuda)");
-}
-
-void set_torch_threads(int threads) {
-  if (threads > 0) torch::set_num_threads(threads);
-}
-
-int torch_threads() {
-  return torch::get_num_threads();
-}
-
 LearnedModel::LearnedModel(const NetworkOptions& network, int electrodes, std::uint64_t seed)
     : impl_(std::make_unique<Impl>()) {
   check_network_options(network, "network");

@@ -4,4 +4,5 @@
 // its file format. LibTorch is an implementation detail: nothing here includes it.
 #include "eitbench/learned/learned_model.h"
 #include "eitbench/learned/network_options.h"
+#include "eitbench/learned/runtime.h"
 #include "eitbench/learned/trainer.h"

@@ -7,6 +7,7 @@
 
 #include "eitbench/jacobian/sample_matrix.h"
 #include "eitbench/learned/network_options.h"
+#include "eitbench/learned/runtime.h"
 
 namespace eitbench {
 
@@ -16,15 +17,6 @@ struct ModelInfo {
   std::string augment = "none";  // the group it was trained with
   std::string training = "{}";   // JSON: the training options, budget, history, best epoch
 };
-
-// "auto" (CUDA when LibTorch has it and a GPU is present, else CPU), "cpu" or "cuda".
-// InputError(source) when CUDA is asked for and not available.
-std::string resolve_device(const std::string& name, const std::string& source = "--device");
-// True when this LibTorch build can use a GPU now.
-bool cuda_available();
-// LibTorch's intra-op threads (0: leave its default, one per core).
-void set_torch_threads(int threads);
-int torch_threads();
 
 class LearnedModel {
  public:
