@@ -8,13 +8,13 @@ packages=(
   libeigen3-dev          # dense and sparse linear algebra at every module boundary
   libsuitesparse-dev     # CHOLMOD: the forward model's sparse Cholesky
   libgmsh-dev            # meshes the disk's fundamental sector
-  libceres-dev           # total variation and Gauss-Newton (solvers/)
   libopencv-dev          # figures and bilinear image transforms
   libhdf5-dev            # data sets and Jacobians, readable by h5py and MATLAB
   zlib1g-dev             # .npz and compressed .mat measurement files
   libtorch-dev           # the learned reconstructor (learned/)
   libopenblas0-openmp    # the fast BLAS: ATLAS is 1.5-3x slower, pthread OpenBLAS fights OpenMP
-  libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev libtbb-dev
+  nlohmann-json3-dev     # the learned model's metadata and checkpoints
+  libcli11-dev libfmt-dev libtbb-dev
   libgtest-dev libbenchmark-dev
 )
 

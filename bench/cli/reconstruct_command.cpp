@@ -157,18 +157,20 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     forward.current = data.current;
 
     // A model-based method on the mesh, its hyperparameter chosen as --choose says.
+    // The reconstructor keeps a reference to the linear problem: it lives out here.
     const PixelGrid grid(data.image_size, data.radius);
+    std::unique_ptr<LinearProblem> problem;
     auto model_based = [&]() {
       const auto model = std::make_shared<const ForwardModel>(
           mesh, forward, args->mesh.file.empty() ? "mesh" : args->mesh.file);
-      const LinearProblem problem = make_linear_problem(model, background, grid);
+      problem = std::make_unique<LinearProblem>(make_linear_problem(model, background, grid));
       MethodOptions mo;
       mo.choose = cmd->count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
       mo.lambda = args->lambda;
       mo.absolute = args->absolute;
       mo.neighbours = args->neighbours;
       mo.tolerance = args->tolerance;
-      auto method = make_reconstructor(args->method, problem, mo);
+      auto method = make_reconstructor(args->method, *problem, mo);
       if (mo.choose != "fixed") {
         // Hyperparameters from the validation split when the data have one, else from the frames.
         const std::vector<int> val = data.indices(Split::validation);

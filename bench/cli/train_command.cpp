@@ -1,6 +1,7 @@
 // eitbench train: the learned reconstructor from a data set's training and validation splits.
 #include <fmt/core.h>
 
+#include <cstdio>
 #include <memory>
 
 #include "commands.h"
@@ -104,11 +105,12 @@ std::function<void()> add_train_command(CLI::App& app) {
     const long long train_count = train.frames.rows();
     if (!args->quiet)
       fmt::print(
-          "training the {} model ({:.1f} MFLOP a frame) on {} samples ({} augmentation{}), "
+          "training the {} model ({:.1f} MFLOP a frame) on {} samples (augmentation {}{}), "
           "{} validation; device {}, {} threads\n",
           args->model, forward_flops(network) / 1e6, train_count, to_string(o.augment),
           o.expanded ? ", expanded" : ", on the fly", validation.frames.rows(), o.device,
           torch_threads());
+    std::fflush(stdout);  // before the progress on stderr
     TrainingRun run;
     run.out = args->out;
     run.resume = args->resume;
