@@ -353,7 +353,7 @@ TEST_F(Cli, ImportMeasuredFrames) {
 
 TEST_F(Cli, HelpIsAvailableEverywhere) {
   for (const std::string sub : {"", "mesh", "forward", "jacobian", "augment", "simulate", "info",
-                                "show", "import", "reconstruct", "train", "run"}) {
+                                "show", "import", "reconstruct", "train", "run", "compare"}) {
     const Result r = run(sub + " --help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_NE(r.output.find("--"), std::string::npos);

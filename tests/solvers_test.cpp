@@ -2,6 +2,8 @@
 // the validation optimum, and EIDORS's published figures on its two-disc case.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "eitbench/bench/metrics.h"
 #include "eitbench/bench/noise.h"
 #include "eitbench/jacobian.h"
@@ -283,6 +285,29 @@ TEST(GaussNewton, AbsoluteModeRecoversAHomogeneousConductivity) {
     const Eigen::VectorXd image = gn.reconstruct(frame);
     for (int p : s.problem.pixels)
       EXPECT_NEAR(image[p], 1.0 - sigma, 0.02 * sigma) << "pixel " << p;
+  }
+}
+
+TEST(GaussNewton, WildFramesGiveFiniteImagesWithinTheConductivityBound) {
+  // Frames no conductivity explains (large white noise), at a tiny lambda: the iteration must
+  // stay inside sigma / sigma_0 in [1e-4, 1e4] and never fail in the forward model.
+  const Reconstruction& s = medium();
+  GaussNewtonOptions o;
+  o.lambda = 1e-7;
+  const GaussNewton gn(s.problem, o);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  const double scale = two_discs().frame.cwiseAbs().maxCoeff();
+  for (double amplitude : {1.0, 10.0, 100.0}) {
+    Eigen::VectorXd frame(two_discs().frame.size());
+    for (auto& v : frame) v = amplitude * scale * noise(rng);
+    Eigen::VectorXd image;
+    ASSERT_NO_THROW(image = gn.reconstruct(frame)) << "amplitude " << amplitude;
+    ASSERT_TRUE(image.allFinite());
+    for (int p : s.problem.pixels) {  // 1 - sigma / sigma_0 within the bound
+      ASSERT_LE(image[p], 1.0 - 1e-4 + 1e-9);
+      ASSERT_GE(image[p], 1.0 - 1e4 - 1e-6);
+    }
   }
 }
 

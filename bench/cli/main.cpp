@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
                    eitbench::cli::add_simulate_command, eitbench::cli::add_info_command,
                    eitbench::cli::add_show_command, eitbench::cli::add_import_command,
                    eitbench::cli::add_train_command, eitbench::cli::add_reconstruct_command,
-                   eitbench::cli::add_run_command}) {
+                   eitbench::cli::add_run_command, eitbench::cli::add_compare_command}) {
     auto action = add(app);
     actions[app.get_subcommands({}).back()] = action;
   }
@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
   }
   try {
     for (auto* sub : app.get_subcommands()) actions.at(sub)();
+  } catch (const eitbench::cli::RegressionFound&) {
+    return 1;
   } catch (const eitbench::InputError& e) {
     fmt::print(stderr, "eitbench: error: {}\n", e.what());
     return 2;

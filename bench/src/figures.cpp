@@ -221,4 +221,42 @@ void draw_plot_png(const LinePlot& plot, const std::string& path, int width, int
   write_png(canvas, path);
 }
 
+void draw_image_grid_png(const std::vector<ImageRow>& rows,
+                         const Eigen::Array<bool, Eigen::Dynamic, 1>& mask,
+                         const std::string& title, const std::string& path, int cell) {
+  std::size_t columns = 0;
+  for (const auto& r : rows) columns = std::max(columns, r.images.size());
+  const int label_width = 190, gap = 4, top = 40;
+  const int width = label_width + static_cast<int>(columns) * (cell + gap) + 10;
+  const int height = top + static_cast<int>(rows.size()) * (cell + gap) + 10;
+  cv::Mat canvas(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  put_text(canvas, title, cv::Point(10, 26), 0.6);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const int y = top + static_cast<int>(r) * (cell + gap);
+    put_text(canvas, rows[r].label, cv::Point(10, y + cell / 2 + 5), 0.5);
+    for (std::size_t c = 0; c < rows[r].images.size(); ++c) {
+      const Eigen::VectorXd& image = rows[r].images[c];
+      const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(image.size()))));
+      if (n * n != image.size() || n == 0) continue;
+      const double lo = std::min(0.0, image.minCoeff()), hi = image.maxCoeff();
+      const double span = hi > lo ? hi - lo : 1.0;
+      cv::Mat grey(n, n, CV_8U), colour, big;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const double v = (image[i * n + j] - lo) / span;
+          grey.at<unsigned char>(i, j) = static_cast<unsigned char>(
+              std::lround(255 * std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0)));
+        }
+      cv::applyColorMap(grey, colour, cv::COLORMAP_VIRIDIS);
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+          if (mask.size() == n * n && !mask[i * n + j])
+            colour.at<cv::Vec3b>(i, j) = cv::Vec3b(255, 255, 255);
+      cv::resize(colour, big, cv::Size(cell, cell), 0, 0, cv::INTER_NEAREST);
+      big.copyTo(canvas(cv::Rect(label_width + static_cast<int>(c) * (cell + gap), y, cell, cell)));
+    }
+  }
+  write_png(canvas, path);
+}
+
 }  // namespace eitbench

@@ -5,8 +5,8 @@
 namespace eitbench {
 
 const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "tv", "gn", "greit",
-                                               "dnn"};
+  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "tv",
+                                              "gn",       "greit", "dnn"};
   return names;
 }
 

@@ -9,6 +9,9 @@
 namespace eitbench {
 namespace {
 
+// Log-conductivity bound: sigma / sigma_0 within [1e-4, 1e4], far beyond any touch.
+constexpr double kMaxLog = 9.21;
+
 struct State {
   Eigen::VectorXd v;  // reduced frame of sigma(theta)
   Eigen::MatrixXd J;  // d v / d theta (m x n)
@@ -92,14 +95,21 @@ Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report)
                               s.J * winv.asDiagonal() * s.J.transpose();
     const Eigen::VectorXd delta =
         -(a - winv.cwiseProduct(s.J.transpose() * S.ldlt().solve(s.J * a)));
-    // Backtracking: halve the step until Phi decreases.
+    // Backtracking: halve the step until Phi decreases. The step is projected onto
+    // |theta| <= kMaxLog, and a trial the forward model cannot solve (a conductivity so extreme
+    // that the system loses definiteness in floating point) counts as no descent: a noisy frame
+    // at a small lambda once drove a step there (quick set, 30 dB).
     double step = 1.0, next_phi = INFINITY;
     Eigen::VectorXd next;
     State trial;
     for (int k = 0; k < 12; ++k, step *= 0.5) {
-      next = theta + step * delta;
-      trial = evaluate(p, next, false);
-      next_phi = objective(trial.v, next);
+      next = (theta + step * delta).cwiseMax(-kMaxLog).cwiseMin(kMaxLog);
+      try {
+        trial = evaluate(p, next, false);
+        next_phi = objective(trial.v, next);
+      } catch (const std::exception&) {
+        next_phi = INFINITY;
+      }
       if (next_phi < phi) break;
     }
     ++local.iterations;

@@ -1,5 +1,7 @@
 #include "eitbench/solvers/reconstructor.h"
 
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 
 #include "eitbench/jacobian/error.h"
@@ -9,12 +11,14 @@ namespace eitbench {
 void Reconstructor::fit(const SampleMatrix&, const SampleMatrix&, const ScoreFn&) {}
 
 SampleMatrix Reconstructor::reconstruct_all(const SampleMatrix& frames) const {
-  SampleMatrix images;
-  for (Eigen::Index i = 0; i < frames.rows(); ++i) {
-    const Eigen::VectorXd image = reconstruct(frames.row(i).transpose());
-    if (i == 0) images.resize(frames.rows(), image.size());
-    images.row(i) = image.transpose();
-  }
+  if (frames.rows() == 0) return {};
+  // Frames are independent: in parallel, with results identical for any thread count.
+  const Eigen::VectorXd first = reconstruct(frames.row(0).transpose());
+  SampleMatrix images(frames.rows(), first.size());
+  images.row(0) = first.transpose();
+  tbb::parallel_for(Eigen::Index(1), frames.rows(), [&](Eigen::Index i) {
+    images.row(i) = reconstruct(frames.row(i).transpose()).transpose();
+  });
   return images;
 }
 

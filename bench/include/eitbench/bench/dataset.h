@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "eitbench/jacobian/sample_matrix.h"
 #include "eitbench/jacobian/geometry.h"
+#include "eitbench/jacobian/sample_matrix.h"
 
 namespace eitbench {
 

@@ -42,4 +42,15 @@ struct LinePlot {
 void draw_plot_png(const LinePlot& plot, const std::string& path, int width = 900,
                    int height = 560);
 
+// Rows of images side by side with a label on the left (the paper's Fig. 7: a truth row, then one
+// row per method). Each image is scaled from min(0, its minimum) to its maximum; pixels outside
+// `mask` are white.
+struct ImageRow {
+  std::string label;
+  std::vector<Eigen::VectorXd> images;  // n^2 values each
+};
+void draw_image_grid_png(const std::vector<ImageRow>& rows,
+                         const Eigen::Array<bool, Eigen::Dynamic, 1>& mask,
+                         const std::string& title, const std::string& path, int cell = 112);
+
 }  // namespace eitbench

@@ -9,9 +9,9 @@
 // frame a column, prefer columns when both fit).
 #include <string>
 
-#include "eitbench/jacobian/sample_matrix.h"
 #include "eitbench/bench/dataset.h"
 #include "eitbench/jacobian/protocol.h"
+#include "eitbench/jacobian/sample_matrix.h"
 
 namespace eitbench {
 

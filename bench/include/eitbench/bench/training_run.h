@@ -15,7 +15,7 @@ struct TrainingRun {
   bool resume = false;  // continue from the checkpoint (InputError when there is none)
   bool quiet = false;   // no progress
   std::string label = "train";
-  bool curves = true;   // <stem>_loss.csv and <stem>_loss.png beside out
+  bool curves = true;  // <stem>_loss.csv and <stem>_loss.png beside out
 };
 
 struct TrainingResult {

@@ -26,7 +26,8 @@ class Reconstructor {
   virtual void fit(const SampleMatrix& frames, const SampleMatrix& labels, const ScoreFn& score);
 
   virtual Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const = 0;
-  // Many frames at once (linear methods use one matrix product).
+  // Many frames at once: in parallel over frames by default (reconstruct() must be thread-safe,
+  // as every const method here is); linear methods use one matrix product.
   virtual SampleMatrix reconstruct_all(const SampleMatrix& frames) const;
 
  protected:

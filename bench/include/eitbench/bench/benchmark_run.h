@@ -1,0 +1,49 @@
+#pragma once
+// The benchmark run (issue 7, SPEC sections 5 and 7): data, every model-based method with its
+// hyperparameter chosen on validation data, the learned reconstructor trained without and with
+// augmentation, every method scored on the test split noise-free and at 50, 40 and 30 dB, the
+// data-efficiency sweep, and the files: results.json, results.csv, report.md and the figures.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "eitbench/bench/results.h"
+#include "eitbench/jacobian/disk_mesh.h"
+
+namespace eitbench {
+
+struct RunConfig {
+  std::string preset = "quick";  // tiny | quick | standard | paper: the data and the budgets
+  std::string data;              // a data set (or measured frames) instead of simulating
+  std::string reference;         // measured frames: the empty sensor's frame
+  std::string out;               // the output folder
+  std::uint64_t seed = 1;
+  bool resume = false;  // reuse what an interrupted run in `out` finished
+  bool quiet = false;
+  int electrodes = 16;  // of measured frames (--data with --reference)
+
+  std::vector<double> snrs;           // dB; infinity: noise-free
+  std::vector<std::string> methods;   // model-based
+  std::vector<std::string> augments;  // the learned reconstructor's
+  MeshDensity mesh = MeshDensity::medium;
+  MeshDensity simulation = MeshDensity::fine;
+  std::string model = "small";
+  std::string device = "cpu";
+  int threads = 2;
+  int epochs = 25, batch = 128;
+  double learning_rate = 1e-3;
+  std::vector<int> efficiency_sizes;  // training-set sizes of the data-efficiency sweep
+  int efficiency_epochs = 12;         // the equal-epoch budget
+  long long efficiency_steps = 160;   // the equal-step budget
+  int sweep_frames = 12;  // validation frames for the iterative methods' hyperparameter sweep
+  int timed_frames = 32;  // test frames reconstructed one at a time for the latency figures
+  int figure_samples = 8;
+
+  // The preset's data and budgets; InputError naming --preset for an unknown one.
+  static RunConfig for_preset(const std::string& preset);
+};
+
+// Runs everything, writes into config.out, and returns the figures.
+RunResults run_benchmark(const RunConfig& config);
+
+}  // namespace eitbench

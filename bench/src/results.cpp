@@ -1,0 +1,238 @@
+#include "eitbench/bench/results.h"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+
+#include "eitbench/bench/io.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+using nlohmann::json;
+
+json number(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
+double number(const json& j) {
+  return j.is_null() ? NAN : j.get<double>();
+}
+
+json snr_json(double snr) {
+  return std::isfinite(snr) ? json(snr) : json("inf");
+}
+double snr_from(const json& j) {
+  if (j.is_string() && j.get<std::string>() == "inf") return INFINITY;
+  return j.get<double>();
+}
+
+json epochs_json(const std::vector<EpochRecord>& history) {
+  json out = json::array();
+  for (const auto& r : history)
+    out.push_back({{"epoch", r.epoch},
+                   {"steps", r.steps},
+                   {"samples", r.samples},
+                   {"train_loss", number(r.train_loss)},
+                   {"validation_loss", number(r.validation_loss)},
+                   {"seconds", r.seconds},
+                   {"samples_per_second", r.samples_per_second}});
+  return out;
+}
+
+std::vector<EpochRecord> epochs_from(const json& j) {
+  std::vector<EpochRecord> out;
+  for (const auto& e : j) {
+    EpochRecord r;
+    r.epoch = e.at("epoch").get<int>();
+    r.steps = e.at("steps").get<long long>();
+    r.samples = e.at("samples").get<long long>();
+    r.train_loss = number(e.at("train_loss"));
+    r.validation_loss = number(e.at("validation_loss"));
+    r.seconds = e.at("seconds").get<double>();
+    r.samples_per_second = e.at("samples_per_second").get<double>();
+    out.push_back(r);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string snr_label(double snr_db) {
+  return std::isfinite(snr_db) ? fmt::format("{:g}", snr_db) : "inf";
+}
+
+void write_results_json(const std::string& path, const RunResults& r) {
+  json rows = json::array(), training = json::array(), efficiency = json::array();
+  for (const auto& x : r.rows)
+    rows.push_back({{"method", x.method},
+                    {"augment", x.augment},
+                    {"snr_db", snr_json(x.snr_db)},
+                    {"cc", number(x.cc)},
+                    {"re", number(x.re)},
+                    {"ssim", number(x.ssim)},
+                    {"mse", number(x.mse)},
+                    {"cc_std", number(x.cc_std)},
+                    {"re_std", number(x.re_std)},
+                    {"latency_median_ms", x.latency_median_ms},
+                    {"latency_p95_ms", x.latency_p95_ms},
+                    {"setup_s", x.setup_s},
+                    {"frames", x.frames},
+                    {"settings", x.settings}});
+  for (const auto& t : r.training)
+    training.push_back({{"augment", t.augment},
+                        {"best_epoch", t.best_epoch},
+                        {"steps", t.steps},
+                        {"samples", t.samples},
+                        {"seconds", t.seconds},
+                        {"samples_per_second", t.samples_per_second},
+                        {"history", epochs_json(t.history)}});
+  for (const auto& e : r.efficiency)
+    efficiency.push_back({{"augment", e.augment},
+                          {"budget", e.budget},
+                          {"train_size", e.train_size},
+                          {"steps", e.steps},
+                          {"epochs", e.epochs},
+                          {"test_mse", number(e.test_mse)},
+                          {"cc", number(e.cc)},
+                          {"re", number(e.re)}});
+  const json doc = {{"format", "eitbench-results-1"},
+                    {"program", r.program},
+                    {"configuration", r.configuration},
+                    {"machine", r.machine},
+                    {"results", rows},
+                    {"training", training},
+                    {"data_efficiency", efficiency},
+                    {"recommendation", r.recommendation}};
+  write_text_atomically(path, [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
+}
+
+RunResults read_results_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "", "cannot open the file");
+  RunResults r;
+  std::string field = "";
+  try {
+    const json doc = json::parse(in);
+    field = "format";
+    if (doc.at("format").get<std::string>() != "eitbench-results-1")
+      throw InputError(path, "format", "not an eitbench results file");
+    field = "program";
+    r.program = doc.at("program").get<std::string>();
+    field = "configuration";
+    r.configuration = doc.at("configuration").get<std::map<std::string, std::string>>();
+    field = "machine";
+    r.machine = doc.at("machine").get<std::map<std::string, std::string>>();
+    field = "results";
+    for (const auto& x : doc.at("results")) {
+      ResultRow row;
+      row.method = x.at("method").get<std::string>();
+      row.augment = x.at("augment").get<std::string>();
+      row.snr_db = snr_from(x.at("snr_db"));
+      row.cc = number(x.at("cc"));
+      row.re = number(x.at("re"));
+      row.ssim = number(x.at("ssim"));
+      row.mse = number(x.at("mse"));
+      row.cc_std = number(x.at("cc_std"));
+      row.re_std = number(x.at("re_std"));
+      row.latency_median_ms = x.at("latency_median_ms").get<double>();
+      row.latency_p95_ms = x.at("latency_p95_ms").get<double>();
+      row.setup_s = x.at("setup_s").get<double>();
+      row.frames = x.at("frames").get<int>();
+      row.settings = x.at("settings").get<std::string>();
+      r.rows.push_back(row);
+    }
+    field = "training";
+    for (const auto& t : doc.at("training")) {
+      TrainingSummary s;
+      s.augment = t.at("augment").get<std::string>();
+      s.best_epoch = t.at("best_epoch").get<int>();
+      s.steps = t.at("steps").get<long long>();
+      s.samples = t.at("samples").get<long long>();
+      s.seconds = t.at("seconds").get<double>();
+      s.samples_per_second = t.at("samples_per_second").get<double>();
+      s.history = epochs_from(t.at("history"));
+      r.training.push_back(s);
+    }
+    field = "data_efficiency";
+    for (const auto& e : doc.at("data_efficiency")) {
+      EfficiencyPoint p;
+      p.augment = e.at("augment").get<std::string>();
+      p.budget = e.at("budget").get<std::string>();
+      p.train_size = e.at("train_size").get<int>();
+      p.steps = e.at("steps").get<long long>();
+      p.epochs = e.at("epochs").get<int>();
+      p.test_mse = number(e.at("test_mse"));
+      p.cc = number(e.at("cc"));
+      p.re = number(e.at("re"));
+      r.efficiency.push_back(p);
+    }
+    field = "recommendation";
+    r.recommendation = doc.at("recommendation").get<std::string>();
+  } catch (const json::exception& e) {
+    throw InputError(path, field, std::string("not a valid results file: ") + e.what());
+  }
+  return r;
+}
+
+void write_results_csv(const std::string& path, const std::vector<ResultRow>& rows) {
+  write_text_atomically(path, [&](std::ostream& out) {
+    out << "method,augment,snr_db,cc,re,ssim,mse,latency_median_ms,latency_p95_ms,setup_s,cc_std,"
+           "re_std,frames,settings\n";
+    out << std::setprecision(8);
+    for (const auto& r : rows) {
+      std::string settings = r.settings;
+      for (char& c : settings)
+        if (c == '"') c = '\'';
+      out << r.method << ',' << r.augment << ',' << snr_label(r.snr_db) << ',' << r.cc << ','
+          << r.re << ',' << r.ssim << ',' << r.mse << ',' << r.latency_median_ms << ','
+          << r.latency_p95_ms << ',' << r.setup_s << ',' << r.cc_std << ',' << r.re_std << ','
+          << r.frames << ",\"" << settings << "\"\n";
+    }
+  });
+}
+
+Comparison compare_results(const RunResults& old_run, const RunResults& new_run,
+                           double quality_tolerance, double latency_tolerance) {
+  Comparison c;
+  c.table.push_back({"method", "augment", "snr_db", "CC old", "CC new", "RE old", "RE new",
+                     "latency old ms", "latency new ms", "verdict"});
+  auto key = [](const ResultRow& r) {
+    return r.method + "/" + r.augment + "/" + snr_label(r.snr_db);
+  };
+  std::map<std::string, const ResultRow*> fresh;
+  for (const auto& r : new_run.rows) fresh[key(r)] = &r;
+  for (const auto& o : old_run.rows) {
+    const auto it = fresh.find(key(o));
+    if (it == fresh.end()) {
+      c.table.push_back({o.method, o.augment, snr_label(o.snr_db), fmt::format("{:.4f}", o.cc), "-",
+                         fmt::format("{:.4f}", o.re), "-",
+                         fmt::format("{:.3g}", o.latency_median_ms), "-", "MISSING"});
+      c.regressions.push_back(key(o) + ": missing from the new run");
+      continue;
+    }
+    const ResultRow& n = *it->second;
+    std::vector<std::string> why;
+    if (o.frames > 0 && n.cc < o.cc - quality_tolerance)
+      why.push_back(fmt::format("CC {:.4f} -> {:.4f}", o.cc, n.cc));
+    if (o.frames > 0 && n.re > o.re + quality_tolerance)
+      why.push_back(fmt::format("RE {:.4f} -> {:.4f}", o.re, n.re));
+    // Latencies under 0.1 ms are timer noise more than speed: they need 0.05 ms of change too.
+    if (n.latency_median_ms > o.latency_median_ms * (1 + latency_tolerance) &&
+        n.latency_median_ms - o.latency_median_ms > 0.05)
+      why.push_back(
+          fmt::format("latency {:.3g} -> {:.3g} ms", o.latency_median_ms, n.latency_median_ms));
+    std::string verdict = why.empty() ? "ok" : "REGRESSION";
+    for (const auto& w : why) c.regressions.push_back(key(o) + ": " + w);
+    c.table.push_back({o.method, o.augment, snr_label(o.snr_db), fmt::format("{:.4f}", o.cc),
+                       fmt::format("{:.4f}", n.cc), fmt::format("{:.4f}", o.re),
+                       fmt::format("{:.4f}", n.re), fmt::format("{:.3g}", o.latency_median_ms),
+                       fmt::format("{:.3g}", n.latency_median_ms), verdict});
+  }
+  return c;
+}
+
+}  // namespace eitbench

@@ -1,0 +1,211 @@
+// eitbench run and compare (issue 7): the tiny preset end to end, every output and its schema, the
+// results file's round trip, resuming, and compare's verdicts.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "cli_fixture.h"
+#include "eitbench/bench/results.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+// One tiny run shared by the tests of this file (about 20 s): made by the first that needs it.
+class RunCli : public Cli {
+ protected:
+  static std::string run_folder() {
+    static const std::string folder = [] {
+      const fs::path dir =
+          fs::temp_directory_path() / ("eitbench_run_" + std::to_string(::getpid()));
+      fs::remove_all(dir);
+      const std::string command = std::string(EITBENCH_CLI) + " run --preset tiny --quiet --out " +
+                                  dir.string() + " > " + (dir.string() + ".log") + " 2>&1";
+      const int status = std::system(command.c_str());
+      EXPECT_EQ(WEXITSTATUS(status), 0) << command;
+      return dir.string();
+    }();
+    return folder;
+  }
+  static void TearDownTestSuite() {}
+};
+
+std::vector<std::string> csv_line(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"')
+      quoted = !quoted;
+    else if (c == ',' && !quoted)
+      cells.push_back(cell), cell.clear();
+    else
+      cell += c;
+  }
+  cells.push_back(cell);
+  return cells;
+}
+
+TEST_F(RunCli, TinyPresetWritesEveryOutput) {
+  const fs::path dir = run_folder();
+  for (const char* name : {"results.json", "results.csv", "report.md", "reconstructions.png",
+                           "loss_curves.png", "loss_curves.csv", "data_efficiency.png", "data.h5"})
+    EXPECT_TRUE(fs::exists(dir / name)) << name;
+
+  // results.csv: tidy, one row per method x augmentation x SNR, the columns issue 7 names.
+  std::ifstream csv(dir / "results.csv");
+  std::string line;
+  std::getline(csv, line);
+  const auto header = csv_line(line);
+  const std::vector<std::string> required = {
+      "method", "augment",           "snr_db",         "cc",     "re", "ssim",
+      "mse",    "latency_median_ms", "latency_p95_ms", "setup_s"};
+  ASSERT_GE(header.size(), required.size());
+  for (std::size_t k = 0; k < required.size(); ++k) EXPECT_EQ(header[k], required[k]);
+  std::set<std::string> keys, snrs;
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    const auto cells = csv_line(line);
+    ASSERT_EQ(cells.size(), header.size()) << line;
+    keys.insert(cells[0] + "/" + cells[1] + "/" + cells[2]);
+    snrs.insert(cells[2]);
+    const double cc = std::stod(cells[3]), re = std::stod(cells[4]);
+    EXPECT_TRUE(cc >= -1 && cc <= 1) << line;
+    EXPECT_GT(re, 0) << line;
+    EXPECT_GT(std::stod(cells[7]), 0) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, (6 + 4) * 4);
+  EXPECT_EQ(keys.size(), static_cast<std::size_t>(rows)) << "no duplicate rows";
+  EXPECT_EQ(snrs, (std::set<std::string>{"inf", "50", "40", "30"}));
+
+  // results.json: the same rows, the training runs and the sweep, the configuration and machine.
+  const RunResults r = read_results_json((dir / "results.json").string());
+  EXPECT_EQ(static_cast<int>(r.rows.size()), rows);
+  EXPECT_EQ(r.training.size(), 4u);
+  for (const auto& t : r.training) EXPECT_EQ(t.history.size(), 3u) << t.augment;
+  EXPECT_EQ(r.efficiency.size(), 3u * 2 * 2);
+  EXPECT_EQ(r.configuration.at("preset"), "tiny");
+  EXPECT_FALSE(r.machine.at("cpu").empty());
+  EXPECT_NE(r.program.find("eitbench"), std::string::npos);
+  EXPECT_NE(r.recommendation.find("Pick"), std::string::npos);
+  // The model-based methods beat chance on the tiny test split (CC > 0.5 noise-free).
+  for (const auto& row : r.rows)
+    if (row.augment == "-" && std::isinf(row.snr_db)) {
+      EXPECT_GT(row.cc, 0.5) << row.method;
+    }
+
+  std::ifstream report(dir / "report.md");
+  const std::string text((std::istreambuf_iterator<char>(report)),
+                         std::istreambuf_iterator<char>());
+  for (const char* section :
+       {"Which reconstructor to pick", "Table I", "relative improvement", "## Runtime",
+        "## Training", "## Data efficiency", "reconstructions.png", "## Configuration"})
+    EXPECT_NE(text.find(section), std::string::npos) << section;
+}
+
+TEST_F(RunCli, ResumeReusesFinishedStagesWithTheSameFigures) {
+  const fs::path first = run_folder();
+  fs::copy(first, dir_ / "copy", fs::copy_options::recursive);
+  const Result r = run("run --preset tiny --quiet --resume --out " + path("copy"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const RunResults a = read_results_json((first / "results.json").string());
+  const RunResults b = read_results_json(path("copy/results.json"));
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  // Model-based rows come back from the finished stages exactly. The learned models are reloaded
+  // from their files and evaluated again: float32 inference in another process (other buffer
+  // alignment, other kernels' summation order) agrees to about 1e-8 relative, not bit for bit.
+  for (std::size_t k = 0; k < a.rows.size(); ++k) {
+    const ResultRow &x = a.rows[k], &y = b.rows[k];
+    ASSERT_EQ(x.method + x.augment, y.method + y.augment);
+    if (x.method == "dnn") {
+      EXPECT_NEAR(x.cc, y.cc, 1e-6 * std::abs(x.cc)) << x.augment;
+      EXPECT_NEAR(x.re, y.re, 1e-6 * x.re) << x.augment;
+    } else {
+      EXPECT_EQ(x.cc, y.cc) << x.method;
+      EXPECT_EQ(x.re, y.re) << x.method;
+    }
+  }
+  EXPECT_LT(std::stod(b.configuration.at("total_seconds")),
+            0.5 * std::stod(a.configuration.at("total_seconds")))
+      << "resumed stages are not recomputed";
+}
+
+TEST(Results, JsonRoundTrip) {
+  RunResults r;
+  r.program = "eitbench test";
+  r.configuration = {{"preset", "x"}, {"seed", "3"}};
+  r.machine = {{"cpu", "test cpu"}};
+  ResultRow a;
+  a.method = "tv", a.snr_db = INFINITY, a.cc = 0.8125, a.re = 0.5, a.ssim = 0.25, a.mse = 1e-3;
+  a.latency_median_ms = 37.5, a.latency_p95_ms = 40, a.setup_s = 1.5, a.frames = 7;
+  a.settings = "alpha=3e-05 (validation), \"quoted\"";
+  ResultRow b = a;
+  b.method = "dnn", b.augment = "d16", b.snr_db = 40, b.cc = NAN, b.frames = 0;
+  r.rows = {a, b};
+  TrainingSummary t;
+  t.augment = "d16", t.best_epoch = 1, t.steps = 4;
+  t.history.push_back({1, 4, 64, 0.5, 0.25, 1.0, 64.0});
+  r.training = {t};
+  r.efficiency = {{"none", "steps", 15, 6, 2, 0.01, 0.5, 0.9}};
+  r.recommendation = "Pick tv";
+  const std::string path = (fs::temp_directory_path() / "eitbench_results_roundtrip.json").string();
+  write_results_json(path, r);
+  const RunResults back = read_results_json(path);
+  fs::remove(path);
+  EXPECT_EQ(back.program, r.program);
+  EXPECT_EQ(back.configuration, r.configuration);
+  EXPECT_EQ(back.machine, r.machine);
+  ASSERT_EQ(back.rows.size(), 2u);
+  EXPECT_TRUE(std::isinf(back.rows[0].snr_db));
+  EXPECT_EQ(back.rows[0].cc, 0.8125);
+  EXPECT_EQ(back.rows[0].settings, a.settings);
+  EXPECT_EQ(back.rows[1].snr_db, 40);
+  EXPECT_TRUE(std::isnan(back.rows[1].cc));
+  EXPECT_EQ(back.rows[1].augment, "d16");
+  ASSERT_EQ(back.training.size(), 1u);
+  EXPECT_EQ(back.training[0].history[0].validation_loss, 0.25);
+  ASSERT_EQ(back.efficiency.size(), 1u);
+  EXPECT_EQ(back.efficiency[0].test_mse, 0.01);
+  EXPECT_EQ(back.recommendation, r.recommendation);
+}
+
+TEST_F(RunCli, CompareFlagsRegressionsAndPassesAnIdenticalRun) {
+  const std::string results = (fs::path(run_folder()) / "results.json").string();
+  const Result same = run("compare " + results + " " + results);
+  EXPECT_EQ(same.exit_code, 0) << same.output;
+  EXPECT_NE(same.output.find("no regression"), std::string::npos) << same.output;
+
+  RunResults worse = read_results_json(results);
+  for (auto& row : worse.rows)
+    if (row.method == "noser" && row.snr_db == 40) row.cc -= 0.05;
+  write_results_json(path("worse.json"), worse);
+  const Result flagged = run("compare " + results + " " + path("worse.json"));
+  EXPECT_EQ(flagged.exit_code, 1) << flagged.output;
+  EXPECT_NE(flagged.output.find("noser/-/40: CC"), std::string::npos) << flagged.output;
+  // Within a looser tolerance it passes.
+  EXPECT_EQ(run("compare " + results + " " + path("worse.json") + " --tolerance 0.06").exit_code,
+            0);
+
+  RunResults slower = read_results_json(results);
+  for (auto& row : slower.rows)
+    if (row.method == "tv") row.latency_median_ms *= 3;
+  slower.rows.erase(slower.rows.begin());  // and one row lost
+  write_results_json(path("slower.json"), slower);
+  const Result slow = run("compare " + results + " " + path("slower.json"));
+  EXPECT_EQ(slow.exit_code, 1);
+  EXPECT_NE(slow.output.find("tv/-/inf: latency"), std::string::npos) << slow.output;
+  EXPECT_NE(slow.output.find("missing"), std::string::npos) << slow.output;
+
+  {
+    std::ofstream bad(path("bad.json"));
+    bad << "{\"format\": \"eitbench-results-1\", \"program\": 3}";
+  }
+  const Result broken = run("compare " + results + " " + path("bad.json"));
+  EXPECT_EQ(broken.exit_code, 2) << broken.output;
+  EXPECT_NE(broken.output.find("bad.json"), std::string::npos) << broken.output;
+}
+
+}  // namespace
+}  // namespace eitbench
