@@ -37,25 +37,23 @@ RunConfig RunConfig::for_preset(const std::string& preset) {
   c.snrs = {INFINITY, 50, 40, 30};
   c.methods = {"tikhonov", "noser", "laplace", "greit", "gn", "tv"};
   c.augments = {"none", "rotations", "d16", "paper"};
-  if (preset == "tiny") {  // the test suite's: every code path in seconds
+  c.efficiency_epochs = 0, c.efficiency_steps = 0;  // the main runs' budgets
+  if (preset == "tiny") {                           // the test suite's: every code path in seconds
     c.mesh = c.simulation = MeshDensity::coarse;
     c.epochs = 3, c.batch = 16;
     c.efficiency_sizes = {15, 30, 60};
-    c.efficiency_epochs = 2, c.efficiency_steps = 6;
     c.sweep_frames = 3, c.timed_frames = 3, c.figure_samples = 4;
   } else if (preset == "quick") {  // under 15 minutes on 2 cores
     c.efficiency_sizes = {250, 500, 1000, 2000};
   } else if (preset == "standard") {
     c.epochs = 40;
     c.efficiency_sizes = {350, 700, 1400, 2800, 5500};
-    c.efficiency_epochs = 20, c.efficiency_steps = 600;
     c.sweep_frames = 20, c.timed_frames = 50;
   } else if (preset == "paper") {  // the paper's protocol: GPU advised, resumable
     c.model = "paper";
     c.device = "auto";
     c.epochs = 300, c.batch = 512, c.learning_rate = 1e-4;
     c.efficiency_sizes = {700, 1400, 2800, 5600, 11200, 21833};
-    c.efficiency_epochs = 100, c.efficiency_steps = 10000;
     c.sweep_frames = 20, c.timed_frames = 100;
   } else {
     throw InputError("--preset", "",
@@ -415,18 +413,41 @@ RunResults run_benchmark(const RunConfig& config) {
     figure_rows.push_back({"dnn " + augment, images});
   }
 
-  // 5. Data efficiency (the paper's Fig. 8): test MSE against the training-set size.
+  // 5. Data efficiency (the paper's Fig. 8): test MSE against the training-set size. By default
+  // both budgets are the main runs' (their epochs; their steps on the whole training set), so at
+  // the whole set the sweep's models are the main runs' models, and those are reused.
   const int train_count = static_cast<int>(source.indices(Split::train).size());
+  const long long main_steps_per_epoch =
+      train_count / config.batch + (train_count % config.batch >= 2 ? 1 : 0);
+  const int sweep_epochs = config.efficiency_epochs > 0 ? config.efficiency_epochs : config.epochs;
+  const long long sweep_steps = config.efficiency_steps > 0
+                                    ? config.efficiency_steps
+                                    : config.epochs * std::max(1LL, main_steps_per_epoch);
   if (labelled)
     for (const std::string augment : {"none", "d16"})
       for (const std::string budget : {"steps", "epochs"})
         for (int n : config.efficiency_sizes) {
           if (n > train_count) continue;
+          EfficiencyPoint p;
+          p.augment = augment, p.budget = budget, p.train_size = n;
+          const bool main_budget = budget == "steps"
+                                       ? sweep_steps == config.epochs * main_steps_per_epoch
+                                       : sweep_epochs == config.epochs;
+          const ResultRow* main_row = nullptr;
+          for (const auto& row : results.rows)
+            if (row.method == "dnn" && row.augment == augment && std::isinf(row.snr_db))
+              main_row = &row;
+          if (n == train_count && main_budget && main_row) {  // the main run's model
+            for (const auto& t : results.training)
+              if (t.augment == augment)
+                p.steps = t.steps, p.epochs = static_cast<int>(t.history.size());
+            p.test_mse = main_row->mse, p.cc = main_row->cc, p.re = main_row->re;
+            results.efficiency.push_back(p);
+            continue;
+          }
           const std::string name = fmt::format("efficiency_{}_{}_{}", augment, budget, n);
           json cached;
-          EfficiencyPoint p;
           if (stages.find(name, cached)) {
-            p.augment = augment, p.budget = budget, p.train_size = n;
             p.steps = cached.at("steps").get<long long>();
             p.epochs = cached.at("epochs").get<int>();
             p.test_mse = cached.at("test_mse").get<double>();
@@ -438,9 +459,9 @@ RunResults run_benchmark(const RunConfig& config) {
           TrainingOptions o = base;
           o.augment = parse_group(augment, "augment");
           if (budget == "steps")
-            o.steps = config.efficiency_steps;
+            o.steps = sweep_steps;
           else
-            o.epochs = config.efficiency_epochs;
+            o.epochs = sweep_epochs;
           TrainingRun run;
           run.out = (out / "models" / (name + ".pt")).string();
           run.resume = config.resume && fs::exists(checkpoint_path(run.out));
@@ -451,11 +472,12 @@ RunResults run_benchmark(const RunConfig& config) {
                                             source_validation, sensor_of(source), run);
           const auto method = make_learned_reconstructor(r.model);
           const ResultRow row = evaluate(*method, test.frames, test.labels, grid, 0, nullptr);
-          p.augment = augment, p.budget = budget, p.train_size = n;
           p.steps = r.history.back().steps;
           p.epochs = static_cast<int>(r.history.size());
           p.test_mse = row.mse, p.cc = row.cc, p.re = row.re;
-          say(fmt::format("data efficiency: {} at {} n={}: {} steps, test MSE {:.4g}, CC {:.3f}",
+          say(
+              fmt::format("data efficiency: {} at equal {}, n={}: {} steps, test MSE {:.4g}, "
+                          "CC {:.3f}",
                           augment, budget, n, p.steps, p.test_mse, p.cc));
           results.efficiency.push_back(p);
           stages.save(name, {{"steps", p.steps},
