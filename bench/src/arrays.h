@@ -14,7 +14,6 @@ struct NamedArray {
   std::string kind;                // what it is, for messages ("double", "struct", ...)
 };
 
-std::string read_file_bytes(const std::string& path);  // InputError when unreadable
 
 NamedArray read_npy(const std::string& bytes, const std::string& source, const std::string& name);
 std::vector<NamedArray> read_npz(const std::string& bytes, const std::string& source);

@@ -24,11 +24,11 @@ std::vector<detail::NamedArray> read_arrays(const std::string& path, std::string
   columns_first = false;
   if (ext == ".npy") {
     format = "NumPy .npy";
-    return {detail::read_npy(detail::read_file_bytes(path), path, "")};
+    return {detail::read_npy(read_file_bytes(path), path, "")};
   }
   if (ext == ".npz") {
     format = "NumPy .npz";
-    return detail::read_npz(detail::read_file_bytes(path), path);
+    return detail::read_npz(read_file_bytes(path), path);
   }
   if (ext == ".mat") {
     columns_first = true;
@@ -37,7 +37,7 @@ std::vector<detail::NamedArray> read_arrays(const std::string& path, std::string
       return detail::read_mat_v73(path);
     }
     format = "MATLAB v5";
-    return detail::read_mat_v5(detail::read_file_bytes(path), path);
+    return detail::read_mat_v5(read_file_bytes(path), path);
   }
   if (ext == ".csv" || ext == ".txt") {
     format = "CSV";

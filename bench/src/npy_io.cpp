@@ -53,14 +53,6 @@ std::string header_value(const std::string& header, const std::string& key,
 
 }  // namespace
 
-std::string read_file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot open the file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string inflate(const char* data, std::size_t size, bool raw, std::size_t limit,
                     const std::string& source, const std::string& field) {
   z_stream z{};

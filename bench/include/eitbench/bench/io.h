@@ -19,6 +19,11 @@ std::string temporary_path_for(const std::string& path);
 void write_text_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& write);
 
+// The whole file; InputError naming it when it is missing, unreadable, empty or larger than
+// max_bytes (checked before anything is allocated).
+std::string read_file_bytes(const std::string& path, long long max_bytes = 4LL << 30);
+void write_bytes_atomically(const std::string& path, const std::string& bytes);
+
 // Numbers separated by commas, spaces or newlines ('#' starts a comment). Throws InputError naming
 // the file and the line of anything that is not a finite number.
 std::vector<double> read_numbers(const std::string& path);

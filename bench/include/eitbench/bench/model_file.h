@@ -3,13 +3,10 @@
 // and the training checkpoint beside it. learned/ makes and reads the bytes; these move them.
 #include <string>
 
+#include "eitbench/bench/io.h"
 #include "eitbench/learned.h"
 
 namespace eitbench {
-
-// The whole file; InputError naming it when it is missing, unreadable, empty or over max_bytes.
-std::string read_file_bytes(const std::string& path, long long max_bytes = 4LL << 30);
-void write_bytes_atomically(const std::string& path, const std::string& bytes);
 
 LearnedModel read_model_file(const std::string& path);
 void write_model_file(const std::string& path, const LearnedModel& model);
