@@ -89,9 +89,7 @@ namespace {
 
 // Calls row(values, line_number) for every line that holds numbers.
 template <typename RowFn>
-void for_each_csv_row(const std::string& path, RowFn&& row) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot open the file");
+void for_each_csv_row(std::istream& in, const std::string& path, RowFn&& row) {
   std::string line;
   int line_number = 0;
   std::vector<double> values;
@@ -118,19 +116,31 @@ void for_each_csv_row(const std::string& path, RowFn&& row) {
   }
 }
 
+std::ifstream open_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot open the file");
+  return in;
+}
+
 }  // namespace
 
 std::vector<double> read_numbers(const std::string& path) {
   std::vector<double> all;
-  for_each_csv_row(path, [&](const std::vector<double>& values, int) {
+  std::ifstream in = open_text(path);
+  for_each_csv_row(in, path, [&](const std::vector<double>& values, int) {
     all.insert(all.end(), values.begin(), values.end());
   });
   return all;
 }
 
 Eigen::MatrixXd read_frames_csv(const std::string& path) {
+  std::ifstream in = open_text(path);
+  return read_frames_csv(in, path);
+}
+
+Eigen::MatrixXd read_frames_csv(std::istream& in, const std::string& path) {
   std::vector<std::vector<double>> rows;
-  for_each_csv_row(path, [&](const std::vector<double>& values, int line) {
+  for_each_csv_row(in, path, [&](const std::vector<double>& values, int line) {
     if (!rows.empty() && values.size() != rows.front().size())
       throw InputError(path, "line " + std::to_string(line),
                        "has " + std::to_string(values.size()) + " values, the first frame has " +

@@ -49,6 +49,8 @@ std::vector<detail::NamedArray> read_arrays(const std::string& path, std::string
       for (Eigen::Index j = 0; j < m.cols(); ++j) a.values[i * m.cols() + j] = m(i, j);
     return {a};
   }
+  if (ext == ".h5" || ext == ".hdf5")
+    throw InputError(path, "", "not an HDF5 file (no HDF5 signature): empty, or another format");
   throw InputError(
       path, "",
       "unknown file type '" + ext + "' (.csv, .txt, .npy, .npz, .mat or an eitbench .h5)");

@@ -111,12 +111,14 @@ void write_results_json(const std::string& path, const RunResults& r) {
 }
 
 RunResults read_results_json(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "", "cannot open the file");
+  return parse_results_json(read_file_bytes(path, 1LL << 30), path);
+}
+
+RunResults parse_results_json(const std::string& text, const std::string& path) {
   RunResults r;
   std::string field = "";
   try {
-    const json doc = json::parse(in);
+    const json doc = json::parse(text);
     field = "format";
     if (doc.at("format").get<std::string>() != "eitbench-results-1")
       throw InputError(path, "format", "not an eitbench results file");

@@ -31,6 +31,7 @@ std::vector<double> read_numbers(const std::string& path);
 // Frames as CSV: one frame a line (commas or spaces, '#' comments, blank lines skipped). Every line
 // must have the same number of finite values; InputError names the file and the line otherwise.
 Eigen::MatrixXd read_frames_csv(const std::string& path);
+Eigen::MatrixXd read_frames_csv(std::istream& in, const std::string& source);
 
 // Frames as CSV: one frame a line, full precision.
 void write_frames_csv(const std::string& path, const Eigen::MatrixXd& frames_by_row);

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# libFuzzer smoke run (issue 8): builds every parser's fuzz target with clang, AddressSanitizer and
+# UndefinedBehaviorSanitizer in build-fuzz/, then runs each for SECONDS seconds (default 60) from a
+# seed corpus taken from tests/. Prints executions and findings per target; exit 1 on a finding.
+# Usage: bash scripts/fuzz.sh [SECONDS] [TARGET ...]   (targets: msh csv npy npz mat model results)
+set -euo pipefail
+seconds=${1:-60}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(msh csv npy npz mat model results)
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=$root/build-fuzz
+command -v clang++ > /dev/null || { echo "fuzz.sh: needs clang (apt-get install clang)" >&2; exit 1; }
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
+  -DCMAKE_CXX_COMPILER=clang++ -DEITBENCH_FUZZ=ON -DEITBENCH_BUILD_TESTS=OFF \
+  -DEITBENCH_BUILD_BENCHMARKS=OFF > /dev/null
+cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}"
+
+seeds() {  # the seed files of one target
+  case "$1" in
+    msh) ls "$root"/tests/*.msh "$root"/tests/bad_inputs/*.msh ;;
+    csv) ls "$root"/tests/bad_inputs/*.csv "$root"/tests/data/*.csv ;;
+    npy) ls "$root"/tests/data/*.npy ;;
+    npz) ls "$root"/tests/data/*.npz ;;
+    mat) ls "$root"/tests/data/frames_v5*.mat "$root"/tests/data/bad_struct.mat ;;
+    model) [ -f "$build/seed_model.pt" ] && echo "$build/seed_model.pt" || true ;;
+    results) ls "$root"/tests/data/results_*.json ;;
+  esac
+}
+# A model seed, when a normal build is there to train one in a second.
+if [[ " ${targets[*]} " == *" model "* ]] && [ -x "$root/build/eitbench" ] && [ ! -f "$build/seed_model.pt" ]; then
+  "$root/build/eitbench" simulate --preset tiny --density coarse --quiet --out "$build/seed.h5" > /dev/null
+  "$root/build/eitbench" train --data "$build/seed.h5" --steps 1 --quiet --out "$build/seed_model.pt" > /dev/null
+fi
+
+export ASAN_OPTIONS=detect_leaks=0:allocator_may_return_null=1
+export UBSAN_OPTIONS=print_stacktrace=1
+status=0
+printf '%-8s %12s %10s %s\n' target executions exec/s findings
+for t in "${targets[@]}"; do
+  corpus=$build/corpus/$t findings=$build/findings/$t
+  mkdir -p "$corpus" "$findings"
+  for f in $(seeds "$t"); do cp -n "$f" "$corpus/" 2> /dev/null || true; done
+  log=$build/fuzz_$t.log
+  if "$build/tests/fuzz/fuzz_$t" "$corpus" -max_total_time="$seconds" -timeout=10 \
+      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$findings/" > "$log" 2>&1; then
+    found=0
+  else
+    found=1 status=1
+  fi
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
+  rate=$(grep -o 'stat::average_exec_per_sec: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo 0)
+  printf '%-8s %12s %10s %s\n' "$t" "$runs" "$rate" \
+    "$([ $found = 0 ] && echo none || echo "FOUND: $(ls "$findings" | head -3 | tr '\n' ' ') (see $log)")"
+done
+exit $status

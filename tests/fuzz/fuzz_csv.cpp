@@ -1,0 +1,10 @@
+// Frames as CSV through read_frames_csv.
+#include <sstream>
+
+#include "eitbench/bench/io.h"
+#include "fuzz_target.h"
+
+EITBENCH_FUZZ_TARGET({
+  std::istringstream in(bytes);
+  eitbench::read_frames_csv(in, "fuzz.csv");
+})
