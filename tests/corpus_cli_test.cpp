@@ -9,7 +9,7 @@ namespace {
 
 const std::string kCorpus = EITBENCH_BAD_INPUTS;
 
-class Corpus : public Cli {
+class BadInputCorpus : public Cli {
  protected:
   // Every file of one corpus folder through each command (FILE stands for the file).
   int check(const std::string& folder, const std::vector<std::string>& commands) {
@@ -36,21 +36,21 @@ class Corpus : public Cli {
   }
 };
 
-TEST_F(Corpus, EveryBadDataSetIsRejected) {
+TEST_F(BadInputCorpus, EveryBadDataSetIsRejected) {
   const std::string out = " --out " + path("out.h5");
   EXPECT_GE(check("datasets", {"info FILE", "reconstruct --method noser --data FILE" + out,
                                "train --data FILE --epochs 1 --quiet --out " + path("out.pt")}),
             14 * 3);
 }
 
-TEST_F(Corpus, EveryBadModelIsRejected) {
+TEST_F(BadInputCorpus, EveryBadModelIsRejected) {
   const std::string data = good_data();
   EXPECT_GE(check("models", {"reconstruct --method dnn --model FILE --data " + data + " --out " +
                              path("out.h5")}),
             3);
 }
 
-TEST_F(Corpus, EveryBadResultsFileIsRejected) {
+TEST_F(BadInputCorpus, EveryBadResultsFileIsRejected) {
   const std::string good = kCorpus + "/../data/results_tiny.json";
   EXPECT_GE(check("results", {"compare FILE " + good, "compare " + good + " FILE"}), 6 * 2);
 }
