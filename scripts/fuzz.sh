@@ -42,7 +42,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$corpus" "$findings"
   for f in $(seeds "$t"); do cp -n "$f" "$corpus/" 2> /dev/null || true; done
   log=$build/fuzz_$t.log
-  if "$build/tests/fuzz/fuzz_$t" "$corpus" -max_total_time="$seconds" -timeout=10 \
+  if "$build/fuzz_$t" "$corpus" -max_total_time="$seconds" -timeout=10 \
       -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$findings/" > "$log" 2>&1; then
     found=0
   else

@@ -2,14 +2,18 @@
 // The command-line tool as a test sees it: each test gets its own empty folder, runs `eitbench`
 // with arguments, and reads back the exit code, the output and the files left behind.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace eitbench {
@@ -41,6 +45,31 @@ class Cli : public ::testing::Test {
     std::stringstream text;
     text << in.rdbuf();
     return {WEXITSTATUS(status), text.str()};
+  }
+
+  // Starts `eitbench args` in the background, waits until ready() (polled every 2 ms, at most
+  // 60 s), then kills it with SIGKILL. False when ready() never held.
+  bool kill_when(const std::string& args, const std::function<bool()>& ready) const {
+    const std::string pid_file = path("pid");
+    fs::remove(pid_file);
+    if (std::system((std::string(EITBENCH_CLI) + " " + args + " > /dev/null 2>&1 & echo $! > " +
+                     pid_file)
+                        .c_str()) != 0)
+      return false;
+    pid_t pid = 0;
+    for (int k = 0; k < 500 && pid == 0; ++k) {
+      std::ifstream in(pid_file);
+      in >> pid;
+      if (pid == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (pid <= 0) return false;
+    const auto start = std::chrono::steady_clock::now();
+    bool ok = false;
+    while (!(ok = ready()) && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    ::kill(pid, SIGKILL);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let the kernel reap it
+    return ok;
   }
 
   std::vector<std::string> files() const {

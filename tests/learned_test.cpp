@@ -162,8 +162,9 @@ TEST(Trainer, OnTheFlyPairsEachFrameWithItsLabel) {
       for (int i = 0; i < train.frames.rows() && which < 0; ++i)
         for (std::size_t e = 0; e < elements.size() && which < 0; ++e) {
           const auto moved = transform_circles(train.circles[i], elements[e], 16);
-          if ((circles_image(grid, moved, data.background) - labels.row(k).transpose()).norm() <
-              1e-12) {
+          // Stored labels are float32 (the file's type); moved ones are drawn afresh in double.
+          const Eigen::VectorXd drawn = circles_image(grid, moved, data.background);
+          if ((drawn - labels.row(k).transpose()).norm() < 1e-6 * drawn.norm()) {
             found = moved, which = static_cast<int>(e);
           }
         }

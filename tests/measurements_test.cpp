@@ -139,6 +139,7 @@ TEST(Import, RejectsBadFilesNamingFileAndField) {
       {kData + "bad_bigendian.npy", "little-endian", o},
       {kData + "bad_nan.npy", "NaN", o},
       {kData + "bad_length.npy", "103 values", o},
+      {kData + "bad_nul_shape.npy", "not a dimension", o},  // found by fuzz_npy (a hang)
       {kData + "bad_two_arrays.npz", "--variable", o},
       {kData + "frames_v5.mat", "nope", missing},
       {kData + "frames.csv", "8 electrodes", eight},

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "cli_fixture.h"
+#include "eitbench/bench/dataset.h"
 #include "eitbench/bench/results.h"
 #include "eitbench/jacobian/error.h"
 
@@ -130,6 +131,45 @@ TEST_F(RunCli, ResumeReusesFinishedStagesWithTheSameFigures) {
   EXPECT_LT(std::stod(b.configuration.at("total_seconds")),
             0.5 * std::stod(a.configuration.at("total_seconds")))
       << "resumed stages are not recomputed";
+}
+
+TEST_F(RunCli, KilledRunResumesToTheSameFigures) {
+  // Killed with SIGKILL while it trains its first model, then resumed.
+  const std::string args = "run --preset tiny --quiet --out " + path("cut");
+  ASSERT_TRUE(kill_when(args, [&] { return fs::exists(path("cut/models/dnn_none.pt.checkpoint")); }));
+  EXPECT_FALSE(fs::exists(path("cut/results.json")));
+  const Result r = run(args + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const RunResults a = read_results_json((fs::path(run_folder()) / "results.json").string());
+  const RunResults b = read_results_json(path("cut/results.json"));
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (std::size_t k = 0; k < a.rows.size(); ++k) {
+    const ResultRow &x = a.rows[k], &y = b.rows[k];
+    ASSERT_EQ(x.method + x.augment, y.method + y.augment);
+    if (x.method == "dnn") {  // see ResumeReusesFinishedStagesWithTheSameFigures
+      EXPECT_NEAR(x.cc, y.cc, 1e-6 * std::abs(x.cc)) << x.augment;
+    } else {
+      EXPECT_EQ(x.cc, y.cc) << x.method;
+    }
+  }
+  // No temporary file is left: the killed run's were removed by the resumed one.
+  for (const auto& entry : fs::recursive_directory_iterator(path("cut")))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
+}
+
+TEST_F(RunCli, KilledSimulationLeavesNoFile) {
+  const std::string out = path("d.h5");
+  ASSERT_TRUE(kill_when("simulate --preset quick --quiet --out " + out, [&] {
+    for (const auto& entry : fs::directory_iterator(dir_))
+      if (entry.path().filename().string().find(".tmp") != std::string::npos) return true;
+    return false;
+  })) << "the simulation never started writing";
+  EXPECT_FALSE(fs::exists(out)) << "a killed simulation left a data set";
+  // The next run to the same path succeeds and clears the dead run's temporary.
+  ASSERT_EQ(run("simulate --preset tiny --density coarse --quiet --out " + out).exit_code, 0);
+  EXPECT_EQ(read_dataset(out).size(), 81);
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
 }
 
 TEST(Results, JsonRoundTrip) {

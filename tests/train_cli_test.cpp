@@ -67,32 +67,14 @@ TEST_F(TrainCli, KilledRunResumesToTheUninterruptedResult) {
   ASSERT_EQ(run(args + path("whole.pt")).exit_code, 0);
 
   // The same run in the background, killed with SIGKILL after its second checkpoint.
-  const std::string pid_file = path("pid");
-  ASSERT_EQ(std::system((std::string(EITBENCH_CLI) + " " + args + path("cut.pt") +
-                         " > /dev/null 2>&1 & echo $! > " + pid_file)
-                            .c_str()),
-            0);
-  pid_t pid = 0;
-  for (int k = 0; k < 100 && pid == 0; ++k) {
-    std::ifstream in(pid_file);
-    in >> pid;
-    if (pid == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
-  ASSERT_GT(pid, 0);
   const std::string checkpoint = path("cut.pt.checkpoint");
-  const auto start = std::chrono::steady_clock::now();
   fs::file_time_type first{};
-  bool second = false;
-  while (!second && std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
+  ASSERT_TRUE(kill_when(args + path("cut.pt"), [&] {
     std::error_code error;
     const auto t = fs::last_write_time(checkpoint, error);
     if (!error && first == fs::file_time_type{}) first = t;
-    if (!error && t != first) second = true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  ::kill(pid, SIGKILL);
-  ASSERT_TRUE(second) << "no checkpoint appeared";
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    return !error && t != first;
+  })) << "no second checkpoint appeared";
   ASSERT_FALSE(fs::exists(path("cut.pt"))) << "the run finished before it was killed";
   for (const auto& entry : fs::directory_iterator(dir_))  // no temporary left but the checkpoint's
     EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();

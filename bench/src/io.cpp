@@ -1,5 +1,6 @@
 #include "eitbench/bench/io.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -18,6 +19,20 @@
 namespace eitbench {
 namespace fs = std::filesystem;
 
+namespace {
+
+// False when `pid` is gone, or a zombie that nobody reaped (as in containers without an init).
+bool process_alive(pid_t pid) {
+  if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  std::getline(stat, text);
+  const auto close = text.rfind(')');
+  return !(close != std::string::npos && close + 2 < text.size() && text[close + 2] == 'Z');
+}
+
+}  // namespace
+
 std::string temporary_path_for(const std::string& path) {
   if (path.empty()) throw InputError("--out", "", "the output path is empty");
   const fs::path target(path);
@@ -25,9 +40,24 @@ std::string temporary_path_for(const std::string& path) {
   const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   if (!fs::is_directory(dir))
     throw InputError(path, "", "the folder " + dir.string() + " does not exist");
-  return (dir / ("." + target.stem().string() + ".tmp" + std::to_string(::getpid()) +
-                 target.extension().string()))
-      .string();
+  // A process killed while writing (SIGKILL cannot be caught) leaves its temporary behind: the
+  // next writer of the same target removes those whose process is gone.
+  const std::string prefix = "." + target.stem().string() + ".tmp",
+                    suffix = target.extension().string();
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator(dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= prefix.size() + suffix.size() || name.rfind(prefix, 0) != 0 ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string digits =
+        name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const long pid = std::strtol(digits.c_str(), nullptr, 10);
+    if (pid > 0 && pid != ::getpid() && !process_alive(static_cast<pid_t>(pid)))
+      fs::remove(entry.path(), error);
+  }
+  return (dir / (prefix + std::to_string(::getpid()) + suffix)).string();
 }
 
 void write_atomically(const std::string& path,

@@ -14,6 +14,13 @@ namespace {
 
 constexpr std::size_t kMaxElements = std::size_t(1) << 31;  // 16 GB of doubles
 
+// Text from a binary header, fit for a message: control bytes become '?'.
+std::string printable(std::string text) {
+  for (char& c : text)
+    if (static_cast<unsigned char>(c) < 32 || c == 127) c = '?';
+  return text;
+}
+
 std::uint64_t le(const std::string& b, std::size_t at, int bytes) {
   std::uint64_t v = 0;
   for (int k = bytes - 1; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[at + k]);
@@ -109,9 +116,14 @@ NamedArray read_npy(const std::string& b, const std::string& source, const std::
   while (std::getline(dims, item, ',')) {
     if (item.find_first_not_of(" ") == std::string::npos) continue;
     char* end = nullptr;
-    const long long d = std::strtoll(item.c_str(), &end, 10);
-    if (d < 0 || (*end != '\0' && *end != ' '))
-      throw InputError(source, "shape", "'" + item + "' is not a dimension");
+    const char* begin = item.c_str() + item.find_first_not_of(" ");
+    const long long d = std::strtoll(begin, &end, 10);
+    // Digits, then spaces only (a NUL inside the header is not the string's end: fuzzing found
+    // "(7777777777777773\0..., \0 50)" read as 7.8e15 x 0 and a reorder loop of 7.8e15 turns).
+    if (d < 0 || end == begin ||
+        std::string(static_cast<const char*>(end), item.c_str() + item.size())
+                .find_first_not_of(" ") != std::string::npos)
+      throw InputError(source, "shape", "'" + printable(item) + "' is not a dimension");
     a.shape.push_back(static_cast<std::size_t>(d));
     count *= static_cast<double>(d);
   }
@@ -148,7 +160,7 @@ NamedArray read_npy(const std::string& b, const std::string& source, const std::
                     : size == 4 ? load<std::uint32_t>(p)
                                 : load<std::uint64_t>(p);
   }
-  if (fortran && a.shape.size() == 2) {  // column-major on disk: reorder to row-major
+  if (fortran && a.shape.size() == 2 && n > 0) {  // column-major on disk: reorder to row-major
     std::vector<double> row(n);
     const std::size_t r = a.shape[0], c = a.shape[1];
     for (std::size_t i = 0; i < r; ++i)

@@ -113,7 +113,12 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
       data.frames.row(i) = frame.transpose();
       data.differences.row(i) =
           protocol.reduce(frame - data.reference, MeasurementOrder::rotating).transpose();
-      data.labels.row(i) = circles_image(grid, data.circles[i], o.background).transpose();
+      // Labels are float32 in the file: rounded here too, so that a set in memory and the same
+      // set read back are identical (a training checkpoint hashes them).
+      data.labels.row(i) = circles_image(grid, data.circles[i], o.background)
+                               .cast<float>()
+                               .cast<double>()
+                               .transpose();
       const int finished = ++done;
       if (progress) progress(finished, n);
     });
