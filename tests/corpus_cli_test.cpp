@@ -50,6 +50,23 @@ TEST_F(BadInputCorpus, EveryBadModelIsRejected) {
             3);
 }
 
+TEST_F(BadInputCorpus, EveryBadCheckpointIsRejected) {
+  // The model corpus, and a model file, in the place of a training checkpoint.
+  const std::string data = good_data();
+  ASSERT_EQ(run("train --data " + data + " --steps 1 --quiet --out " + path("m.pt")).exit_code, 0);
+  std::vector<std::string> bad{path("m.pt")};
+  for (const auto& entry : fs::directory_iterator(kCorpus + "/models")) bad.push_back(entry.path());
+  for (const std::string& file : bad) {
+    const std::string checkpoint = path("out.pt.checkpoint");
+    fs::copy_file(file, checkpoint, fs::copy_options::overwrite_existing);
+    const Result r =
+        run("train --data " + data + " --steps 2 --quiet --resume --out " + path("out.pt"));
+    EXPECT_EQ(r.exit_code, 2) << file << "\n" << r.output;
+    EXPECT_NE(r.output.find(checkpoint), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(path("out.pt")));
+  }
+}
+
 TEST_F(BadInputCorpus, EveryBadResultsFileIsRejected) {
   const std::string good = kCorpus + "/../data/results_tiny.json";
   EXPECT_GE(check("results", {"compare FILE " + good, "compare " + good + " FILE"}), 6 * 2);

@@ -357,18 +357,7 @@ RunResults run_benchmark(const RunConfig& config) {
     if (config.resume && fs::exists(path)) {
       learned = std::make_unique<LearnedModel>(read_model_file(path));
       const json t = json::parse(learned->info().training);
-      for (const auto& e : t.at("history")) {
-        EpochRecord r;
-        r.epoch = e.at("epoch").get<int>();
-        r.steps = e.at("steps").get<long long>();
-        r.samples = e.at("samples").get<long long>();
-        r.train_loss = e.at("train_loss").is_null() ? NAN : e.at("train_loss").get<double>();
-        r.validation_loss =
-            e.at("validation_loss").is_null() ? NAN : e.at("validation_loss").get<double>();
-        r.seconds = e.at("seconds").get<double>();
-        r.samples_per_second = e.at("samples_per_second").get<double>();
-        summary.history.push_back(r);
-      }
+      summary.history = history_from_json(t.at("history").dump(), path);
       summary.best_epoch = t.at("best_epoch").get<int>();
       say(fmt::format("dnn {}: resumed from {}", augment, path));
     } else {

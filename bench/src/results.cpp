@@ -30,35 +30,6 @@ double snr_from(const json& j) {
   return j.get<double>();
 }
 
-json epochs_json(const std::vector<EpochRecord>& history) {
-  json out = json::array();
-  for (const auto& r : history)
-    out.push_back({{"epoch", r.epoch},
-                   {"steps", r.steps},
-                   {"samples", r.samples},
-                   {"train_loss", number(r.train_loss)},
-                   {"validation_loss", number(r.validation_loss)},
-                   {"seconds", r.seconds},
-                   {"samples_per_second", r.samples_per_second}});
-  return out;
-}
-
-std::vector<EpochRecord> epochs_from(const json& j) {
-  std::vector<EpochRecord> out;
-  for (const auto& e : j) {
-    EpochRecord r;
-    r.epoch = e.at("epoch").get<int>();
-    r.steps = e.at("steps").get<long long>();
-    r.samples = e.at("samples").get<long long>();
-    r.train_loss = number(e.at("train_loss"));
-    r.validation_loss = number(e.at("validation_loss"));
-    r.seconds = e.at("seconds").get<double>();
-    r.samples_per_second = e.at("samples_per_second").get<double>();
-    out.push_back(r);
-  }
-  return out;
-}
-
 }  // namespace
 
 std::string snr_label(double snr_db) {
@@ -89,7 +60,7 @@ void write_results_json(const std::string& path, const RunResults& r) {
                         {"samples", t.samples},
                         {"seconds", t.seconds},
                         {"samples_per_second", t.samples_per_second},
-                        {"history", epochs_json(t.history)}});
+                        {"history", json::parse(history_to_json(t.history))}});
   for (const auto& e : r.efficiency)
     efficiency.push_back({{"augment", e.augment},
                           {"budget", e.budget},
@@ -156,7 +127,7 @@ RunResults parse_results_json(const std::string& text, const std::string& path) 
       s.samples = t.at("samples").get<long long>();
       s.seconds = t.at("seconds").get<double>();
       s.samples_per_second = t.at("samples_per_second").get<double>();
-      s.history = epochs_from(t.at("history"));
+      s.history = history_from_json(t.at("history").dump(), path);
       r.training.push_back(s);
     }
     field = "data_efficiency";

@@ -76,7 +76,9 @@ double number_or_infinity(const nlohmann::json& j) {
   return j.is_null() ? kInfinity : j.get<double>();
 }
 
-nlohmann::json history_to_json(const std::vector<EpochRecord>& history) {
+}  // namespace
+
+std::string history_to_json(const std::vector<EpochRecord>& history) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& r : history)
     out.push_back({{"epoch", r.epoch},
@@ -86,26 +88,28 @@ nlohmann::json history_to_json(const std::vector<EpochRecord>& history) {
                    {"validation_loss", finite_or_null(r.validation_loss)},
                    {"seconds", r.seconds},
                    {"samples_per_second", r.samples_per_second}});
-  return out;
+  return out.dump();
 }
 
-std::vector<EpochRecord> history_from_json(const nlohmann::json& j) {
+std::vector<EpochRecord> history_from_json(const std::string& text, const std::string& source) {
   std::vector<EpochRecord> out;
-  for (const auto& e : j) {
-    EpochRecord r;
-    r.epoch = e.at("epoch").get<int>();
-    r.steps = e.at("steps").get<long long>();
-    r.samples = e.at("samples").get<long long>();
-    r.train_loss = number_or_infinity(e.at("train_loss"));
-    r.validation_loss = number_or_infinity(e.at("validation_loss"));
-    r.seconds = e.at("seconds").get<double>();
-    r.samples_per_second = e.at("samples_per_second").get<double>();
-    out.push_back(r);
+  try {
+    for (const auto& e : nlohmann::json::parse(text)) {
+      EpochRecord r;
+      r.epoch = e.at("epoch").get<int>();
+      r.steps = e.at("steps").get<long long>();
+      r.samples = e.at("samples").get<long long>();
+      r.train_loss = number_or_infinity(e.at("train_loss"));
+      r.validation_loss = number_or_infinity(e.at("validation_loss"));
+      r.seconds = e.at("seconds").get<double>();
+      r.samples_per_second = e.at("samples_per_second").get<double>();
+      out.push_back(r);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(source, "history", std::string("unreadable: ") + e.what());
   }
   return out;
 }
-
-}  // namespace
 
 struct Trainer::Impl {
   NetworkOptions network;
@@ -376,7 +380,7 @@ LearnedModel Trainer::best_model() const {
                                  {"best_epoch", m.best_epoch},
                                  {"best_validation_loss", finite_or_null(m.best_loss)},
                                  {"stopped_early", m.stopped_early},
-                                 {"history", history_to_json(m.history)}}
+                                 {"history", nlohmann::json::parse(history_to_json(m.history))}}
                       .dump();
   return model;
 }
@@ -393,7 +397,7 @@ std::string Trainer::checkpoint() const {
                                 {"best_epoch", m.best_epoch},
                                 {"best_loss", finite_or_null(m.best_loss)},
                                 {"stopped_early", m.stopped_early},
-                                {"history", history_to_json(m.history)}};
+                                {"history", nlohmann::json::parse(history_to_json(m.history))}};
   torch::serialize::OutputArchive archive, net, best, adam;
   archive.write("format", c10::IValue(std::string(kCheckpointFormat)));
   archive.write("state", c10::IValue(state.dump()));
@@ -446,7 +450,7 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
     m->best_epoch = state.at("best_epoch").get<int>();
     m->best_loss = number_or_infinity(state.at("best_loss"));
     m->stopped_early = state.at("stopped_early").get<bool>();
-    m->history = history_from_json(state.at("history"));
+    m->history = history_from_json(state.at("history").dump(), source);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, "state", std::string("unreadable: ") + e.what());
   }

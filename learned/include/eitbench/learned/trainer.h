@@ -39,6 +39,12 @@ struct EpochRecord {
   double samples_per_second = 0;
 };
 
+// The history as JSON text (an array of epochs, the fields above by name; non-finite losses as
+// null), and back: how the model file, the checkpoint and bench/'s results.json store it.
+// history_from_json throws InputError(source, "history") on anything else.
+std::string history_to_json(const std::vector<EpochRecord>& history);
+std::vector<EpochRecord> history_from_json(const std::string& text, const std::string& source);
+
 // Called after each optimiser step: (step within the epoch, steps in the epoch, batch loss).
 using StepCallback = std::function<void(long long, long long, double)>;
 
