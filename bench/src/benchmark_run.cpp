@@ -192,7 +192,11 @@ std::vector<Eigen::VectorXd> first_images(const SampleMatrix& images, int count)
 RunResults run_benchmark(const RunConfig& config) {
   const auto t_start = std::chrono::steady_clock::now();
   const fs::path out(config.out);
-  fs::create_directories(out / "models");
+  if (fs::exists(out) && !fs::is_directory(out))
+    throw InputError(config.out, "", "is a file; --out takes a folder");
+  std::error_code error;
+  fs::create_directories(out / "models", error);
+  if (error) throw InputError(config.out, "", "cannot create the folder: " + error.message());
   const Stages stages(out / "stages", config.resume);
   auto say = [&](const std::string& line) {
     if (!config.quiet) fmt::print("{}\n", line), std::fflush(stdout);
