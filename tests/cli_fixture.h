@@ -48,7 +48,8 @@ class Cli : public ::testing::Test {
   }
 
   // Starts `eitbench args` in the background, waits until ready() (polled every 2 ms, at most
-  // 60 s), then kills it with SIGKILL. False when ready() never held.
+  // 300 s: a sanitizer build is 5-10x slower), then kills it with SIGKILL. False when ready()
+  // never held.
   bool kill_when(const std::string& args, const std::function<bool()>& ready) const {
     const std::string pid_file = path("pid");
     fs::remove(pid_file);
@@ -65,7 +66,7 @@ class Cli : public ::testing::Test {
     if (pid <= 0) return false;
     const auto start = std::chrono::steady_clock::now();
     bool ok = false;
-    while (!(ok = ready()) && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))
+    while (!(ok = ready()) && std::chrono::steady_clock::now() - start < std::chrono::seconds(300))
       std::this_thread::sleep_for(std::chrono::milliseconds(2));
     ::kill(pid, SIGKILL);
     std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let the kernel reap it
