@@ -353,6 +353,7 @@ RunResults run_benchmark(const RunConfig& config) {
   base.device = resolve_device(config.device, "--device");
   const LabelledFrames source_validation = labelled_frames(source, Split::validation);
   std::vector<std::pair<std::string, std::vector<EpochRecord>>> curves;
+  long long parameters = 0;  // of the network, for the report
   for (const std::string& augment : config.augments) {
     const std::string path = (out / "models" / ("dnn_" + augment + ".pt")).string();
     TrainingSummary summary;
@@ -390,6 +391,7 @@ RunResults run_benchmark(const RunConfig& config) {
     results.training.push_back(summary);
     if (learned->info().electrodes != data.electrodes)
       throw InputError(path, "electrodes", "the model does not fit the data's sensor");
+    parameters = learned->parameters();
     const auto method = make_learned_reconstructor(*learned);
     std::vector<Eigen::VectorXd> images;
     for (std::size_t k = 0; k < snrs.size(); ++k) {
@@ -499,8 +501,7 @@ RunResults run_benchmark(const RunConfig& config) {
     for (double v : snrs) s += (s.empty() ? "" : " ") + snr_label(v);
     return s;
   }();
-  c["model"] = fmt::format("{} ({} parameters, {:.1f} MFLOP a frame)", config.model,
-                           LearnedModel(network, data.electrodes, 1).parameters(),
+  c["model"] = fmt::format("{} ({} parameters, {:.1f} MFLOP a frame)", config.model, parameters,
                            forward_flops(network) / 1e6);
   c["training"] =
       fmt::format("{} epochs, batch {}, Adam lr {:g}, on-the-fly augmentation, device {}",

@@ -128,9 +128,7 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
     archive.read("meta", meta);
     archive.read("weights", weights);
   } catch (const c10::Error& e) {
-    const std::string what = e.what_without_backtrace();
-    throw InputError(source, "",
-                     "not a readable model file (" + what.substr(0, what.find('\n')) + ")");
+    throw InputError(source, "", "not a readable model file (" + first_line(e) + ")");
   }
   if (!network.isString() || !meta.isString())
     throw InputError(source, "meta", "the model's description is missing");
@@ -149,8 +147,7 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
   try {
     impl->net->load(weights);
   } catch (const c10::Error& e) {
-    const std::string what = e.what_without_backtrace();
-    throw InputError(source, "weights", what.substr(0, what.find('\n')));
+    throw InputError(source, "weights", first_line(e));
   }
   if (shapes(impl->net) != expected)
     throw InputError(source, "weights", "tensor shapes differ from the network's description");

@@ -78,6 +78,11 @@ SampleMatrix to_samples(const torch::Tensor& tensor) {
   return out;
 }
 
+std::string first_line(const c10::Error& error) {
+  const std::string what = error.what_without_backtrace();
+  return what.substr(0, what.find('\n'));
+}
+
 std::string network_to_json(const NetworkOptions& o) {
   nlohmann::json j = {{"inputs", o.inputs},           {"image_size", o.image_size},
                       {"hidden", o.hidden},           {"latent_channels", o.latent_channels},

@@ -37,6 +37,9 @@ struct LearnedModel::Impl {
 torch::Tensor to_tensor(const SampleMatrix& rows, const torch::Device& device);
 SampleMatrix to_samples(const torch::Tensor& tensor);
 
+// LibTorch's message without its backtrace, first line only: what a user's error message quotes.
+std::string first_line(const c10::Error& error);
+
 // The JSON of NetworkOptions, and back (InputError(source) on a missing or wrong field).
 std::string network_to_json(const NetworkOptions& options);
 NetworkOptions network_from_json(const std::string& json, const std::string& source);

@@ -428,9 +428,7 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
     archive.read("best", best);
     archive.read("optimizer", adam);
   } catch (const c10::Error& e) {
-    const std::string what = e.what_without_backtrace();
-    throw InputError(source, "",
-                     "not a readable checkpoint (" + what.substr(0, what.find('\n')) + ")");
+    throw InputError(source, "", "not a readable checkpoint (" + first_line(e) + ")");
   }
   std::unique_ptr<Impl> m;
   nlohmann::json state;
@@ -461,8 +459,7 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
     m->best->to(m->device);
     m->adam->load(adam);
   } catch (const c10::Error& e) {
-    const std::string what = e.what_without_backtrace();
-    throw InputError(source, "weights", what.substr(0, what.find('\n')));
+    throw InputError(source, "weights", first_line(e));
   }
   return std::unique_ptr<Trainer>(new Trainer(std::move(m)));
 }
