@@ -165,5 +165,36 @@ TEST(Import, RejectsBadFilesNamingFileAndField) {
   }
 }
 
+TEST(Calibration, FitsTheMeasuredReferenceToTheModels) {
+  const Eigen::VectorXd model = read_frames_csv(kData + "reference.csv").row(0).transpose();
+  // An instrument reading millivolts where the model reads volts, and one wired with the other
+  // polarity at twice the gain.
+  const ReferenceCalibration mv = calibrate_to_model(1000 * model, model);
+  EXPECT_NEAR(mv.scale, 1e-3, 1e-15);
+  EXPECT_NEAR(mv.fit, 1, 1e-12);
+  const ReferenceCalibration flipped = calibrate_to_model(-2 * model, model);
+  EXPECT_NEAR(flipped.scale, -0.5, 1e-12);
+  EXPECT_NEAR(flipped.fit, -1, 1e-12);
+  // Noise moves the scale only to first order in its size, and lowers the fit a little.
+  Eigen::VectorXd noisy = 3 * model;
+  for (Eigen::Index i = 0; i < noisy.size(); ++i) noisy[i] += 1e-3 * ((i * 7919) % 13 - 6);
+  const ReferenceCalibration n = calibrate_to_model(noisy, model);
+  EXPECT_NEAR(n.scale, 1.0 / 3, 1e-3);
+  EXPECT_LT(n.fit, 1);
+  EXPECT_GT(n.fit, 0.999);
+  // Frames in the instrument's ascending order read as rotating ones fit poorly: the warning's cue.
+  const Protocol p(16);
+  Eigen::VectorXd misread(model.size());
+  for (int d = 0, k = 0; d < 16; ++d)
+    for (int m = 0; m < 16; ++m)
+      if (m != (d + 15) % 16 && m != d && m != (d + 1) % 16)
+        misread[k++] = model[p.index(d, m, MeasurementOrder::rotating)];
+  EXPECT_LT(calibrate_to_model(misread, model).fit, 0.95);
+  // No reference (frames imported as differences): no calibration.
+  const ReferenceCalibration none = calibrate_to_model(Eigen::VectorXd::Zero(model.size()), model);
+  EXPECT_EQ(none.scale, 1);
+  EXPECT_TRUE(std::isnan(none.fit));
+}
+
 }  // namespace
 }  // namespace eitbench

@@ -164,6 +164,41 @@ TEST_F(RunCli, KilledRunResumesToTheSameFigures) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
 }
 
+TEST_F(RunCli, MeasuredFramesAreReconstructedWithTheSimulatedPresetsChoices) {
+  // Measured frames without labels (--reference): every method runs on them, tuned and trained on
+  // the simulated tiny preset, and nothing claims a quality it cannot know.
+  const std::string data = std::string(EITBENCH_BAD_INPUTS) + "/../data/";
+  const Result r =
+      run("run --preset tiny --quiet --methods tikhonov,noser --augment none --data " + data +
+          "frames_rotating.npy --reference " + data + "reference.npy --out " + path("measured"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("quality cannot be ranked"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(path("measured/reconstructions.png")));
+
+  const RunResults m = read_results_json(path("measured/results.json"));
+  EXPECT_EQ(m.configuration.at("test_frames"), "3");
+  ASSERT_EQ(m.rows.size(), 3u) << "tikhonov, noser and dnn/none, at the frames' own noise only";
+  // The choices are the simulated preset's at its noise-free level: each row's settings (λ, the
+  // network's size) equal the full tiny run's, which tuned and trained on the same data and seed.
+  const RunResults tiny = read_results_json((fs::path(run_folder()) / "results.json").string());
+  for (const ResultRow& y : m.rows) {
+    EXPECT_TRUE(std::isinf(y.snr_db)) << y.method;
+    EXPECT_TRUE(std::isnan(y.cc) && std::isnan(y.re)) << y.method << ": scored without labels";
+    EXPECT_EQ(y.frames, 0) << y.method;
+    EXPECT_GT(y.latency_median_ms, 0) << y.method;
+    const ResultRow* x = nullptr;
+    for (const ResultRow& row : tiny.rows)
+      if (row.method == y.method && row.augment == y.augment && std::isinf(row.snr_db)) x = &row;
+    ASSERT_NE(x, nullptr) << y.method;
+    EXPECT_EQ(x->settings, y.settings) << y.method;
+  }
+  std::ifstream report(path("measured/report.md"));
+  const std::string text((std::istreambuf_iterator<char>(report)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("quality cannot be ranked"), std::string::npos);
+  EXPECT_EQ(text.find("Pick **"), std::string::npos) << "a pick made without labels";
+}
+
 TEST_F(RunCli, KilledSimulationLeavesNoFile) {
   const std::string out = path("d.h5");
   ASSERT_TRUE(kill_when("simulate --preset quick --quiet --out " + out, [&] {

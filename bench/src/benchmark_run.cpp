@@ -150,13 +150,16 @@ std::vector<Eigen::VectorXd> images_from(const json& j) {
   return out;
 }
 
-// Quality on every frame (reconstruct_all), latency on the first `timed` one at a time.
+// Quality on every frame (reconstruct_all), latency on the first `timed` one at a time, after
+// a few untimed calls: the first single-frame calls pay one-off costs (LibTorch sets up its
+// kernels and memory pools for the batch-of-one shape) that a sensor streaming frames pays once.
 ResultRow evaluate(const Reconstructor& method, const SampleMatrix& frames,
                    const SampleMatrix& labels, const PixelGrid& grid, int timed,
                    SampleMatrix* images_out) {
   ResultRow row;
   const SampleMatrix images = method.reconstruct_all(frames);
   const int n = std::min<int>(timed, static_cast<int>(frames.rows()));
+  for (int i = 0; i < std::min(n, 3); ++i) method.reconstruct(frames.row(i).transpose());
   std::vector<double> ms;
   for (int i = 0; i < n; ++i) {
     const Eigen::VectorXd frame = frames.row(i).transpose();
@@ -178,6 +181,10 @@ ResultRow evaluate(const Reconstructor& method, const SampleMatrix& frames,
   row.settings = method.settings();
   if (images_out) *images_out = images;
   return row;
+}
+
+std::string quality(const ResultRow& row) {
+  return row.frames > 0 ? fmt::format("CC {:.3f}, RE {:.3f}", row.cc, row.re) : "no labels";
 }
 
 std::vector<Eigen::VectorXd> first_images(const SampleMatrix& images, int count) {
@@ -257,8 +264,37 @@ RunResults run_benchmark(const RunConfig& config) {
   if (test_rows.empty() && !data.has_labels())  // measured frames: all of them
     for (int i = 0; i < data.size(); ++i) test_rows.push_back(i);
   if (test_rows.empty()) throw InputError(config.data, "split", "no test frames to evaluate");
-  const Frames test = rows_of(data, test_rows);
+  Frames test = rows_of(data, test_rows);
   const Frames validation = rows_of(source, source.indices(Split::validation));
+  // The methods are set up for the sensor of the data that tune and train them. When that is the
+  // simulated preset, the evaluated frames must match its sensor and are brought to its units.
+  const Dataset& sensor = own_training ? data : source;
+  ReferenceCalibration calibration;
+  if (!own_training) {
+    if (data.electrodes != source.electrodes)
+      throw InputError(
+          config.data, "electrodes",
+          fmt::format("{} electrodes, but the preset simulates {}: pass --electrodes {}",
+                      data.electrodes, source.electrodes, data.electrodes));
+    if (labelled && data.image_size != source.image_size)
+      throw InputError(
+          config.data, "image_size",
+          fmt::format("{}×{} labels, but the preset's images are {}×{}", data.image_size,
+                      data.image_size, source.image_size, source.image_size));
+    calibration = calibrate_to_model(data.reference, source.reference);
+    test.frames *= calibration.scale;
+    if (std::isnan(calibration.fit))
+      say("calibration: none (no reference frame; the frames are taken as differences in the "
+          "model's units)");
+    else
+      say(
+          fmt::format("calibration: frames × {:.4g}, the fit of the data's reference frame to the "
+                      "model's (cosine {:.4f})",
+                      calibration.scale, calibration.fit));
+    if (calibration.fit < 0.95)
+      say("warning: the reference frame fits the model's poorly; check --electrodes and the "
+          "measurement order (--order of eitbench import)");
+  }
   // Measured frames carry their own noise: they are evaluated as they are.
   const std::vector<double> snrs =
       data.preset == "imported" ? std::vector<double>{INFINITY} : config.snrs;
@@ -266,17 +302,17 @@ RunResults run_benchmark(const RunConfig& config) {
   // 2. The reconstruction model: the mesh, the Jacobian, the pixel map.
   const auto t_setup = std::chrono::steady_clock::now();
   DiskMeshOptions disk;
-  disk.electrodes = data.electrodes;
+  disk.electrodes = sensor.electrodes;
   disk.density = config.mesh;
-  disk.radius = data.radius;
-  disk.electrode_coverage = data.electrode_coverage;
+  disk.radius = sensor.radius;
+  disk.electrode_coverage = sensor.electrode_coverage;
   const Mesh mesh = generate_disk_mesh(disk);
   ForwardOptions fo;
-  fo.contact_impedance = data.contact_impedance;
-  fo.current = data.current;
+  fo.contact_impedance = sensor.contact_impedance;
+  fo.current = sensor.current;
   const auto model = std::make_shared<const ForwardModel>(mesh, fo);
-  const PixelGrid grid(data.image_size, data.radius);
-  const double background = data.preset == "imported" ? 1.0 : data.background;
+  const PixelGrid grid(sensor.image_size, sensor.radius);
+  const double background = sensor.background;
   const LinearProblem problem = make_linear_problem(model, background, grid);
   const double problem_s = seconds_since(t_setup);
   say(
@@ -331,8 +367,8 @@ RunResults run_benchmark(const RunConfig& config) {
       ResultRow row = evaluate(*method, test_at[k], labelled ? test.labels : SampleMatrix(), grid,
                                config.timed_frames, &all);
       row.method = name, row.snr_db = snrs[k], row.setup_s = setup;
-      say(fmt::format("{:>9} at {:>3} dB: CC {:.3f}, RE {:.3f}, {:.3g} ms a frame ({})", name,
-                      snr_label(snrs[k]), row.cc, row.re, row.latency_median_ms, row.settings));
+      say(fmt::format("{:>9} at {:>3} dB: {}, {:.3g} ms a frame ({})", name, snr_label(snrs[k]),
+                      quality(row), row.latency_median_ms, row.settings));
       if (k == 0) images = first_images(all, config.figure_samples);
       results.rows.push_back(row);
       rows.push_back(row_json(row));
@@ -400,8 +436,8 @@ RunResults run_benchmark(const RunConfig& config) {
                                config.timed_frames, &all);
       row.method = "dnn", row.augment = augment, row.snr_db = snrs[k];
       row.setup_s = summary.seconds;
-      say(fmt::format("dnn {:>9} at {:>3} dB: CC {:.3f}, RE {:.3f}, {:.3g} ms a frame", augment,
-                      snr_label(snrs[k]), row.cc, row.re, row.latency_median_ms));
+      say(fmt::format("dnn {:>9} at {:>3} dB: {}, {:.3g} ms a frame", augment, snr_label(snrs[k]),
+                      quality(row), row.latency_median_ms));
       if (k == 0) images = first_images(all, config.figure_samples);
       results.rows.push_back(row);
     }
@@ -496,6 +532,14 @@ RunResults run_benchmark(const RunConfig& config) {
   c["reconstruction_mesh"] = fmt::format("disk L={} {} ({} triangles)", data.electrodes,
                                          to_string(config.mesh), mesh.num_triangles());
   c["background"] = fmt::format("{:g}", background);
+  if (!own_training)
+    c["calibration"] =
+        std::isnan(calibration.fit)
+            ? "none: no reference frame"
+            : fmt::format(
+                  "frames × {:.6g}, the least-squares fit of the data's reference frame "
+                  "to the simulated preset's (cosine {:.6f})",
+                  calibration.scale, calibration.fit);
   c["snrs_db"] = [&] {
     std::string s;
     for (double v : snrs) s += (s.empty() ? "" : " ") + snr_label(v);

@@ -1,6 +1,7 @@
 #include "eitbench/bench/measurements.h"
 
 #include <filesystem>
+#include <stdexcept>
 
 #include "arrays.h"
 #include "eitbench/augment/impedance_map.h"
@@ -184,6 +185,16 @@ Dataset import_measurements(const Measurements& m, const std::string& reference_
             .transpose();
   d.split.assign(static_cast<std::size_t>(m.frames.rows()), Split::test);
   return d;
+}
+
+ReferenceCalibration calibrate_to_model(const Eigen::VectorXd& measured_reference,
+                                        const Eigen::VectorXd& model_reference) {
+  if (measured_reference.size() != model_reference.size())
+    throw std::invalid_argument("calibrate_to_model: the references differ in length");
+  const double mm = measured_reference.squaredNorm(), rr = model_reference.squaredNorm();
+  if (mm == 0 || rr == 0) return {};
+  const double dot = model_reference.dot(measured_reference);
+  return {dot / mm, dot / std::sqrt(mm * rr)};
 }
 
 }  // namespace eitbench

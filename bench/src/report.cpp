@@ -235,8 +235,11 @@ std::string summary_table(const RunResults& r) {
   const auto snrs = snrs_of(r.rows);
   std::string out = fmt::format("{:<18}", "method");
   for (double s : snrs) out += fmt::format("{:>9}", "CC " + snr_label(s));
-  out += fmt::format("{:>9}{:>9}{:>12}{:>10}\n", "RE " + snr_label(snrs.front()),
-                     "RE " + snr_label(snrs.back()), "ms/frame", "setup s");
+  // RE noise-free and at the worst SNR; one column when there is one SNR (measured frames).
+  const bool two_re = snrs.size() > 1;
+  out += fmt::format("{:>9}", "RE " + snr_label(snrs.front()));
+  if (two_re) out += fmt::format("{:>9}", "RE " + snr_label(snrs.back()));
+  out += fmt::format("{:>12}{:>10}\n", "ms/frame", "setup s");
   for (const auto& [m, a] : methods_of(r.rows)) {
     out += fmt::format("{:<18}", a == "-" ? m : m + " " + a);
     for (double s : snrs) {
@@ -245,8 +248,9 @@ std::string summary_table(const RunResults& r) {
     }
     const ResultRow *first = find(r.rows, m, a, snrs.front()),
                     *last = find(r.rows, m, a, snrs.back());
-    out += fmt::format("{:>9}{:>9}{:>12}{:>10.3g}\n", first ? fixed(first->re) : "—",
-                       last ? fixed(last->re) : "—", first ? ms(first->latency_median_ms) : "—",
+    out += fmt::format("{:>9}", first ? fixed(first->re) : "—");
+    if (two_re) out += fmt::format("{:>9}", last ? fixed(last->re) : "—");
+    out += fmt::format("{:>12}{:>10.3g}\n", first ? ms(first->latency_median_ms) : "—",
                        first ? first->setup_s : NAN);
   }
   return out;

@@ -7,6 +7,8 @@
 // at d L + m, with the unmeasured entries present and ignored. A 2-D array holds one frame a row,
 // or one a column when only its row count is a frame length (MATLAB files, where EIDORS stores one
 // frame a column, prefer columns when both fit).
+#include <Eigen/Core>
+#include <cmath>
 #include <string>
 
 #include "eitbench/bench/dataset.h"
@@ -43,5 +45,18 @@ Dataset import_measurements(const std::string& path, const std::string& referenc
 Dataset import_measurements(const Measurements& frames, const std::string& reference_path,
                             const ImportOptions& options,
                             const std::string& reference_variable = "");
+
+// Measured frames in a model's units. A measured frame is in the instrument's units (its current,
+// its gain, volts or millivolts); a model trained or tuned on simulated frames expects the
+// simulation's. The factor is the least-squares fit of the measured empty-sensor frame to the
+// model's, scale = <model, measured> / <measured, measured>, and `fit` is the cosine between the
+// two: near 1 when the sensor and its measurement order match the model's. A zero measured
+// reference (frames imported as differences) gives scale 1 and fit NaN.
+struct ReferenceCalibration {
+  double scale = 1;
+  double fit = NAN;
+};
+ReferenceCalibration calibrate_to_model(const Eigen::VectorXd& measured_reference,
+                                        const Eigen::VectorXd& model_reference);
 
 }  // namespace eitbench
