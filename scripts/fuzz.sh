@@ -2,12 +2,12 @@
 # libFuzzer smoke run (issue 8): builds every parser's fuzz target with clang, AddressSanitizer and
 # UndefinedBehaviorSanitizer in build-fuzz/, then runs each for SECONDS seconds (default 60) from a
 # seed corpus taken from tests/. Prints executions and findings per target; exit 1 on a finding.
-# Usage: bash scripts/fuzz.sh [SECONDS] [TARGET ...]   (targets: msh csv npy npz mat model results)
+# Usage: bash scripts/fuzz.sh [SECONDS] [TARGET ...]   (targets: msh csv npy npz mat dataset model results)
 set -euo pipefail
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(msh csv npy npz mat model results)
+[ ${#targets[@]} -gt 0 ] || targets=(msh csv npy npz mat dataset model results)
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build-fuzz
 command -v clang++ > /dev/null || { echo "fuzz.sh: needs clang (apt-get install clang)" >&2; exit 1; }
@@ -23,6 +23,7 @@ seeds() {  # the seed files of one target
     npy) ls "$root"/tests/data/*.npy ;;
     npz) ls "$root"/tests/data/*.npz ;;
     mat) ls "$root"/tests/data/frames_v5*.mat "$root"/tests/data/bad_struct.mat ;;
+    dataset) ls "$root"/tests/bad_inputs/datasets/*.h5 ;;
     model) [ -f "$build/seed_model.pt" ] && echo "$build/seed_model.pt" || true ;;
     results) ls "$root"/tests/data/results_*.json ;;
   esac

@@ -40,7 +40,7 @@ TEST_F(BadInputCorpus, EveryBadDataSetIsRejected) {
   const std::string out = " --out " + path("out.h5");
   EXPECT_GE(check("datasets", {"info FILE", "reconstruct --method noser --data FILE" + out,
                                "train --data FILE --epochs 1 --quiet --out " + path("out.pt")}),
-            14 * 3);
+            17 * 3);
 }
 
 TEST_F(BadInputCorpus, EveryBadModelIsRejected) {

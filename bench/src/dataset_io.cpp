@@ -1,15 +1,18 @@
 // The data set's HDF5 file (layout in dataset.h and the README).
 #include <H5Cpp.h>
+#include <fmt/core.h>
 
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
 
+#include "child_read.h"
 #include "eitbench/bench/dataset.h"
 #include "eitbench/bench/io.h"
 #include "eitbench/jacobian/error.h"
 #include "hdf5_attributes.h"
+#include "wire.h"
 
 namespace eitbench {
 namespace {
@@ -121,47 +124,53 @@ class Reader {
     }
   }
 
-  double number(const std::string& name, double fallback, bool required = false) const {
-    if (!file_.attrExists(name)) {
-      if (required) throw InputError(path_, name, "the attribute is missing");
-      return fallback;
-    }
+  // A numeric attribute in [low, high], or `fallback` when it is absent and not `required`.
+  double number(const std::string& name, double fallback, double low, double high,
+                bool required = false) const {
     try {
-      H5::Attribute a = file_.openAttribute(name);
+      if (!file_.attrExists(name)) {
+        if (required) throw InputError(path_, name, "the attribute is missing");
+        return fallback;
+      }
+      const H5::Attribute a = scalar_attribute(name);
       if (a.getTypeClass() != H5T_FLOAT && a.getTypeClass() != H5T_INTEGER)
         throw InputError(path_, name, "is not a number");
       double v = 0;
       a.read(H5::PredType::NATIVE_DOUBLE, &v);
       if (!std::isfinite(v)) throw InputError(path_, name, "is NaN or infinite");
+      if (v < low || v > high)
+        throw InputError(path_, name, fmt::format("is {:g}, outside {:g} .. {:g}", v, low, high));
       return v;
     } catch (const H5::Exception& e) {
       throw InputError(path_, name, "cannot read: " + e.getDetailMsg());
     }
   }
 
+  // A text attribute; "" when it is absent or not text (the texts are descriptions).
   std::string text(const std::string& name) const {
-    if (!file_.attrExists(name)) return "";
     try {
-      H5::Attribute a = file_.openAttribute(name);
+      if (!file_.attrExists(name)) return "";
+      const H5::Attribute a = scalar_attribute(name);
       if (a.getTypeClass() != H5T_STRING) return "";
       std::string v;
       a.read(a.getStrType(), v);
       return v;
-    } catch (const H5::Exception&) {
-      return "";
+    } catch (const H5::Exception& e) {
+      throw InputError(path_, name, "cannot read: " + e.getDetailMsg());
     }
   }
 
   std::uint64_t seed() const {
-    if (!file_.attrExists("seed")) return 0;
     try {
-      H5::Attribute a = file_.openAttribute("seed");
+      if (!file_.attrExists("seed")) return 0;
+      const H5::Attribute a = scalar_attribute("seed");
       if (a.getTypeClass() == H5T_STRING) return std::strtoull(text("seed").c_str(), nullptr, 10);
+      if (a.getTypeClass() != H5T_INTEGER) throw InputError(path_, "seed", "is not an integer");
       std::uint64_t v = 0;
       a.read(H5::PredType::NATIVE_UINT64, &v);
       return v;
-    } catch (const H5::Exception&) {
-      throw InputError(path_, "seed", "cannot read the attribute");
+    } catch (const H5::Exception& e) {
+      throw InputError(path_, "seed", "cannot read: " + e.getDetailMsg());
     }
   }
 
@@ -172,6 +181,13 @@ class Reader {
     std::string s;
     for (std::size_t k = 0; k < dims.size(); ++k) s += (k ? " x " : "") + std::to_string(dims[k]);
     return s.empty() ? "a scalar" : s;
+  }
+  // The attribute, checked to hold one value: reading an array into one would overrun it.
+  H5::Attribute scalar_attribute(const std::string& name) const {
+    H5::Attribute a = file_.openAttribute(name);
+    if (a.getSpace().getSimpleExtentNpoints() != 1)
+      throw InputError(path_, name, "must be a single value");
+    return a;
   }
   [[noreturn]] void fail(const std::string& name, int, std::size_t,
                          const std::vector<hsize_t>& actual) const {
@@ -353,28 +369,30 @@ void write_dataset(const std::string& path, const Dataset& d) {
   writer.commit();
 }
 
-Dataset read_dataset(const std::string& path) {
+namespace {
+
+Dataset read_dataset_checked(const std::string& path) {
   const Reader r(path);
   Dataset d;
-  const double electrodes = r.number("electrodes", 0, true);
-  if (electrodes < 4 || electrodes > 256 || electrodes != std::floor(electrodes))
+  constexpr double kHuge = 1e300;
+  const double electrodes = r.number("electrodes", 0, 4, 256, true);
+  if (electrodes != std::floor(electrodes))
     throw InputError(path, "electrodes", "must be a whole number from 4 to 256");
   d.electrodes = static_cast<int>(electrodes);
   const int L = d.electrodes;
   const hsize_t full = static_cast<hsize_t>(L * (L - 3)), reduced = full / 2;
-  d.radius = r.number("radius", 1.0);
-  d.background = r.number("background_conductivity", 0.05);
-  d.contact_impedance = r.number("contact_impedance", 0.01);
-  d.current = r.number("current", 1.0);
-  d.electrode_coverage = r.number("electrode_coverage", 0.5);
-  d.image_size = static_cast<int>(r.number("image_size", 64));
-  if (!(d.radius > 0) || !(d.background > 0) || d.image_size < 1 || d.image_size > 4096)
-    throw InputError(path, "attributes",
-                     "radius, background_conductivity and image_size must be positive");
+  d.radius = r.number("radius", 1.0, 0, kHuge);
+  d.background = r.number("background_conductivity", 0.05, 0, kHuge);
+  d.contact_impedance = r.number("contact_impedance", 0.01, -kHuge, kHuge);
+  d.current = r.number("current", 1.0, -kHuge, kHuge);
+  d.electrode_coverage = r.number("electrode_coverage", 0.5, -kHuge, kHuge);
+  d.image_size = static_cast<int>(r.number("image_size", 64, 1, 4096));
+  if (!(d.radius > 0) || !(d.background > 0))
+    throw InputError(path, "attributes", "radius and background_conductivity must be positive");
   d.seed = r.seed();
   d.preset = r.text("preset");
   d.simulation_mesh = r.text("simulation_mesh");
-  d.simulation_triangles = static_cast<int>(r.number("simulation_triangles", 0));
+  d.simulation_triangles = static_cast<int>(r.number("simulation_triangles", 0, 0, 1e9));
   d.program = r.text("program");
   d.augmentation = r.text("augmentation").empty() ? "none" : r.text("augmentation");
 
@@ -431,6 +449,51 @@ Dataset read_dataset(const std::string& path) {
     }
   }
   return d;
+}
+
+// A data set as the child that read it hands it over (child_read.h).
+std::string to_wire(const Dataset& d) {
+  detail::WireWriter w;
+  w.pod(d.electrodes), w.pod(d.radius), w.pod(d.background), w.pod(d.contact_impedance);
+  w.pod(d.current), w.pod(d.electrode_coverage), w.pod(d.image_size), w.pod(d.seed);
+  w.text(d.preset), w.text(d.simulation_mesh), w.pod(d.simulation_triangles);
+  w.text(d.program), w.text(d.augmentation);
+  w.matrix(d.reference), w.matrix(d.frames), w.matrix(d.differences), w.matrix(d.labels);
+  w.pod<std::uint64_t>(d.circles.size());
+  for (const auto& list : d.circles) w.vector(list);
+  w.vector(d.split);
+  return w.take();
+}
+
+Dataset from_wire(const std::string& bytes) {
+  detail::WireReader r(bytes);
+  Dataset d;
+  d.electrodes = r.pod<int>(), d.radius = r.pod<double>(), d.background = r.pod<double>();
+  d.contact_impedance = r.pod<double>(), d.current = r.pod<double>();
+  d.electrode_coverage = r.pod<double>(), d.image_size = r.pod<int>();
+  d.seed = r.pod<std::uint64_t>();
+  d.preset = r.text(), d.simulation_mesh = r.text(), d.simulation_triangles = r.pod<int>();
+  d.program = r.text(), d.augmentation = r.text();
+  d.reference = r.matrix<Eigen::VectorXd>();
+  d.frames = r.matrix<SampleMatrix>(), d.differences = r.matrix<SampleMatrix>();
+  d.labels = r.matrix<SampleMatrix>();
+  d.circles.resize(r.pod<std::uint64_t>());
+  for (auto& list : d.circles) list = r.vector<Circle>();
+  d.split = r.vector<Split>();
+  return d;
+}
+
+}  // namespace
+
+Dataset read_dataset(const std::string& path) {
+  // libhdf5 may crash or hang on a corrupt file: it reads the file in a child (child_read.h).
+  return from_wire(detail::read_in_child(path, [&path] {
+    try {
+      return to_wire(read_dataset_checked(path));
+    } catch (const H5::Exception& e) {  // anything the readers above do not name more precisely
+      throw InputError(path, "", "cannot read the HDF5 file: " + e.getDetailMsg());
+    }
+  }));
 }
 
 }  // namespace eitbench

@@ -6,7 +6,9 @@
 #include <cstring>
 
 #include "arrays.h"
+#include "child_read.h"
 #include "eitbench/jacobian/error.h"
+#include "wire.h"
 
 namespace eitbench::detail {
 namespace {
@@ -225,7 +227,9 @@ std::vector<NamedArray> read_mat_v5(const std::string& b, const std::string& sou
   return out;
 }
 
-std::vector<NamedArray> read_mat_v73(const std::string& path) {
+namespace {
+
+std::vector<NamedArray> read_mat_v73_here(const std::string& path) {
   std::vector<NamedArray> out;
   try {
     H5::Exception::dontPrint();
@@ -272,6 +276,29 @@ std::vector<NamedArray> read_mat_v73(const std::string& path) {
   }
   if (out.empty()) throw InputError(path, "variables", "the file holds no variables");
   return out;
+}
+
+}  // namespace
+
+std::vector<NamedArray> read_mat_v73(const std::string& path) {
+  // libhdf5 may crash or hang on a corrupt file: it reads the file in a child (child_read.h).
+  const std::string bytes = read_in_child(path, [&path] {
+    WireWriter w;
+    const std::vector<NamedArray> arrays = read_mat_v73_here(path);
+    w.pod<std::uint64_t>(arrays.size());
+    for (const NamedArray& a : arrays) {
+      w.text(a.name), w.text(a.kind), w.pod(a.numeric);
+      w.vector(a.shape), w.vector(a.values);
+    }
+    return w.take();
+  });
+  WireReader r(bytes);
+  std::vector<NamedArray> arrays(r.pod<std::uint64_t>());
+  for (NamedArray& a : arrays) {
+    a.name = r.text(), a.kind = r.text(), a.numeric = r.pod<bool>();
+    a.shape = r.vector<std::size_t>(), a.values = r.vector<double>();
+  }
+  return arrays;
 }
 
 }  // namespace eitbench::detail

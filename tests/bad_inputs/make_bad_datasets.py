@@ -49,6 +49,8 @@ copy("labels_wrong_size.h5", lambda f: replace(f, "labels", f["labels"][()][:, :
 copy("empty.h5", lambda f: (replace(f, "differences", np.zeros((0, 104))),
                             replace(f, "frames", np.zeros((0, 208))),
                             replace(f, "split", np.zeros(0, dtype=np.int32))))
+copy("electrodes_array.h5", lambda f: f.attrs.__setitem__("electrodes", np.array([16, 16, 16])))
+copy("image_size_huge.h5", lambda f: f.attrs.__setitem__("image_size", 1e300))
 copy("bad_circle_count.h5",
      lambda f: replace(f, "circle_count", np.array([1, 9, 1, 1], dtype=np.int32)))
 

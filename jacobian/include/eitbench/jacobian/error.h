@@ -11,10 +11,12 @@ class InputError : public std::runtime_error {
   InputError(std::string source, std::string field, const std::string& message)
       : std::runtime_error(compose(source, field, message)),
         source_(std::move(source)),
-        field_(std::move(field)) {}
+        field_(std::move(field)),
+        message_(message) {}
 
   const std::string& source() const { return source_; }
   const std::string& field() const { return field_; }
+  const std::string& message() const { return message_; }  // what() without source and field
 
  private:
   static std::string compose(const std::string& source, const std::string& field,
@@ -25,6 +27,7 @@ class InputError : public std::runtime_error {
   }
   std::string source_;
   std::string field_;
+  std::string message_;
 };
 
 }  // namespace eitbench

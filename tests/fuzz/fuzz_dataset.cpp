@@ -1,0 +1,27 @@
+// Data sets are HDF5 files, read by path through libhdf5: the input goes to a file first. The
+// reader runs libhdf5 in a child process (child_read.h); its limit here stays under the smoke
+// driver's 10 s, so that a libhdf5 hang is the InputError it becomes for users, not a finding.
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "child_read.h"
+#include "eitbench/bench/dataset.h"
+#include "fuzz_target.h"
+
+namespace {
+const std::string& scratch_path() {
+  static const std::string path = [] {
+    eitbench::detail::set_child_read_base_limit(3);
+    return "/tmp/eitbench_fuzz_dataset_" + std::to_string(::getpid()) + ".h5";
+  }();
+  return path;
+}
+}  // namespace
+
+EITBENCH_FUZZ_TARGET({
+  std::ofstream(scratch_path(), std::ios::binary | std::ios::trunc) << bytes;
+  eitbench::read_dataset(scratch_path());
+})
