@@ -41,6 +41,9 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     fmt::print(stderr, "eitbench: error: {}\n", e.what());
     return 1;
+  } catch (...) {  // a library's own exception type (HDF5's is not a std::exception)
+    fmt::print(stderr, "eitbench: error: an unexpected exception that is not a std::exception\n");
+    return 1;
   }
   return 0;
 }
