@@ -14,6 +14,17 @@
 
 #include "eitbench/jacobian/error.h"
 
+#if defined(__SANITIZE_ADDRESS__)
+#define EITBENCH_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define EITBENCH_SANITIZED 1
+#endif
+#endif
+#ifdef EITBENCH_SANITIZED
+#include <sanitizer/common_interface_defs.h>
+#endif
+
 namespace eitbench::detail {
 namespace {
 
@@ -33,6 +44,12 @@ void write_all(int fd, const std::string& bytes) {
 // source, field and message separated by NULs; on another exception '3' and what()), then leave
 // without running the parent's exit handlers.
 [[noreturn]] void child(int fd, const std::function<std::string()>& read) {
+  // The child's death is the parent's to report. A fuzzer's or test driver's crash hooks, copied
+  // by fork, would file libhdf5's crash as their own finding.
+  ::signal(SIGABRT, SIG_DFL);
+#ifdef EITBENCH_SANITIZED
+  __sanitizer_set_death_callback(nullptr);
+#endif
   int code = 0;
   std::string report;
   try {
