@@ -13,17 +13,7 @@
 #include <filesystem>
 
 #include "eitbench/jacobian/error.h"
-
-#if defined(__SANITIZE_ADDRESS__)
-#define EITBENCH_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define EITBENCH_SANITIZED 1
-#endif
-#endif
-#ifdef EITBENCH_SANITIZED
-#include <sanitizer/common_interface_defs.h>
-#endif
+#include "sanitizers.h"
 
 namespace eitbench::detail {
 namespace {

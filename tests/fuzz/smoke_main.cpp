@@ -28,16 +28,7 @@
 #include <string>
 #include <vector>
 
-#if defined(__SANITIZE_ADDRESS__)
-#define EITBENCH_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define EITBENCH_SANITIZED 1
-#endif
-#endif
-#ifdef EITBENCH_SANITIZED
-#include <sanitizer/common_interface_defs.h>
-#endif
+#include "sanitizers.h"  // bench/src
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 
