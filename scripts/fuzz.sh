@@ -16,22 +16,12 @@ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILE
   -DEITBENCH_BUILD_BENCHMARKS=OFF > /dev/null
 cmake --build "$build" -j2 --target "${targets[@]/#/fuzz_}"
 
-seeds() {  # the seed files of one target
-  case "$1" in
-    msh) ls "$root"/tests/*.msh "$root"/tests/bad_inputs/*.msh ;;
-    csv) ls "$root"/tests/bad_inputs/*.csv "$root"/tests/data/*.csv ;;
-    npy) ls "$root"/tests/data/*.npy ;;
-    npz) ls "$root"/tests/data/*.npz ;;
-    mat) ls "$root"/tests/data/frames_v5*.mat "$root"/tests/data/bad_struct.mat ;;
-    dataset) ls "$root"/tests/bad_inputs/datasets/*.h5 ;;
-    model) [ -f "$build/seed_model.pt" ] && echo "$build/seed_model.pt" || true ;;
-    results) ls "$root"/tests/data/results_*.json ;;
-  esac
-}
-# A model seed, when a normal build is there to train one in a second.
-if [[ " ${targets[*]} " == *" model "* ]] && [ -x "$root/build/eitbench" ] && [ ! -f "$build/seed_model.pt" ]; then
+# The seeds of each target: the lists tests/fuzz/CMakeLists.txt writes, which the CTest smoke job
+# uses too. The model target's list ends with a trained model, made here when a normal build can
+# train one in a second.
+if [[ " ${targets[*]} " == *" model "* ]] && [ -x "$root/build/eitbench" ] && [ ! -f "$build/fuzz_seed_model.pt" ]; then
   "$root/build/eitbench" simulate --preset tiny --density coarse --quiet --out "$build/seed.h5" > /dev/null
-  "$root/build/eitbench" train --data "$build/seed.h5" --steps 1 --quiet --out "$build/seed_model.pt" > /dev/null
+  "$root/build/eitbench" train --data "$build/seed.h5" --steps 1 --quiet --out "$build/fuzz_seed_model.pt" > /dev/null
 fi
 
 export ASAN_OPTIONS=detect_leaks=0:allocator_may_return_null=1
@@ -41,7 +31,7 @@ printf '%-8s %12s %10s %s\n' target executions exec/s findings
 for t in "${targets[@]}"; do
   corpus=$build/corpus/$t findings=$build/findings/$t
   mkdir -p "$corpus" "$findings"
-  for f in $(seeds "$t"); do cp -n "$f" "$corpus/" 2> /dev/null || true; done
+  while read -r f; do cp -n "$f" "$corpus/" 2> /dev/null || true; done < "$build/fuzz_seeds/$t.txt"
   log=$build/fuzz_$t.log
   # The dataset target's libhdf5 runs in a forked child (bench/src/child_read.h), which inherits
   # libFuzzer's malloc hook: without this, libhdf5's exabyte requests there, which the parent

@@ -187,6 +187,17 @@ std::string quality(const ResultRow& row) {
   return row.frames > 0 ? fmt::format("CC {:.3f}, RE {:.3f}", row.cc, row.re) : "no labels";
 }
 
+// The calibration of evaluated frames to the simulated preset, for the log and the report.
+std::string describe(const ReferenceCalibration& c) {
+  return std::isnan(c.fit)
+             ? "none (no reference frame: the frames are taken as differences in the preset's "
+               "units)"
+             : fmt::format(
+                   "frames × {:.6g}, the least-squares fit of the data's reference frame "
+                   "to the simulated preset's (cosine {:.6f})",
+                   c.scale, c.fit);
+}
+
 std::vector<Eigen::VectorXd> first_images(const SampleMatrix& images, int count) {
   std::vector<Eigen::VectorXd> out;
   for (Eigen::Index i = 0; i < std::min<Eigen::Index>(count, images.rows()); ++i)
@@ -283,14 +294,7 @@ RunResults run_benchmark(const RunConfig& config) {
                       data.image_size, source.image_size, source.image_size));
     calibration = calibrate_to_model(data.reference, source.reference);
     test.frames *= calibration.scale;
-    if (std::isnan(calibration.fit))
-      say("calibration: none (no reference frame; the frames are taken as differences in the "
-          "model's units)");
-    else
-      say(
-          fmt::format("calibration: frames × {:.4g}, the fit of the data's reference frame to the "
-                      "model's (cosine {:.4f})",
-                      calibration.scale, calibration.fit));
+    say("calibration: " + describe(calibration));
     if (calibration.fit < 0.95)
       say("warning: the reference frame fits the model's poorly; check --electrodes and the "
           "measurement order (--order of eitbench import)");
@@ -532,14 +536,7 @@ RunResults run_benchmark(const RunConfig& config) {
   c["reconstruction_mesh"] = fmt::format("disk L={} {} ({} triangles)", data.electrodes,
                                          to_string(config.mesh), mesh.num_triangles());
   c["background"] = fmt::format("{:g}", background);
-  if (!own_training)
-    c["calibration"] =
-        std::isnan(calibration.fit)
-            ? "none: no reference frame"
-            : fmt::format(
-                  "frames × {:.6g}, the least-squares fit of the data's reference frame "
-                  "to the simulated preset's (cosine {:.6f})",
-                  calibration.scale, calibration.fit);
+  if (!own_training) c["calibration"] = describe(calibration);
   c["snrs_db"] = [&] {
     std::string s;
     for (double v : snrs) s += (s.empty() ? "" : " ") + snr_label(v);

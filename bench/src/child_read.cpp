@@ -122,7 +122,10 @@ std::string read_in_child(const std::string& path, const std::function<std::stri
                                  WTERMSIG(status)));
   const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   const char kind = report.empty() ? ' ' : report[0];
-  if (code == 0 && kind == '0') return report.substr(1);
+  if (code == 0 && kind == '0') {
+    report.erase(0, 1);  // in place, and moved out: it may hold most of a large data set
+    return report;
+  }
   if (code == 2 && kind == '2') {
     const auto a = report.find('\0'), b = a == std::string::npos ? a : report.find('\0', a + 1);
     if (b != std::string::npos)
