@@ -33,7 +33,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$corpus" "$findings"
   while read -r f; do cp -n "$f" "$corpus/" 2> /dev/null || true; done < "$build/fuzz_seeds/$t.txt"
   log=$build/fuzz_$t.log
-  # The dataset target's libhdf5 runs in a forked child (bench/src/child_read.h), which inherits
+  # The dataset target's libhdf5 runs in a forked child (bench/io/include/eitbench/bench/io/child_read.h), which inherits
   # libFuzzer's malloc hook: without this, libhdf5's exabyte requests there, which the parent
   # reports as a corrupt file, would be filed as out-of-memory findings.
   extra=()

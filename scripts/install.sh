@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package eitbench needs. Run as root; safe to run again (it only calls
-# apt when something is missing). The list and its reasons are in README.md, "Dependencies".
+# apt when something is missing). The list and its reasons are in docs/building.md.
 set -euo pipefail
 
 packages=(

@@ -222,8 +222,9 @@ TEST(Paper, AlgorithmOneEqualsTheRotations) {
 }
 
 TEST(Paper, AlgorithmTwoIsNoPhysicalMirror) {
-  // SPEC section 2's finding: on a D16-symmetric network the paper's column reversal differs from
-  // every physically mirrored frame by 8-14 % of the signal's maximum, and breaks reciprocity.
+  // The conventions' finding (docs/augmentation.md): on a D16-symmetric network the paper's column
+  // reversal differs from every physically mirrored frame by 8-14 % of the signal's maximum, and
+  // breaks reciprocity.
   const int L = 16;
   const Mesh& mesh = testing::disk(L, MeshDensity::medium);
   const ForwardModel model(mesh);

@@ -1,6 +1,7 @@
-// Reading untrusted HDF5 files in a child process (bench/src/child_read.h, issue 8): what the child
-// read comes back whole; its errors come back as the same InputError; its crash or hang becomes an
-// InputError naming the file. The last test is the libhdf5 hang that fuzzing found.
+// Reading untrusted HDF5 files in a child process
+// (bench/io/include/eitbench/bench/io/child_read.h): what the child read comes back whole; its
+// errors come back as the same InputError; its crash or hang becomes an InputError naming the file.
+// The last test is the libhdf5 hang that fuzzing found.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -11,8 +12,8 @@
 #include <cstring>
 #include <thread>
 
-#include "child_read.h"
-#include "eitbench/bench/dataset.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/io/child_read.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {

@@ -8,8 +8,9 @@
 #include <sstream>
 
 #include "cli_fixture.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/io.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/csv.h"
 #include "eitbench/jacobian.h"
 
 namespace eitbench {

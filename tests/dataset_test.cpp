@@ -1,4 +1,4 @@
-// The simulated data set (SPEC section 4) and its HDF5 file.
+// The simulated data set (docs/conventions.md) and its HDF5 file.
 #include <H5Cpp.h>
 #include <gtest/gtest.h>
 
@@ -6,10 +6,10 @@
 #include <fstream>
 
 #include "eitbench/augment.h"
-#include "eitbench/bench/augment_file.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/noise.h"
-#include "eitbench/bench/simulate.h"
+#include "eitbench/bench/data/augment_file.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/noise.h"
+#include "eitbench/bench/data/simulate.h"
 #include "eitbench/jacobian.h"
 
 namespace eitbench {

@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "eitbench/augment.h"
-#include "eitbench/bench/simulate.h"
-#include "eitbench/bench/training_data.h"
+#include "eitbench/bench/data/simulate.h"
+#include "eitbench/bench/data/training_data.h"
 #include "eitbench/jacobian.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/learned.h"

@@ -5,8 +5,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "eitbench/bench/io.h"
-#include "eitbench/bench/measurements.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/csv.h"
+#include "eitbench/bench/io/numpy.h"
 #include "eitbench/jacobian.h"
 
 namespace eitbench {
@@ -163,6 +166,22 @@ TEST(Import, RejectsBadFilesNamingFileAndField) {
       EXPECT_NE(std::string(e.what()).find(b.words), std::string::npos) << e.what();
     }
   }
+}
+
+// The writer of the run's reconstructions.npy against the reader every import uses: shapes of one
+// and four dimensions, values float32-exact, a count that does not fit the shape refused.
+TEST(Npy, WrittenArraysReadBack) {
+  const std::vector<float> values{1.5f, -2.0f, 3e-7f, 1e30f, 0.0f, -0.125f};
+  for (const std::vector<std::size_t>& shape :
+       {std::vector<std::size_t>{6}, std::vector<std::size_t>{1, 3, 1, 2}}) {
+    const auto a = detail::read_npy(detail::npy_bytes(values, shape), "mem.npy", "");
+    EXPECT_EQ(a.shape, shape);
+    ASSERT_EQ(a.values.size(), values.size());
+    for (std::size_t i = 0; i < values.size(); ++i) EXPECT_EQ(a.values[i], values[i]) << i;
+  }
+  // NumPy aligns the data to 64 bytes.
+  EXPECT_EQ((detail::npy_bytes(values, {2, 3}).size() - values.size() * sizeof(float)) % 64, 0u);
+  EXPECT_THROW(detail::npy_bytes(values, {4, 2}), std::logic_error);
 }
 
 TEST(Calibration, FitsTheMeasuredReferenceToTheModels) {

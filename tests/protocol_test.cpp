@@ -1,4 +1,4 @@
-// The measurement protocol of SPEC section 1, for several L.
+// The measurement protocol of docs/conventions.md, for several L.
 #include <gtest/gtest.h>
 
 #include <random>

@@ -1,4 +1,4 @@
-// eitbench run and compare (issue 7): the tiny preset end to end, every output and its schema, the
+// eitbench run, report and compare: the tiny preset end to end, every output and its schema, the
 // results file's round trip, resuming, and compare's verdicts.
 #include <gtest/gtest.h>
 
@@ -6,8 +6,8 @@
 #include <set>
 
 #include "cli_fixture.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/results.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/report/results.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
@@ -50,8 +50,9 @@ std::vector<std::string> csv_line(const std::string& line) {
 
 TEST_F(RunCli, TinyPresetWritesEveryOutput) {
   const fs::path dir = run_folder();
-  for (const char* name : {"results.json", "results.csv", "report.md", "reconstructions.png",
-                           "loss_curves.png", "loss_curves.csv", "data_efficiency.png", "data.h5"})
+  for (const char* name :
+       {"results.json", "reconstructions.npy", "results.csv", "report.md", "reconstructions.png",
+        "loss_curves.png", "loss_curves.csv", "data_efficiency.png", "data.h5"})
     EXPECT_TRUE(fs::exists(dir / name)) << name;
 
   // results.csv: tidy, one row per method x augmentation x SNR, the columns issue 7 names.
@@ -216,6 +217,51 @@ TEST_F(RunCli, KilledSimulationLeavesNoFile) {
   EXPECT_EQ(read_dataset(out).size(), 81);
   for (const auto& entry : fs::directory_iterator(dir_))
     EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
+}
+
+std::string file_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// `eitbench report` draws from the store alone (results.json, reconstructions.npy): in a copy of
+// the run holding nothing else, it re-draws every derived file, byte for byte as the run did.
+TEST_F(RunCli, ReportRedrawsTheRunFromItsStoredResults) {
+  const fs::path finished = run_folder();
+  const fs::path copy = path("copy");
+  fs::create_directories(copy);
+  for (const char* name : {"results.json", "reconstructions.npy"})
+    fs::copy_file(finished / name, copy / name);
+  const Result r = run("report " + copy.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("ms/frame"), std::string::npos) << r.output;  // the summary table
+  for (const char* name : {"report.md", "results.csv", "reconstructions.png", "loss_curves.csv",
+                           "loss_curves.png", "data_efficiency.png"}) {
+    ASSERT_TRUE(fs::exists(copy / name)) << name;
+    EXPECT_EQ(file_bytes(copy / name), file_bytes(finished / name)) << name;
+  }
+  // Without the images, everything else is drawn and the old figure is left alone.
+  fs::remove(copy / "reconstructions.npy");
+  fs::remove(copy / "reconstructions.png");
+  EXPECT_EQ(run("report " + copy.string()).exit_code, 0);
+  EXPECT_FALSE(fs::exists(copy / "reconstructions.png"));
+  // Not a run: a message naming the file, exit 2, nothing written.
+  const fs::path empty = path("empty");
+  fs::create_directories(empty);
+  const Result bad = run("report " + empty.string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("results.json"), std::string::npos) << bad.output;
+  EXPECT_TRUE(fs::is_empty(empty));
+  // Images that do not fit results.json's rows are refused.
+  fs::copy_file(finished / "reconstructions.npy", copy / "reconstructions.npy");
+  std::string npy = file_bytes(copy / "reconstructions.npy");
+  npy.resize(npy.size() / 2);
+  std::ofstream(copy / "reconstructions.npy", std::ios::binary) << npy;
+  const Result truncated = run("report " + copy.string());
+  EXPECT_EQ(truncated.exit_code, 2) << truncated.output;
+  EXPECT_NE(truncated.output.find("reconstructions.npy"), std::string::npos) << truncated.output;
 }
 
 TEST(Results, JsonRoundTrip) {

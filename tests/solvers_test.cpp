@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "eitbench/bench/metrics.h"
-#include "eitbench/bench/noise.h"
+#include "eitbench/bench/data/noise.h"
+#include "eitbench/bench/methods/metrics.h"
 #include "eitbench/jacobian.h"
 #include "eitbench/solvers.h"
 #include "test_support.h"

@@ -7,9 +7,9 @@
 #include <thread>
 
 #include "cli_fixture.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/model_file.h"
-#include "eitbench/bench/simulate.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/simulate.h"
+#include "eitbench/bench/methods/model_file.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {

@@ -5,9 +5,10 @@
 
 #include "commands.h"
 #include "eitbench/augment.h"
-#include "eitbench/bench/augment_file.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/io.h"
+#include "eitbench/bench/data/augment_file.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/csv.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench::cli {

@@ -15,6 +15,7 @@ std::function<void()> add_import_command(CLI::App& app);
 std::function<void()> add_reconstruct_command(CLI::App& app);
 std::function<void()> add_run_command(CLI::App& app);
 std::function<void()> add_train_command(CLI::App& app);
+std::function<void()> add_report_command(CLI::App& app);
 std::function<void()> add_compare_command(CLI::App& app);
 
 // Thrown by compare when it found a regression: exit status 1, the table already printed.

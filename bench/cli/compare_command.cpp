@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "commands.h"
-#include "eitbench/bench/results.h"
+#include "eitbench/bench/report/compare.h"
 #include "options.h"
 
 namespace eitbench::cli {

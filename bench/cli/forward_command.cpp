@@ -4,7 +4,8 @@
 #include <memory>
 
 #include "commands.h"
-#include "eitbench/bench/io.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/csv.h"
 #include "options.h"
 
 namespace eitbench::cli {

@@ -4,8 +4,8 @@
 #include <memory>
 
 #include "commands.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/measurements.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/measurements.h"
 
 namespace eitbench::cli {
 

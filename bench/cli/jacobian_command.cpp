@@ -5,8 +5,10 @@
 #include <memory>
 
 #include "commands.h"
-#include "eitbench/bench/io.h"
-#include "eitbench/bench/version.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/csv.h"
+#include "eitbench/bench/io/hdf5_matrix.h"
+#include "eitbench/bench/support/version.h"
 #include "options.h"
 
 namespace eitbench::cli {

@@ -6,8 +6,8 @@
 #include <map>
 
 #include "commands.h"
-#include "eitbench/bench/allocator.h"
-#include "eitbench/bench/version.h"
+#include "eitbench/bench/support/allocator.h"
+#include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
 
 int main(int argc, char** argv) {
@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
                    eitbench::cli::add_simulate_command, eitbench::cli::add_info_command,
                    eitbench::cli::add_show_command, eitbench::cli::add_import_command,
                    eitbench::cli::add_train_command, eitbench::cli::add_reconstruct_command,
-                   eitbench::cli::add_run_command, eitbench::cli::add_compare_command}) {
+                   eitbench::cli::add_run_command, eitbench::cli::add_report_command,
+                   eitbench::cli::add_compare_command}) {
     auto action = add(app);
     actions[app.get_subcommands({}).back()] = action;
   }

@@ -5,8 +5,8 @@
 #include <memory>
 
 #include "commands.h"
-#include "eitbench/bench/figures.h"
-#include "eitbench/bench/io.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/report/figures.h"
 #include "options.h"
 
 namespace eitbench::cli {

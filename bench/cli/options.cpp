@@ -2,7 +2,8 @@
 
 #include <cmath>
 
-#include "eitbench/bench/io.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/csv.h"
 
 namespace eitbench::cli {
 namespace {

@@ -8,59 +8,35 @@
 #include <optional>
 
 #include "commands.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/figures.h"
-#include "eitbench/bench/images_file.h"
-#include "eitbench/bench/measurements.h"
-#include "eitbench/bench/metrics.h"
-#include "eitbench/bench/model_file.h"
-#include "eitbench/bench/noise.h"
-#include "eitbench/bench/reconstructors.h"
-#include "eitbench/bench/timing.h"
-#include "eitbench/bench/version.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/data/noise.h"
+#include "eitbench/bench/methods/evaluate.h"
+#include "eitbench/bench/methods/images_file.h"
+#include "eitbench/bench/methods/metrics.h"
+#include "eitbench/bench/methods/model_file.h"
+#include "eitbench/bench/methods/registry.h"
+#include "eitbench/bench/report/figures.h"
+#include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian.h"
 #include "options.h"
 
 namespace eitbench::cli {
 namespace {
 
-// "A:B" -> [A, B) within n frames.
-std::pair<int, int> parse_range(const std::string& text, int n) {
-  if (text.empty()) return {0, n};
-  const auto colon = text.find(':');
-  auto number = [&](const std::string& s, int fallback) {
-    if (s.empty()) return fallback;
-    char* end = nullptr;
-    const long v = std::strtol(s.c_str(), &end, 10);
-    if (*end != '\0') throw InputError("--frames", "", "'" + text + "' is not a range A:B");
-    return static_cast<int>(v);
-  };
-  if (colon == std::string::npos)
-    throw InputError("--frames", "", "'" + text + "' is not a range A:B");
-  const int a = number(text.substr(0, colon), 0), b = number(text.substr(colon + 1), n);
-  if (a < 0 || b > n || a >= b)
-    throw InputError("--frames", "",
-                     "range " + text + " is empty or outside the " + std::to_string(n) + " frames");
-  return {a, b};
-}
+struct Args {
+  std::string method = "noser", data, reference, frames, order = "rotating", variable, choose, out,
+              model;
+  MeshSource mesh;
+  double background = 0, lambda = 0, snr = INFINITY;
+  std::uint64_t noise_seed = 1;
+  int pngs = 4;
+  bool absolute = false;
+  std::string neighbours = "pixels";
+  double tolerance = 0;
+};
 
-}  // namespace
-
-std::function<void()> add_reconstruct_command(CLI::App& app) {
-  struct Args {
-    std::string method = "noser", data, reference, frames, order = "rotating", variable, choose,
-                out, model;
-    MeshSource mesh;
-    double background = 0, lambda = 0, snr = INFINITY;
-    std::uint64_t noise_seed = 1;
-    int pngs = 4;
-    bool absolute = false;
-    std::string neighbours = "pixels";
-    double tolerance = 0;
-  };
-  auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand(
-      "reconstruct", "Reconstruct images from frames (difference voltages) by one method");
+void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--method", args->method,
                   "tikhonov | noser | laplace | tv | gn | greit | dnn (needs --model)")
       ->capture_default_str()
@@ -107,173 +83,257 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
       ->check(CLI::Range(0, 100));
   cmd->add_option("--out", args->out, "HDF5 file of images (and scores when labels are known)")
       ->required();
+}
+
+// "A:B" -> [A, B) within n frames.
+std::pair<int, int> parse_range(const std::string& text, int n) {
+  if (text.empty()) return {0, n};
+  const auto colon = text.find(':');
+  auto number = [&](const std::string& s, int fallback) {
+    if (s.empty()) return fallback;
+    char* end = nullptr;
+    const long v = std::strtol(s.c_str(), &end, 10);
+    if (*end != '\0') throw InputError("--frames", "", "'" + text + "' is not a range A:B");
+    return static_cast<int>(v);
+  };
+  if (colon == std::string::npos)
+    throw InputError("--frames", "", "'" + text + "' is not a range A:B");
+  const int a = number(text.substr(0, colon), 0), b = number(text.substr(colon + 1), n);
+  if (a < 0 || b > n || a >= b)
+    throw InputError("--frames", "",
+                     "range " + text + " is empty or outside the " + std::to_string(n) + " frames");
+  return {a, b};
+}
+
+// The frames to reconstruct (the test split's, or all measured ones; --frames of those), their
+// labels (N x 0 without) and the data set they came from.
+struct Selection {
+  Dataset data;
+  std::vector<int> rows;
+  SampleMatrix frames, labels;
+};
+
+Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) {
+  Selection s;
+  Dataset& data = s.data;
+  if (is_hdf5_file(args->data) && args->data.find(".mat") == std::string::npos) {
+    data = read_dataset(args->data);
+  } else {
+    ImportOptions o;
+    o.electrodes = mesh_file ? mesh_file->num_electrodes() : args->mesh.disk.electrodes;
+    o.order = parse_order(args->order);
+    o.variable = args->variable;
+    data = import_measurements(args->data, args->reference, o);
+  }
+  std::vector<int>& selected = s.rows;
+  selected = data.indices(Split::test);
+  if (selected.empty()) throw InputError(args->data, "split", "no test frames to reconstruct");
+  const auto [a, b] = parse_range(args->frames, static_cast<int>(selected.size()));
+  selected = std::vector<int>(selected.begin() + a, selected.begin() + b);
+  SampleMatrix& frames = s.frames;
+  SampleMatrix& labels = s.labels;
+  frames.resize(static_cast<Eigen::Index>(selected.size()), data.differences.cols());
+  labels.resize(static_cast<Eigen::Index>(selected.size()), data.labels.cols());
+  if (args->absolute && args->method != "gn")
+    throw InputError("--absolute", "", "only the gn method fits absolute frames");
+  const Protocol data_protocol(data.electrodes);
+  for (std::size_t k = 0; k < selected.size(); ++k) {
+    frames.row(k) = args->absolute ? data_protocol
+                                         .reduce(data.frames.row(selected[k]).transpose(),
+                                                 MeasurementOrder::rotating)
+                                         .transpose()
+                                   : Eigen::RowVectorXd(data.differences.row(selected[k]));
+    if (data.has_labels()) labels.row(k) = data.labels.row(selected[k]);
+  }
+  if (std::isfinite(args->snr)) add_noise(frames, args->snr, args->noise_seed);
+  return s;
+}
+
+// The mesh the model-based methods reconstruct on: the file's, or a disk for the data's sensor.
+Mesh reconstruction_mesh(Args* args, const CLI::App& cmd, std::optional<Mesh> mesh_file,
+                         const Dataset& data) {
+  if (args->mesh.file.empty() && !cmd.count("--electrodes"))
+    args->mesh.disk.electrodes = data.electrodes;
+  args->mesh.disk.electrode_coverage = data.electrode_coverage;
+  Mesh mesh = mesh_file ? std::move(*mesh_file) : load_mesh(args->mesh);
+  if (mesh.num_electrodes() != data.electrodes)
+    throw InputError(args->mesh.file.empty() ? "--electrodes" : args->mesh.file, "electrodes",
+                     "the mesh has " + std::to_string(mesh.num_electrodes()) +
+                         " electrodes, the data " + std::to_string(data.electrodes));
+  return mesh;
+}
+
+struct FrameSelection {
+  SampleMatrix frames, labels;
+};
+
+// Frames and labels to choose a hyperparameter on: the validation split when the data have one,
+// else the selected frames themselves.
+FrameSelection tuning_frames(const Args* args, const Selection& s, const std::string& choose);
+
+// A model-based method on the mesh, its hyperparameter chosen as --choose says. It keeps a
+// reference to the linear problem, which `problem` holds for it.
+std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd,
+                                           const Selection& s, const Mesh& mesh,
+                                           const PixelGrid& grid, double background,
+                                           std::unique_ptr<LinearProblem>& problem) {
+  ForwardOptions forward;
+  forward.contact_impedance = s.data.contact_impedance;
+  forward.current = s.data.current;
+  const auto model = std::make_shared<const ForwardModel>(
+      mesh, forward, args->mesh.file.empty() ? "mesh" : args->mesh.file);
+  problem = std::make_unique<LinearProblem>(make_linear_problem(model, background, grid));
+  MethodOptions mo;
+  mo.choose = cmd.count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
+  mo.lambda = args->lambda;
+  mo.absolute = args->absolute;
+  mo.neighbours = args->neighbours;
+  mo.tolerance = args->tolerance;
+  auto method = make_reconstructor(args->method, *problem, mo);
+  if (mo.choose != "fixed") {
+    const FrameSelection tuning = tuning_frames(args, s, mo.choose);
+    method->fit(tuning.frames, tuning.labels,
+                [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+                  return correlation(x, y, grid);
+                });
+  }
+  return method;
+}
+
+FrameSelection tuning_frames(const Args* args, const Selection& s, const std::string& choose) {
+  const Dataset& data = s.data;
+  const std::vector<int> val = data.indices(Split::validation);
+  if (choose == "validation" && (val.empty() || !data.has_labels()))
+    throw InputError(args->data, "split",
+                     "--choose validation needs a data set with a labelled validation split");
+  FrameSelection t{s.frames, s.labels};
+  if (val.empty()) return t;
+  t.frames.resize(static_cast<Eigen::Index>(val.size()), data.differences.cols());
+  t.labels.resize(static_cast<Eigen::Index>(val.size()), data.labels.cols());
+  for (std::size_t k = 0; k < val.size(); ++k) {
+    t.frames.row(k) = data.differences.row(val[k]);
+    if (data.has_labels()) t.labels.row(k) = data.labels.row(val[k]);
+  }
+  if (std::isfinite(args->snr)) add_noise(t.frames, args->snr, args->noise_seed + 1);
+  return t;
+}
+
+std::unique_ptr<Reconstructor> learned(const Args* args, const CLI::App& cmd, const Dataset& data) {
+  if (args->model.empty())
+    throw InputError("--model", "", "--method dnn needs a model file (eitbench train --out)");
+  if (cmd.count("--lambda") || cmd.count("--choose"))
+    throw InputError("--method dnn", "", "a trained model has no lambda to set or choose");
+  LearnedModel model = read_model_file(args->model);
+  check_model_fits(model, args->model, data.electrodes, data.image_size);
+  return make_learned_reconstructor(std::move(model));
+}
+
+// PNG pictures of the first --png frames beside --out: the image, and the label's centre row
+// (or the frame itself without labels).
+void write_pngs(const Args* args, const Selection& s, const Evaluation& result, const Mesh& mesh,
+                const PixelGrid& grid) {
+  const Dataset& data = s.data;
+  const SampleMatrix& images = result.images;
+  const std::string stem =
+      (std::filesystem::path(args->out).parent_path() / std::filesystem::path(args->out).stem())
+          .string();
+  for (int k = 0; k < std::min<int>(args->pngs, static_cast<int>(images.rows())); ++k) {
+    SampleFigure f;
+    f.title = fmt::format("{} frame {}{}", args->method, s.rows[k],
+                          data.has_labels() ? fmt::format(", CC {:.3f}", result.each[k].cc) : "");
+    f.image = images.row(k).transpose();
+    f.mask = grid.mask();
+    f.image_min = std::min(0.0, f.image.minCoeff());
+    f.image_max = std::max(1e-12, f.image.maxCoeff());
+    f.outline = &mesh;
+    f.radius = data.radius;
+    f.plot_title = data.has_labels() ? "label (truth), row through the centre" : "frame";
+    f.x_label = data.has_labels() ? "pixel column" : "measurement";
+    f.y_label = data.has_labels() ? "intensity" : "dv";
+    if (data.has_labels()) {
+      const int n = grid.size(), row = n / 2;
+      std::vector<double> truth(n), recon(n);
+      for (int j = 0; j < n; ++j)
+        truth[j] = s.labels(k, row * n + j), recon[j] = images(k, row * n + j);
+      f.series = {{{}, truth, "truth", {40, 160, 40}}, {{}, recon, args->method, {200, 90, 20}}};
+    } else {
+      const Eigen::VectorXd dv = s.frames.row(k).transpose();
+      f.series = {{{}, std::vector<double>(dv.data(), dv.data() + dv.size()), "dv", {200, 90, 20}}};
+    }
+    draw_sample_png(f, fmt::format("{}_{}.png", stem, k));
+  }
+}
+
+void write_images(const Args* args, const Selection& s, const Evaluation& result, double background,
+                  double setup_s) {
+  ImagesFile file;
+  file.images = result.images;
+  file.frame_index = s.rows;
+  file.scores = result.each;
+  file.text = {{"method", args->method},
+               {"settings", result.settings},
+               {"data", args->data},
+               {"program", program_version()},
+               {"mesh", args->mesh.file.empty() ? "disk " + to_string(args->mesh.disk.density)
+                                                : args->mesh.file}};
+  file.numbers = {{"background", background},
+                  {"setup_s", setup_s},
+                  {"latency_median_ms", result.latency_median_ms},
+                  {"latency_p95_ms", result.latency_p95_ms},
+                  {"snr_db", args->snr}};
+  write_images_file(args->out, file);
+}
+
+void print_summary(const Args* args, const Selection& s, const Evaluation& result, double setup_s) {
+  fmt::print("{} ({}): {} frames, setup {:.3f} s, latency median {:.3f} ms, p95 {:.3f} ms\n",
+             args->method, result.settings, result.images.rows(), setup_s, result.latency_median_ms,
+             result.latency_p95_ms);
+  const ScoreSummary& summary = result.scores;
+  if (s.data.has_labels())
+    fmt::print("  CC {:.4f} +- {:.4f}, RE {:.4f} +- {:.4f}, SSIM {:.4f}, MSE {:.3g}{}\n",
+               summary.mean.cc, summary.std.cc, summary.mean.re, summary.std.re, summary.mean.ssim,
+               summary.mean.mse,
+               std::isfinite(args->snr) ? fmt::format(" at {} dB", args->snr) : "");
+  fmt::print("wrote {}\n", args->out);
+}
+
+}  // namespace
+
+std::function<void()> add_reconstruct_command(CLI::App& app) {
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "reconstruct", "Reconstruct images from frames (difference voltages) by one method");
+  add_options(cmd, args.get());
   return [args, cmd] {
     // The mesh file, read once: its electrode count sets how measured frames are read.
     std::optional<Mesh> mesh_file;
     if (!args->mesh.file.empty()) mesh_file = read_msh_file(args->mesh.file);
-    // The frames, their labels (if any) and the sensor.
-    Dataset data;
-    if (is_hdf5_file(args->data) && args->data.find(".mat") == std::string::npos) {
-      data = read_dataset(args->data);
-    } else {
-      ImportOptions o;
-      o.electrodes = mesh_file ? mesh_file->num_electrodes() : args->mesh.disk.electrodes;
-      o.order = parse_order(args->order);
-      o.variable = args->variable;
-      data = import_measurements(args->data, args->reference, o);
-    }
-    std::vector<int> selected = data.indices(Split::test);
-    if (selected.empty()) throw InputError(args->data, "split", "no test frames to reconstruct");
-    const auto [a, b] = parse_range(args->frames, static_cast<int>(selected.size()));
-    selected = std::vector<int>(selected.begin() + a, selected.begin() + b);
-    SampleMatrix frames(static_cast<Eigen::Index>(selected.size()), data.differences.cols());
-    SampleMatrix labels(static_cast<Eigen::Index>(selected.size()), data.labels.cols());
-    if (args->absolute && args->method != "gn")
-      throw InputError("--absolute", "", "only the gn method fits absolute frames");
-    const Protocol data_protocol(data.electrodes);
-    for (std::size_t k = 0; k < selected.size(); ++k) {
-      frames.row(k) = args->absolute ? data_protocol
-                                           .reduce(data.frames.row(selected[k]).transpose(),
-                                                   MeasurementOrder::rotating)
-                                           .transpose()
-                                     : Eigen::RowVectorXd(data.differences.row(selected[k]));
-      if (data.has_labels()) labels.row(k) = data.labels.row(selected[k]);
-    }
-    if (std::isfinite(args->snr)) add_noise(frames, args->snr, args->noise_seed);
-
-    if (args->mesh.file.empty() && !cmd->count("--electrodes"))
-      args->mesh.disk.electrodes = data.electrodes;
-    args->mesh.disk.electrode_coverage = data.electrode_coverage;
-    const Mesh mesh = mesh_file ? std::move(*mesh_file) : load_mesh(args->mesh);
-    if (mesh.num_electrodes() != data.electrodes)
-      throw InputError(args->mesh.file.empty() ? "--electrodes" : args->mesh.file, "electrodes",
-                       "the mesh has " + std::to_string(mesh.num_electrodes()) +
-                           " electrodes, the data " + std::to_string(data.electrodes));
-    const double background = cmd->count("--background")  ? args->background
-                              : data.preset == "imported" ? 1.0
-                                                          : data.background;
-    ForwardOptions forward;
-    forward.contact_impedance = data.contact_impedance;
-    forward.current = data.current;
-
-    // A model-based method on the mesh, its hyperparameter chosen as --choose says.
-    // The reconstructor keeps a reference to the linear problem: it lives out here.
-    const PixelGrid grid(data.image_size, data.radius);
-    std::unique_ptr<LinearProblem> problem;
-    auto model_based = [&]() {
-      const auto model = std::make_shared<const ForwardModel>(
-          mesh, forward, args->mesh.file.empty() ? "mesh" : args->mesh.file);
-      problem = std::make_unique<LinearProblem>(make_linear_problem(model, background, grid));
-      MethodOptions mo;
-      mo.choose = cmd->count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
-      mo.lambda = args->lambda;
-      mo.absolute = args->absolute;
-      mo.neighbours = args->neighbours;
-      mo.tolerance = args->tolerance;
-      auto method = make_reconstructor(args->method, *problem, mo);
-      if (mo.choose != "fixed") {
-        // Hyperparameters from the validation split when the data have one, else from the frames.
-        const std::vector<int> val = data.indices(Split::validation);
-        if (mo.choose == "validation" && (val.empty() || !data.has_labels()))
-          throw InputError(args->data, "split",
-                           "--choose validation needs a data set with a labelled validation split");
-        SampleMatrix vframes = frames, vlabels = labels;
-        if (!val.empty()) {
-          vframes.resize(static_cast<Eigen::Index>(val.size()), data.differences.cols());
-          vlabels.resize(static_cast<Eigen::Index>(val.size()), data.labels.cols());
-          for (std::size_t k = 0; k < val.size(); ++k) {
-            vframes.row(k) = data.differences.row(val[k]);
-            if (data.has_labels()) vlabels.row(k) = data.labels.row(val[k]);
-          }
-          if (std::isfinite(args->snr)) add_noise(vframes, args->snr, args->noise_seed + 1);
-        }
-        method->fit(vframes, vlabels, [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
-          return correlation(x, y, grid);
-        });
-      }
-      return method;
-    };
+    const Selection s = select_frames(args.get(), mesh_file);
+    const Mesh mesh = reconstruction_mesh(args.get(), *cmd, std::move(mesh_file), s.data);
+    const double background = cmd->count("--background")    ? args->background
+                              : s.data.preset == "imported" ? 1.0
+                                                            : s.data.background;
+    const PixelGrid grid(s.data.image_size, s.data.radius);
     const auto t0 = std::chrono::steady_clock::now();
+    std::unique_ptr<LinearProblem> problem;  // outlives the method, which refers to it
     std::unique_ptr<Reconstructor> method;
     if (args->method == "dnn") {
-      if (args->model.empty())
-        throw InputError("--model", "", "--method dnn needs a model file (eitbench train --out)");
-      if (cmd->count("--lambda") || cmd->count("--choose"))
-        throw InputError("--method dnn", "", "a trained model has no lambda to set or choose");
-      LearnedModel learned = read_model_file(args->model);
-      check_model_fits(learned, args->model, data.electrodes, data.image_size);
-      method = make_learned_reconstructor(std::move(learned));
+      method = learned(args.get(), *cmd, s.data);
     } else {
       if (!args->model.empty())
         throw InputError("--model", "", "only --method dnn takes a model file");
-      method = model_based();
+      method = model_based(args.get(), *cmd, s, mesh, grid, background, problem);
     }
     const double setup_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-    SampleMatrix images(frames.rows(), grid.num_pixels());
-    std::vector<double> latency_ms;
-    for (Eigen::Index i = 0; i < frames.rows(); ++i) {
-      const auto s = std::chrono::steady_clock::now();
-      images.row(i) = method->reconstruct(frames.row(i).transpose()).transpose();
-      latency_ms.push_back(
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s).count());
-    }
-    ImagesFile file;
-    file.images = images;
-    file.frame_index = selected;
-    ScoreSummary summary;
-    if (data.has_labels()) summary = score_images(images, labels, grid, &file.scores);
-    file.text = {{"method", args->method},
-                 {"settings", method->settings()},
-                 {"data", args->data},
-                 {"program", program_version()},
-                 {"mesh", args->mesh.file.empty() ? "disk " + to_string(args->mesh.disk.density)
-                                                  : args->mesh.file}};
-    file.numbers = {{"background", background},
-                    {"setup_s", setup_s},
-                    {"latency_median_ms", percentile(latency_ms, 0.5)},
-                    {"latency_p95_ms", percentile(latency_ms, 0.95)},
-                    {"snr_db", args->snr}};
-    write_images_file(args->out, file);
-    const std::string stem =
-        (std::filesystem::path(args->out).parent_path() / std::filesystem::path(args->out).stem())
-            .string();
-    for (int k = 0; k < std::min<int>(args->pngs, static_cast<int>(images.rows())); ++k) {
-      SampleFigure f;
-      f.title = fmt::format("{} frame {}{}", args->method, selected[k],
-                            data.has_labels() ? fmt::format(", CC {:.3f}", file.scores[k].cc) : "");
-      f.image = images.row(k).transpose();
-      f.mask = grid.mask();
-      f.image_min = std::min(0.0, f.image.minCoeff());
-      f.image_max = std::max(1e-12, f.image.maxCoeff());
-      f.outline = &mesh;
-      f.radius = data.radius;
-      f.plot_title = data.has_labels() ? "label (truth), row through the centre" : "frame";
-      f.x_label = data.has_labels() ? "pixel column" : "measurement";
-      f.y_label = data.has_labels() ? "intensity" : "dv";
-      if (data.has_labels()) {
-        const int n = grid.size(), row = n / 2;
-        std::vector<double> truth(n), recon(n);
-        for (int j = 0; j < n; ++j)
-          truth[j] = labels(k, row * n + j), recon[j] = images(k, row * n + j);
-        f.series = {{{}, truth, "truth", {40, 160, 40}}, {{}, recon, args->method, {200, 90, 20}}};
-      } else {
-        const Eigen::VectorXd dv = frames.row(k).transpose();
-        f.series = {
-            {{}, std::vector<double>(dv.data(), dv.data() + dv.size()), "dv", {200, 90, 20}}};
-      }
-      draw_sample_png(f, fmt::format("{}_{}.png", stem, k));
-    }
-    fmt::print("{} ({}): {} frames, setup {:.3f} s, latency median {:.3f} ms, p95 {:.3f} ms\n",
-               args->method, method->settings(), images.rows(), setup_s,
-               percentile(latency_ms, 0.5), percentile(latency_ms, 0.95));
-    if (data.has_labels())
-      fmt::print("  CC {:.4f} +- {:.4f}, RE {:.4f} +- {:.4f}, SSIM {:.4f}, MSE {:.3g}{}\n",
-                 summary.mean.cc, summary.std.cc, summary.mean.re, summary.std.re,
-                 summary.mean.ssim, summary.mean.mse,
-                 std::isfinite(args->snr) ? fmt::format(" at {} dB", args->snr) : "");
-    fmt::print("wrote {}\n", args->out);
+    // The same loop as the benchmark's: every frame timed one at a time, after a warm-up.
+    EvaluationOptions timing;
+    timing.timed_frames = -1;
+    const Evaluation result =
+        evaluate(*method, s.frames, s.data.has_labels() ? s.labels : SampleMatrix(), grid, timing);
+    write_images(args.get(), s, result, background, setup_s);
+    write_pngs(args.get(), s, result, mesh, grid);
+    print_summary(args.get(), s, result, setup_s);
   };
 }
 

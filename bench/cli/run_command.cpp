@@ -7,10 +7,10 @@
 #include <memory>
 
 #include "commands.h"
-#include "eitbench/bench/benchmark_run.h"
-#include "eitbench/bench/reconstructors.h"
-#include "eitbench/bench/report.h"
-#include "eitbench/bench/version.h"
+#include "eitbench/bench/methods/registry.h"
+#include "eitbench/bench/report/report.h"
+#include "eitbench/bench/run/benchmark_run.h"
+#include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
 #include "options.h"
 

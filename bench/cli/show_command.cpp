@@ -5,8 +5,8 @@
 #include <memory>
 
 #include "commands.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/figures.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/report/figures.h"
 #include "eitbench/jacobian.h"
 #include "options.h"
 

@@ -1,13 +1,13 @@
-// eitbench simulate: the simulated tactile data set (SPEC section 4) as an HDF5 file.
+// eitbench simulate: the simulated tactile data set (docs/conventions.md) as an HDF5 file.
 #include <fmt/core.h>
 
 #include <chrono>
 #include <memory>
 
 #include "commands.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/progress.h"
-#include "eitbench/bench/simulate.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/simulate.h"
+#include "eitbench/bench/support/progress.h"
 #include "options.h"
 
 namespace eitbench::cli {

@@ -5,27 +5,27 @@
 #include <memory>
 
 #include "commands.h"
-#include "eitbench/bench/dataset.h"
-#include "eitbench/bench/model_file.h"
-#include "eitbench/bench/training_data.h"
-#include "eitbench/bench/training_run.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/training_data.h"
+#include "eitbench/bench/methods/model_file.h"
+#include "eitbench/bench/methods/training_run.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/learned.h"
 #include "options.h"
 
 namespace eitbench::cli {
 
-std::function<void()> add_train_command(CLI::App& app) {
-  struct Args {
-    std::string data, augment = "none", model = "small", device = "cpu", out;
-    TrainingOptions options;
-    int threads = 2, train_size = 0;
-    double dropout = -1;
-    bool resume = false, quiet = false;
-  };
-  auto args = std::make_shared<Args>();
-  auto* cmd = app.add_subcommand(
-      "train", "Train the learned reconstructor (MLP encoder, CNN decoder) on a data set");
+namespace {
+
+struct Args {
+  std::string data, augment = "none", model = "small", device = "cpu", out;
+  TrainingOptions options;
+  int threads = 2, train_size = 0;
+  double dropout = -1;
+  bool resume = false, quiet = false;
+};
+
+void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--data", args->data,
                   "an eitbench data set with labels and train/validation splits (HDF5)")
       ->required();
@@ -77,15 +77,43 @@ std::function<void()> add_train_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", args->quiet, "no progress output");
+}
+
+// The options a flag left unset take the model size's defaults.
+TrainingOptions training_options(Args& args, const CLI::App& cmd, ModelSize size) {
+  TrainingOptions o = args.options;
+  o.augment = parse_group(args.augment, "--augment");
+  o.device = resolve_device(args.device);
+  if (!cmd.count("--batch")) o.batch_size = size == ModelSize::paper ? 512 : 128;
+  if (!cmd.count("--lr")) o.learning_rate = size == ModelSize::paper ? 1e-4 : 1e-3;
+  if (!cmd.count("--epochs") && !cmd.count("--steps"))
+    o.epochs = size == ModelSize::paper ? 300 : 20;
+  return o;
+}
+
+void print_result(const Args& args, const TrainingResult& r) {
+  const EpochRecord& best = r.history[r.best_epoch > 0 ? r.best_epoch - 1 : 0];
+  double samples = 0, seconds = 0;
+  for (const auto& e : r.history) samples += e.samples_per_second * e.seconds, seconds += e.seconds;
+  fmt::print(
+      "{} epochs, {} steps ({} an epoch); best epoch {}: validation MSE {:.5g}; "
+      "{:.0f} samples/s\n",
+      r.history.size(), r.history.back().steps, r.steps_per_epoch, r.best_epoch,
+      best.validation_loss, seconds > 0 ? samples / seconds : 0.0);
+  fmt::print("wrote {} ({} parameters), {} and {}\n", args.out, r.model.parameters(),
+             loss_curve_path(args.out, "csv"), loss_curve_path(args.out, "png"));
+}
+
+}  // namespace
+
+std::function<void()> add_train_command(CLI::App& app) {
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "train", "Train the learned reconstructor (MLP encoder, CNN decoder) on a data set");
+  add_options(cmd, args.get());
   return [args, cmd] {
     const ModelSize size = parse_model_size(args->model);
-    TrainingOptions& o = args->options;
-    o.augment = parse_group(args->augment, "--augment");
-    o.device = resolve_device(args->device);
-    if (!cmd->count("--batch")) o.batch_size = size == ModelSize::paper ? 512 : 128;
-    if (!cmd->count("--lr")) o.learning_rate = size == ModelSize::paper ? 1e-4 : 1e-3;
-    if (!cmd->count("--epochs") && !cmd->count("--steps"))
-      o.epochs = size == ModelSize::paper ? 300 : 20;
+    const TrainingOptions o = training_options(*args, *cmd, size);
     set_torch_threads(args->threads);
 
     const Dataset data = read_dataset(args->data);
@@ -117,17 +145,7 @@ std::function<void()> add_train_command(CLI::App& app) {
     run.quiet = args->quiet;
     const TrainingResult r =
         train_and_save(network, o, std::move(train), validation, sensor_of(data), run);
-    const EpochRecord& best = r.history[r.best_epoch > 0 ? r.best_epoch - 1 : 0];
-    double samples = 0, seconds = 0;
-    for (const auto& e : r.history)
-      samples += e.samples_per_second * e.seconds, seconds += e.seconds;
-    fmt::print(
-        "{} epochs, {} steps ({} an epoch); best epoch {}: validation MSE {:.5g}; "
-        "{:.0f} samples/s\n",
-        r.history.size(), r.history.back().steps, r.steps_per_epoch, r.best_epoch,
-        best.validation_loss, seconds > 0 ? samples / seconds : 0.0);
-    fmt::print("wrote {} ({} parameters), {} and {}\n", args->out, r.model.parameters(),
-               loss_curve_path(args->out, "csv"), loss_curve_path(args->out, "png"));
+    print_result(*args, r);
   };
 }
 

@@ -6,7 +6,7 @@
 #include <cstdlib>
 
 #include "eitbench/augment.h"
-#include "eitbench/bench/allocator.h"
+#include "eitbench/bench/support/allocator.h"
 #include "eitbench/jacobian.h"
 #include "eitbench/jacobian/random.h"
 #include "eitbench/learned.h"

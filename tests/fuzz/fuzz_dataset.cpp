@@ -7,8 +7,8 @@
 #include <fstream>
 #include <string>
 
-#include "child_read.h"
-#include "eitbench/bench/dataset.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/io/child_read.h"
 #include "fuzz_target.h"
 
 namespace {

@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "sanitizers.h"  // bench/src
+#include "eitbench/bench/io/sanitizers.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size);
 

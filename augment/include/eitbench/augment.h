@@ -1,6 +1,6 @@
 #pragma once
 // eitbench/augment: the data augmentation of the paper through the sensor's symmetry group D_L,
-// with the correct mirror (SPEC section 2) and the paper's literal variant for comparison.
+// with the correct mirror (docs/conventions.md) and the paper's literal variant for comparison.
 #include "eitbench/augment/augmented_set.h"
 #include "eitbench/augment/impedance_map.h"
 #include "eitbench/augment/label_transform.h"

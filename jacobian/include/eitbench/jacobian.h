@@ -5,6 +5,7 @@
 #include "eitbench/jacobian/disk_mesh.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/forward_model.h"
+#include "eitbench/jacobian/frame_layout.h"
 #include "eitbench/jacobian/geometry.h"
 #include "eitbench/jacobian/mesh.h"
 #include "eitbench/jacobian/msh_io.h"

@@ -1,5 +1,5 @@
 #pragma once
-// eitbench/learned: the learned reconstructor of SPEC section 6 (MLP encoder from the difference
+// eitbench/learned: the learned reconstructor (MLP encoder from the difference
 // frame to a latent, CNN decoder to the image), its training with the symmetry augmentation, and
 // its file format. LibTorch is an implementation detail: nothing here includes it.
 #include "eitbench/learned/learned_model.h"

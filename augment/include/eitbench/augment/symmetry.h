@@ -1,5 +1,5 @@
 #pragma once
-// The sensor's symmetry group D_L acting on frames, points and circles (SPEC section 2).
+// The sensor's symmetry group D_L acting on frames, points and circles (docs/conventions.md).
 //
 // An element g = (s, mirror) means: mirror first (theta -> -theta, electrode e -> -e), then
 // rotate by s electrode steps. On frames, v'(d, m) = v(p(d), p(m)) with p(i) = i + s, or

@@ -1,6 +1,6 @@
 #pragma once
 // The disk sensor's mesh, with exact D_L symmetry: every rotation by 2*pi/L and the mirror about
-// the axis through electrode 0 map nodes to nodes and triangles to triangles (SPEC section 3).
+// the axis through electrode 0 map nodes to nodes and triangles to triangles (docs/conventions.md).
 #include <string>
 
 #include "eitbench/jacobian/mesh.h"

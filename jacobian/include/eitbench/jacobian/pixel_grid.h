@@ -1,5 +1,5 @@
 #pragma once
-// The 64x64 image grid over [-R, R]^2 (SPEC section 3) and the exact area overlaps between its
+// The 64x64 image grid over [-R, R]^2 (docs/conventions.md) and the exact area overlaps between its
 // pixels and a mesh's triangles.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -45,7 +45,7 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_to_element(const Mesh& mesh,
 Eigen::SparseMatrix<double, Eigen::RowMajor> element_to_pixel(const Mesh& mesh,
                                                               const PixelGrid& grid);
 
-// The label image of circular inclusions (SPEC section 4): per pixel, the touch intensity
+// The label image of circular inclusions (docs/conventions.md): per pixel, the touch intensity
 // (sigma_0 - sigma) / sigma_0 weighted by the exact fraction of the pixel each circle covers.
 // Masked pixels hold 0. One value per pixel, row-major (index i * size + j).
 Eigen::VectorXd circles_image(const PixelGrid& grid, const std::vector<Circle>& circles,

@@ -1,5 +1,5 @@
 #pragma once
-// The adjacent drive / adjacent measurement protocol of SPEC section 1, for any L >= 4.
+// The adjacent drive / adjacent measurement protocol of docs/conventions.md, for any L >= 4.
 #include <Eigen/Core>
 #include <string>
 #include <vector>

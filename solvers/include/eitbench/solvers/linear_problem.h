@@ -2,7 +2,8 @@
 // The linearised inverse problem every model-based reconstructor starts from, on the label scale:
 //   dv ~= A x,   x = -dsigma / sigma_0 on the in-disk pixels,   A = -sigma_0 J_pix,
 // with the Jacobian J_pix = J_elem P taken at the background sigma_0 on the reconstruction mesh,
-// rows in the reduced (104) layout. Solutions are images on the label scale directly (SPEC 5).
+// rows in the reduced (104) layout. Solutions are images on the label scale directly
+// (docs/conventions.md).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <memory>

@@ -1,0 +1,34 @@
+// eitbench report: re-draws a finished run's report and figures from its stored results, without
+// running anything again (after a change to the report, or for a run copied from elsewhere).
+#include <fmt/core.h>
+
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/bench/report/report.h"
+#include "eitbench/bench/report/run_store.h"
+
+namespace eitbench::cli {
+
+std::function<void()> add_report_command(CLI::App& app) {
+  struct Args {
+    std::string folder;
+    bool quiet = false;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "report",
+      "Re-draw a benchmark run's report.md, results.csv and figures from its results.json and "
+      "reconstructions.npy");
+  cmd->add_option("folder", args->folder, "the run's output folder (eitbench run --out)")
+      ->required();
+  cmd->add_flag("--quiet", args->quiet, "no summary table");
+  return [args] {
+    const RunResults results = draw_run_report(args->folder, args->quiet);
+    if (!args->quiet)
+      fmt::print("{}\n{}\n\nwrote {}/report.md, results.csv and the figures\n",
+                 summary_table(results), results.recommendation, args->folder);
+  };
+}
+
+}  // namespace eitbench::cli

@@ -1,0 +1,59 @@
+#pragma once
+// A data set of frames and touch labels, simulated or imported: its schema. The HDF5 file that
+// holds it is dataset_file.h's.
+//
+// File layout (HDF5, readable by h5py and MATLAB's h5read; N samples, L electrodes, n x n image):
+//   /differences   N x L(L-3)/2  float64  difference voltages v(sigma) - v(sigma_0), reduced layout
+//   /frames        N x L(L-3)    float64  absolute frames, rotating order
+//   /reference     L(L-3)        float64  the reference (empty sensor) frame, rotating order
+//   /split         N             int32    0 train, 1 validation, 2 test
+//   /labels        N x n x n     float32  touch intensity (sigma_0 - sigma) / sigma_0 per pixel
+//   /circles       N x 4 x 4     float64  x, y, r, sigma of up to 4 circles, NaN-padded
+//   /circle_count  N             int32
+// Labels and circles are absent from imported measurements. Attributes on the root group:
+// electrodes, radius, background_conductivity, contact_impedance, current, electrode_coverage,
+// image_size, seed, preset, simulation_mesh, simulation_triangles, protocol, frame_order,
+// difference_layout, program, augmentation, format_version.
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "eitbench/jacobian/geometry.h"
+#include "eitbench/jacobian/sample_matrix.h"
+
+namespace eitbench {
+
+enum class Split : int { train = 0, validation = 1, test = 2 };
+std::string to_string(Split split);
+
+struct Dataset {
+  // Sensor and protocol.
+  int electrodes = 16;
+  double radius = 1.0;
+  double background = 0.05;  // sigma_0 (S/m)
+  double contact_impedance = 0.01;
+  double current = 1.0;
+  double electrode_coverage = 0.5;
+  int image_size = 64;
+  // Provenance.
+  std::uint64_t seed = 0;
+  std::string preset;           // quick | standard | paper | imported
+  std::string simulation_mesh;  // how the frames were made, or where they came from
+  int simulation_triangles = 0;
+  std::string program;
+  std::string augmentation = "none";  // the group the set was expanded by, if any
+
+  Eigen::VectorXd reference;                 // L(L-3), rotating
+  SampleMatrix frames;                       // N x L(L-3), rotating
+  SampleMatrix differences;                  // N x L(L-3)/2, reduced
+  SampleMatrix labels;                       // N x n^2, or N x 0
+  std::vector<std::vector<Circle>> circles;  // N lists, or empty
+  std::vector<Split> split;                  // N
+
+  int size() const { return static_cast<int>(differences.rows()); }
+  bool has_labels() const { return labels.cols() > 0; }
+  std::vector<int> indices(Split which) const;
+};
+
+}  // namespace eitbench

@@ -1,0 +1,62 @@
+#pragma once
+// Frames measured by real instruments, from the files they and their users write: CSV, NumPy
+// .npy / .npz, MATLAB .mat (level 5, compressed or not; v7.3 through HDF5).
+//
+// A frame is recognised by its length: L(L-3) values in --order (rotating or ascending), the
+// L(L-3)/2 reduced values (completed by reciprocity), or L^2 values of the full L x L map, (d, m)
+// at d L + m, with the unmeasured entries present and ignored. A 2-D array holds one frame a row,
+// or one a column when only its row count is a frame length (MATLAB files, where EIDORS stores one
+// frame a column, prefer columns when both fit).
+#include <Eigen/Core>
+#include <cmath>
+#include <string>
+
+#include "eitbench/bench/data/dataset.h"
+#include "eitbench/jacobian/protocol.h"
+#include "eitbench/jacobian/sample_matrix.h"
+
+namespace eitbench {
+
+struct ImportOptions {
+  int electrodes = 16;
+  MeasurementOrder order = MeasurementOrder::rotating;  // of L(L-3)-value frames
+  std::string variable;  // array (.npz) or variable (.mat); default: the only numeric one, else
+                         // the first of frames, data, vv, v, voltages, meas
+};
+
+struct Measurements {
+  SampleMatrix frames;      // N x L(L-3), rotating order
+  std::string description;  // format, variable and layout, for people
+  bool reduced_input = false;
+  double reciprocity_error =
+      0;  // mean relative error of the frames as measured (0 for reduced input)
+};
+
+// InputError names the file and the variable or field.
+Measurements read_measurements(const std::string& path, const ImportOptions& options);
+
+// Frames and a reference (empty-sensor) file as a data set without labels: differences are
+// frame - reference (the reference file's mean frame when it holds several). Without a reference
+// the frames are taken to be differences already, and the reference is zero.
+Dataset import_measurements(const std::string& path, const std::string& reference_path,
+                            const ImportOptions& options,
+                            const std::string& reference_variable = "");
+// The same for frames already read (read_measurements), so that callers read the file once.
+Dataset import_measurements(const Measurements& frames, const std::string& reference_path,
+                            const ImportOptions& options,
+                            const std::string& reference_variable = "");
+
+// Measured frames in a model's units. A measured frame is in the instrument's units (its current,
+// its gain, volts or millivolts); a model trained or tuned on simulated frames expects the
+// simulation's. The factor is the least-squares fit of the measured empty-sensor frame to the
+// model's, scale = <model, measured> / <measured, measured>, and `fit` is the cosine between the
+// two: near 1 when the sensor and its measurement order match the model's. A zero measured
+// reference (frames imported as differences) gives scale 1 and fit NaN.
+struct ReferenceCalibration {
+  double scale = 1;
+  double fit = NAN;
+};
+ReferenceCalibration calibrate_to_model(const Eigen::VectorXd& measured_reference,
+                                        const Eigen::VectorXd& model_reference);
+
+}  // namespace eitbench

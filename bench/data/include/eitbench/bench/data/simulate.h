@@ -1,0 +1,40 @@
+#pragma once
+// The simulated tactile data set (docs/conventions.md): EdEIT-like circles on a fine mesh.
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "eitbench/bench/data/dataset.h"
+#include "eitbench/jacobian/disk_mesh.h"
+
+namespace eitbench {
+
+struct SimulationOptions {
+  std::string preset = "quick";  // quick | standard | paper (sample counts)
+  std::uint64_t seed = 1;
+  int threads = 0;  // 0: all cores
+  int electrodes = 16;
+  MeshDensity density = MeshDensity::fine;  // finer than the reconstruction mesh (medium)
+  double background = 0.05;
+  double contact_impedance = 0.01;
+  double current = 1.0;
+  double electrode_coverage = 0.5;
+  int image_size = 64;
+};
+
+// Samples with 1, 2, 3 and 4 circles for a preset: paper 7,035 / 7,298 / 7,500 / 7,500; standard
+// and quick the same proportions scaled to about 5,500 and 2,000 training samples. Train: all 1-3
+// circle samples; validation and test: 2/3 and 1/3 of the 4-circle ones.
+struct PresetCounts {
+  int circles[4];
+  int validation;  // of the 4-circle samples; the rest are test
+};
+PresetCounts preset_counts(const std::string& preset);  // throws InputError naming --preset
+
+// Called now and then with (samples done, total).
+using ProgressFn = std::function<void(int, int)>;
+
+// Deterministic for a seed, whatever the thread count: sample i draws from its own generator.
+Dataset simulate_dataset(const SimulationOptions& options, const ProgressFn& progress = {});
+
+}  // namespace eitbench

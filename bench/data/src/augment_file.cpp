@@ -1,0 +1,70 @@
+#include "eitbench/bench/data/augment_file.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "eitbench/augment/augmented_set.h"
+#include "eitbench/bench/data/dataset_file.h"
+
+namespace eitbench {
+
+long long augment_dataset_file(const std::string& in, const std::string& out,
+                               const FileAugmentOptions& o) {
+  Dataset data = read_dataset(in);
+  const int L = data.electrodes;
+  const std::vector<GroupElement> elements =
+      o.elements.empty() ? group_elements(o.group, L) : o.elements;
+  const FrameSymmetry symmetry(L);
+  const ImageSymmetry images(L, PixelGrid(data.image_size, data.radius));
+
+  // The writer takes the attributes and the reference from `data` itself (no copy of the samples).
+  data.augmentation = o.elements.size() == 1 ? o.elements.front().to_string() : to_string(o.group);
+  DatasetWriter writer(out, data, data.has_labels(), !data.circles.empty());
+  for (int begin = 0; begin < data.size(); begin += o.block) {
+    const int end = std::min(data.size(), begin + o.block);
+    // Where each input sample's rows start in this block: chosen samples get |G| rows, others 1.
+    std::vector<Eigen::Index> first(end - begin + 1, 0);
+    std::vector<char> chosen(end - begin);
+    for (int i = begin; i < end; ++i) {
+      chosen[i - begin] =
+          std::find(o.splits.begin(), o.splits.end(), data.split[i]) != o.splits.end();
+      first[i - begin + 1] =
+          first[i - begin] + (chosen[i - begin] ? static_cast<Eigen::Index>(elements.size()) : 1);
+    }
+    const Eigen::Index rows = first.back();
+    Dataset block;
+    block.frames.resize(rows, data.frames.cols());
+    block.differences.resize(rows, data.differences.cols());
+    block.labels.resize(rows, data.has_labels() ? data.labels.cols() : 0);
+    block.split.resize(static_cast<std::size_t>(rows));
+    if (!data.circles.empty()) block.circles.resize(static_cast<std::size_t>(rows));
+    // Rows depend on one input sample each: parallel, and the same for any thread count.
+    tbb::parallel_for(begin, end, [&](int i) {
+      for (Eigen::Index k = 0; k < first[i - begin + 1] - first[i - begin]; ++k) {
+        const GroupElement g =
+            chosen[i - begin] ? elements[static_cast<std::size_t>(k)] : GroupElement{0, false};
+        const Eigen::Index r = first[i - begin] + k;
+        block.frames.row(r) =
+            symmetry.apply(o.group, g, data.frames.row(i).transpose(), FrameLayout::rotating)
+                .transpose();
+        block.differences.row(r) =
+            symmetry.apply(o.group, g, data.differences.row(i).transpose(), FrameLayout::reduced)
+                .transpose();
+        block.split[static_cast<std::size_t>(r)] = data.split[i];
+        if (!data.circles.empty())
+          block.circles[static_cast<std::size_t>(r)] = transform_circles(data.circles[i], g, L);
+        if (data.has_labels())
+          block.labels.row(r) = moved_label(data.labels.row(i).transpose(),
+                                            data.circles.empty() ? nullptr : &data.circles[i],
+                                            data.background, g, L, images)
+                                    .transpose();
+      }
+    });
+    writer.append(block);
+  }
+  writer.commit();
+  return writer.size();
+}
+
+}  // namespace eitbench

@@ -1,0 +1,24 @@
+#include "eitbench/bench/data/dataset.h"
+
+namespace eitbench {
+
+std::string to_string(Split split) {
+  switch (split) {
+    case Split::train:
+      return "train";
+    case Split::validation:
+      return "validation";
+    case Split::test:
+      return "test";
+  }
+  return "?";
+}
+
+std::vector<int> Dataset::indices(Split which) const {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < split.size(); ++i)
+    if (split[i] == which) out.push_back(static_cast<int>(i));
+  return out;
+}
+
+}  // namespace eitbench

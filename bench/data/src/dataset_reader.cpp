@@ -1,0 +1,284 @@
+// The data set's HDF5 file, read in a child process and checked field by field.
+#include <H5Cpp.h>
+#include <fmt/core.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "dataset_hdf5.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/child_read.h"
+#include "eitbench/bench/io/hdf5_attributes.h"
+#include "eitbench/bench/io/wire.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+using detail::h5_type;
+using detail::kDatasetFormatVersion;
+using detail::kMaxCircles;
+constexpr double kMaxBytes = 16e9;  // refuse data sets whose declared size could not be held
+
+class Reader {
+ public:
+  Reader(const std::string& path) : path_(path) {
+    H5::Exception::dontPrint();
+    if (!is_hdf5_file(path)) throw InputError(path, "", "not an HDF5 file (or unreadable)");
+    try {
+      file_ = H5::H5File(path, H5F_ACC_RDONLY);
+    } catch (const H5::Exception& e) {
+      throw InputError(path, "", "cannot open the HDF5 file: " + e.getDetailMsg());
+    }
+  }
+
+  bool has(const std::string& name) const {
+    return H5Lexists(file_.getId(), name.c_str(), H5P_DEFAULT) > 0;
+  }
+
+  // The data set `name` as T, checked to have `dims` (0 in dims: any size, reported back).
+  template <typename T>
+  std::vector<T> array(const std::string& name, std::vector<hsize_t>& dims) const {
+    if (!has(name)) throw InputError(path_, name, "the data set is missing");
+    try {
+      H5::DataSet set = file_.openDataSet(name);
+      H5::DataSpace space = set.getSpace();
+      const int rank = space.getSimpleExtentNdims();
+      std::vector<hsize_t> actual(rank);
+      space.getSimpleExtentDims(actual.data());
+      if (rank != static_cast<int>(dims.size())) fail(name, rank, dims.size(), actual);
+      double elements = 1;
+      for (int k = 0; k < rank; ++k) {
+        if (dims[k] != 0 && dims[k] != actual[k]) fail(name, rank, dims.size(), actual);
+        dims[k] = actual[k];
+        elements *= static_cast<double>(actual[k]);
+      }
+      if (elements * sizeof(T) > kMaxBytes)
+        throw InputError(path_, name, "declares " + shape(actual) + ", too large to read");
+      const H5T_class_t cls = set.getTypeClass();
+      if (cls != H5T_FLOAT && cls != H5T_INTEGER) throw InputError(path_, name, "is not numeric");
+      std::vector<T> out(static_cast<std::size_t>(elements));
+      if (!out.empty()) set.read(out.data(), h5_type<T>());
+      return out;
+    } catch (const H5::Exception& e) {
+      throw InputError(path_, name, "cannot read: " + e.getDetailMsg());
+    }
+  }
+
+  // A numeric attribute in [low, high], or `fallback` when it is absent and not `required`.
+  double number(const std::string& name, double fallback, double low, double high,
+                bool required = false) const {
+    try {
+      if (!file_.attrExists(name)) {
+        if (required) throw InputError(path_, name, "the attribute is missing");
+        return fallback;
+      }
+      const H5::Attribute a = scalar_attribute(name);
+      if (a.getTypeClass() != H5T_FLOAT && a.getTypeClass() != H5T_INTEGER)
+        throw InputError(path_, name, "is not a number");
+      double v = 0;
+      a.read(H5::PredType::NATIVE_DOUBLE, &v);
+      if (!std::isfinite(v)) throw InputError(path_, name, "is NaN or infinite");
+      if (v < low || v > high)
+        throw InputError(path_, name, fmt::format("is {:g}, outside {:g} .. {:g}", v, low, high));
+      return v;
+    } catch (const H5::Exception& e) {
+      throw InputError(path_, name, "cannot read: " + e.getDetailMsg());
+    }
+  }
+
+  // A text attribute; "" when it is absent or not text (the texts are descriptions).
+  std::string text(const std::string& name) const {
+    try {
+      if (!file_.attrExists(name)) return "";
+      const H5::Attribute a = scalar_attribute(name);
+      if (a.getTypeClass() != H5T_STRING) return "";
+      std::string v;
+      a.read(a.getStrType(), v);
+      return v;
+    } catch (const H5::Exception& e) {
+      throw InputError(path_, name, "cannot read: " + e.getDetailMsg());
+    }
+  }
+
+  std::uint64_t seed() const {
+    try {
+      if (!file_.attrExists("seed")) return 0;
+      const H5::Attribute a = scalar_attribute("seed");
+      if (a.getTypeClass() == H5T_STRING) return std::strtoull(text("seed").c_str(), nullptr, 10);
+      if (a.getTypeClass() != H5T_INTEGER) throw InputError(path_, "seed", "is not an integer");
+      std::uint64_t v = 0;
+      a.read(H5::PredType::NATIVE_UINT64, &v);
+      return v;
+    } catch (const H5::Exception& e) {
+      throw InputError(path_, "seed", "cannot read: " + e.getDetailMsg());
+    }
+  }
+
+  const std::string& path() const { return path_; }
+
+ private:
+  static std::string shape(const std::vector<hsize_t>& dims) {
+    std::string s;
+    for (std::size_t k = 0; k < dims.size(); ++k) s += (k ? " x " : "") + std::to_string(dims[k]);
+    return s.empty() ? "a scalar" : s;
+  }
+  // The attribute, checked to hold one value: reading an array into one would overrun it.
+  H5::Attribute scalar_attribute(const std::string& name) const {
+    H5::Attribute a = file_.openAttribute(name);
+    if (a.getSpace().getSimpleExtentNpoints() != 1)
+      throw InputError(path_, name, "must be a single value");
+    return a;
+  }
+  [[noreturn]] void fail(const std::string& name, int, std::size_t,
+                         const std::vector<hsize_t>& actual) const {
+    throw InputError(path_, name,
+                     "has shape " + shape(actual) + ", which does not fit the file's other data");
+  }
+  std::string path_;
+  H5::H5File file_;
+};
+
+void check_finite(const Reader& r, const std::string& name, const double* data, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(data[i]))
+      throw InputError(r.path(), name, "value " + std::to_string(i) + " is NaN or infinite");
+}
+
+Dataset read_dataset_checked(const std::string& path) {
+  const Reader r(path);
+  Dataset d;
+  constexpr double kHuge = 1e300;
+  const double electrodes = r.number("electrodes", 0, 4, 256, true);
+  if (electrodes != std::floor(electrodes))
+    throw InputError(path, "electrodes", "must be a whole number from 4 to 256");
+  d.electrodes = static_cast<int>(electrodes);
+  const int L = d.electrodes;
+  const hsize_t full = static_cast<hsize_t>(L * (L - 3)), reduced = full / 2;
+  d.radius = r.number("radius", 1.0, 0, kHuge);
+  d.background = r.number("background_conductivity", 0.05, 0, kHuge);
+  d.contact_impedance = r.number("contact_impedance", 0.01, -kHuge, kHuge);
+  d.current = r.number("current", 1.0, -kHuge, kHuge);
+  d.electrode_coverage = r.number("electrode_coverage", 0.5, -kHuge, kHuge);
+  d.image_size = static_cast<int>(r.number("image_size", 64, 1, 4096));
+  if (!(d.radius > 0) || !(d.background > 0))
+    throw InputError(path, "attributes", "radius and background_conductivity must be positive");
+  d.seed = r.seed();
+  d.preset = r.text("preset");
+  d.simulation_mesh = r.text("simulation_mesh");
+  d.simulation_triangles = static_cast<int>(r.number("simulation_triangles", 0, 0, 1e9));
+  d.program = r.text("program");
+  d.augmentation = r.text("augmentation").empty() ? "none" : r.text("augmentation");
+
+  std::vector<hsize_t> dims{0, reduced};
+  const std::vector<double> differences = r.array<double>("differences", dims);
+  const hsize_t n = dims[0];
+  if (n == 0) throw InputError(path, "differences", "the data set is empty");
+  check_finite(r, "differences", differences.data(), differences.size());
+  d.differences = Eigen::Map<const SampleMatrix>(differences.data(), static_cast<Eigen::Index>(n),
+                                                 static_cast<Eigen::Index>(reduced));
+  dims = {n, full};
+  const std::vector<double> frames = r.array<double>("frames", dims);
+  check_finite(r, "frames", frames.data(), frames.size());
+  d.frames = Eigen::Map<const SampleMatrix>(frames.data(), static_cast<Eigen::Index>(n),
+                                            static_cast<Eigen::Index>(full));
+  dims = {full};
+  const std::vector<double> reference = r.array<double>("reference", dims);
+  check_finite(r, "reference", reference.data(), reference.size());
+  d.reference =
+      Eigen::Map<const Eigen::VectorXd>(reference.data(), static_cast<Eigen::Index>(full));
+  dims = {n};
+  for (int s : r.array<int>("split", dims)) {
+    if (s < 0 || s > 2)
+      throw InputError(path, "split", "values must be 0 (train), 1 (validation) or 2 (test)");
+    d.split.push_back(static_cast<Split>(s));
+  }
+  if (r.has("labels")) {
+    const hsize_t side = static_cast<hsize_t>(d.image_size);
+    dims = {n, side, side};
+    const std::vector<float> labels = r.array<float>("labels", dims);
+    d.labels =
+        Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            labels.data(), static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(side * side))
+            .cast<double>();
+    if (!d.labels.allFinite()) throw InputError(path, "labels", "NaN or infinite values");
+  }
+  if (r.has("circles")) {
+    dims = {n, static_cast<hsize_t>(kMaxCircles), 4};
+    const std::vector<double> table = r.array<double>("circles", dims);
+    dims = {n};
+    const std::vector<int> count = r.array<int>("circle_count", dims);
+    d.circles.resize(n);
+    for (hsize_t i = 0; i < n; ++i) {
+      if (count[i] < 0 || count[i] > kMaxCircles)
+        throw InputError(path, "circle_count", "values must lie in 0..4");
+      for (int k = 0; k < count[i]; ++k) {
+        const double* c = &table[(i * kMaxCircles + k) * 4];
+        if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !(c[2] > 0) || !(c[3] > 0))
+          throw InputError(
+              path, "circles",
+              "sample " + std::to_string(i) + ", circle " + std::to_string(k) + " is invalid");
+        d.circles[i].push_back({c[0], c[1], c[2], c[3]});
+      }
+    }
+  }
+  return d;
+}
+
+// A data set as the child that read it hands it over (child_read.h).
+std::string to_wire(const Dataset& d) {
+  detail::WireWriter w;
+  w.pod(d.electrodes), w.pod(d.radius), w.pod(d.background), w.pod(d.contact_impedance);
+  w.pod(d.current), w.pod(d.electrode_coverage), w.pod(d.image_size), w.pod(d.seed);
+  w.text(d.preset), w.text(d.simulation_mesh), w.pod(d.simulation_triangles);
+  w.text(d.program), w.text(d.augmentation);
+  w.matrix(d.reference), w.matrix(d.frames), w.matrix(d.differences), w.matrix(d.labels);
+  w.pod<std::uint64_t>(d.circles.size());
+  for (const auto& list : d.circles) w.vector(list);
+  w.vector(d.split);
+  return w.take();
+}
+
+Dataset from_wire(const std::string& bytes) {
+  detail::WireReader r(bytes);
+  Dataset d;
+  d.electrodes = r.pod<int>(), d.radius = r.pod<double>(), d.background = r.pod<double>();
+  d.contact_impedance = r.pod<double>(), d.current = r.pod<double>();
+  d.electrode_coverage = r.pod<double>(), d.image_size = r.pod<int>();
+  d.seed = r.pod<std::uint64_t>();
+  d.preset = r.text(), d.simulation_mesh = r.text(), d.simulation_triangles = r.pod<int>();
+  d.program = r.text(), d.augmentation = r.text();
+  d.reference = r.matrix<Eigen::VectorXd>();
+  d.frames = r.matrix<SampleMatrix>(), d.differences = r.matrix<SampleMatrix>();
+  d.labels = r.matrix<SampleMatrix>();
+  d.circles.resize(r.pod<std::uint64_t>());
+  for (auto& list : d.circles) list = r.vector<Circle>();
+  d.split = r.vector<Split>();
+  return d;
+}
+
+}  // namespace
+
+bool is_hdf5_file(const std::string& path) {
+  H5E_BEGIN_TRY {
+    return H5Fis_hdf5(path.c_str()) > 0;
+  }
+  H5E_END_TRY;
+  return false;
+}
+
+Dataset read_dataset(const std::string& path) {
+  // libhdf5 may crash or hang on a corrupt file: it reads the file in a child (child_read.h).
+  return from_wire(detail::read_in_child(path, [&path] {
+    try {
+      return to_wire(read_dataset_checked(path));
+    } catch (const H5::Exception& e) {  // anything the readers above do not name more precisely
+      throw InputError(path, "", "cannot read the HDF5 file: " + e.getDetailMsg());
+    }
+  }));
+}
+
+}  // namespace eitbench

@@ -1,0 +1,205 @@
+// The data set's HDF5 file, written whole or streamed block by block (layout in dataset.h).
+#include <H5Cpp.h>
+#include <fmt/core.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "dataset_hdf5.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/child_read.h"
+#include "eitbench/bench/io/hdf5_attributes.h"
+#include "eitbench/bench/io/wire.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+using detail::h5_type;
+using detail::kDatasetFormatVersion;
+using detail::kMaxCircles;
+// Deflate level 1: augmenting the quick set (64,687 samples) took 6.6 s for 76 MB, level 4 took
+// 9.7 s for 65 MB. HDF5 compresses on one thread, so this is the file writer's bottleneck.
+constexpr int kDeflateLevel = 1;
+
+// An extendible C-order array whose first dimension grows as samples are appended; chunked by
+// whole samples, shuffled and compressed.
+class GrowingArray {
+ public:
+  GrowingArray(H5::H5File& file, const std::string& name, const H5::PredType& type,
+               std::vector<hsize_t> sample_dims)
+      : type_(type), sample_(std::move(sample_dims)) {
+    std::vector<hsize_t> dims{0}, max{H5S_UNLIMITED}, chunk{1};
+    hsize_t per_sample = 1;
+    for (hsize_t d : sample_)
+      dims.push_back(d), max.push_back(d), chunk.push_back(d), per_sample *= d;
+    chunk[0] = std::max<hsize_t>(1, (1u << 18) / std::max<hsize_t>(1, per_sample));
+    H5::DSetCreatPropList props;
+    props.setChunk(static_cast<int>(chunk.size()), chunk.data());
+    props.setShuffle();
+    props.setDeflate(kDeflateLevel);
+    set_ = file.createDataSet(
+        name, type, H5::DataSpace(static_cast<int>(dims.size()), dims.data(), max.data()), props);
+  }
+  void append(const void* data, hsize_t rows) {
+    if (rows == 0) return;
+    std::vector<hsize_t> size{rows_ + rows}, start{rows_}, count{rows};
+    for (hsize_t d : sample_) size.push_back(d), start.push_back(0), count.push_back(d);
+    set_.extend(size.data());
+    H5::DataSpace file_space = set_.getSpace();
+    file_space.selectHyperslab(H5S_SELECT_SET, count.data(), start.data());
+    const H5::DataSpace memory(static_cast<int>(count.size()), count.data());
+    set_.write(data, type_, memory, file_space);
+    rows_ += rows;
+  }
+
+ private:
+  H5::DataSet set_;
+  const H5::PredType& type_;
+  std::vector<hsize_t> sample_;
+  hsize_t rows_ = 0;
+};
+
+using detail::write_attribute;
+
+}  // namespace
+
+struct DatasetWriter::Impl {
+  H5::H5File file;
+  std::unique_ptr<GrowingArray> differences, frames, split, labels, circles, circle_count;
+  Eigen::Index frame_size = 0, difference_size = 0, pixels = 0;
+};
+
+DatasetWriter::DatasetWriter(const std::string& path, const Dataset& d, bool labels, bool circles)
+    : impl_(std::make_unique<Impl>()), path_(path) {
+  temp_ = temporary_path_for(path);
+  try {
+    H5::Exception::dontPrint();
+    Impl& w = *impl_;
+    w.file = H5::H5File(temp_, H5F_ACC_TRUNC);
+    const int L = d.electrodes;
+    w.frame_size = L * (L - 3);
+    w.difference_size = w.frame_size / 2;
+    w.pixels = static_cast<Eigen::Index>(d.image_size) * d.image_size;
+    if (d.reference.size() != w.frame_size)
+      throw InputError(path, "reference", "does not fit the electrode count");
+    const hsize_t reference_size = static_cast<hsize_t>(w.frame_size);
+    w.file
+        .createDataSet("reference", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &reference_size))
+        .write(d.reference.data(), H5::PredType::NATIVE_DOUBLE);
+    w.differences = std::make_unique<GrowingArray>(
+        w.file, "differences", H5::PredType::NATIVE_DOUBLE,
+        std::vector<hsize_t>{static_cast<hsize_t>(w.difference_size)});
+    w.frames =
+        std::make_unique<GrowingArray>(w.file, "frames", H5::PredType::NATIVE_DOUBLE,
+                                       std::vector<hsize_t>{static_cast<hsize_t>(w.frame_size)});
+    w.split = std::make_unique<GrowingArray>(w.file, "split", H5::PredType::NATIVE_INT,
+                                             std::vector<hsize_t>{});
+    const hsize_t side = static_cast<hsize_t>(d.image_size);
+    if (labels)
+      w.labels = std::make_unique<GrowingArray>(w.file, "labels", H5::PredType::NATIVE_FLOAT,
+                                                std::vector<hsize_t>{side, side});
+    if (circles) {
+      w.circles = std::make_unique<GrowingArray>(
+          w.file, "circles", H5::PredType::NATIVE_DOUBLE,
+          std::vector<hsize_t>{static_cast<hsize_t>(kMaxCircles), 4});
+      w.circle_count = std::make_unique<GrowingArray>(
+          w.file, "circle_count", H5::PredType::NATIVE_INT, std::vector<hsize_t>{});
+    }
+    H5::H5File& file = w.file;
+    write_attribute(file, "electrodes", static_cast<long long>(d.electrodes));
+    write_attribute(file, "radius", d.radius);
+    write_attribute(file, "background_conductivity", d.background);
+    write_attribute(file, "contact_impedance", d.contact_impedance);
+    write_attribute(file, "current", d.current);
+    write_attribute(file, "electrode_coverage", d.electrode_coverage);
+    write_attribute(file, "image_size", static_cast<long long>(d.image_size));
+    write_attribute(file, "seed", d.seed);
+    write_attribute(file, "preset", d.preset);
+    write_attribute(file, "simulation_mesh", d.simulation_mesh);
+    write_attribute(file, "simulation_triangles", static_cast<long long>(d.simulation_triangles));
+    write_attribute(file, "protocol", "adjacent drive, adjacent measurement (SPEC section 1)");
+    write_attribute(file, "frame_order", "rotating");
+    write_attribute(file, "difference_layout",
+                    "reduced: v(d,m), d < m, m - d >= 2, (d,m) != (0,L-1), row-major");
+    write_attribute(file, "program", d.program);
+    write_attribute(file, "augmentation", d.augmentation);
+    write_attribute(file, "format_version", static_cast<long long>(kDatasetFormatVersion));
+  } catch (const H5::Exception& e) {
+    impl_.reset();
+    std::remove(temp_.c_str());
+    throw InputError(path, "", "cannot create the HDF5 file: " + e.getDetailMsg());
+  } catch (...) {
+    impl_.reset();
+    std::remove(temp_.c_str());
+    throw;
+  }
+}
+
+DatasetWriter::~DatasetWriter() {
+  if (committed_) return;
+  impl_.reset();  // closes the file
+  std::remove(temp_.c_str());
+}
+
+void DatasetWriter::append(const Dataset& b) {
+  Impl& w = *impl_;
+  const hsize_t n = static_cast<hsize_t>(b.size());
+  if (b.differences.cols() != w.difference_size || b.frames.cols() != w.frame_size ||
+      b.frames.rows() != b.differences.rows() || b.split.size() != n ||
+      (w.labels && b.labels.cols() != w.pixels) || (w.circles && b.circles.size() != n))
+    throw std::invalid_argument("DatasetWriter::append: the block's shapes do not match the file");
+  try {
+    w.differences->append(b.differences.data(), n);
+    w.frames->append(b.frames.data(), n);
+    std::vector<int> split(n);
+    for (hsize_t i = 0; i < n; ++i) split[i] = static_cast<int>(b.split[i]);
+    w.split->append(split.data(), n);
+    if (w.labels) {
+      const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> labels =
+          b.labels.cast<float>();
+      w.labels->append(labels.data(), n);
+    }
+    if (w.circles) {
+      std::vector<double> table(n * kMaxCircles * 4, std::numeric_limits<double>::quiet_NaN());
+      std::vector<int> count(n);
+      for (hsize_t i = 0; i < n; ++i) {
+        count[i] = static_cast<int>(std::min<std::size_t>(b.circles[i].size(), kMaxCircles));
+        for (int k = 0; k < count[i]; ++k) {
+          const Circle& c = b.circles[i][k];
+          double* row = &table[(i * kMaxCircles + k) * 4];
+          row[0] = c.x, row[1] = c.y, row[2] = c.r, row[3] = c.conductivity;
+        }
+      }
+      w.circles->append(table.data(), n);
+      w.circle_count->append(count.data(), n);
+    }
+  } catch (const H5::Exception& e) {
+    throw InputError(path_, "", "HDF5 write failed (disk full?): " + e.getDetailMsg());
+  }
+  rows_ += static_cast<long long>(n);
+}
+
+void DatasetWriter::commit() {
+  try {
+    impl_->file.close();
+  } catch (const H5::Exception& e) {
+    throw InputError(path_, "", "HDF5 write failed: " + e.getDetailMsg());
+  }
+  impl_.reset();
+  if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
+    std::remove(temp_.c_str());
+    throw InputError(path_, "", "cannot move the finished file into place");
+  }
+  committed_ = true;
+}
+
+void write_dataset(const std::string& path, const Dataset& d) {
+  DatasetWriter writer(path, d, d.has_labels(), !d.circles.empty());
+  writer.append(d);
+  writer.commit();
+}
+}  // namespace eitbench

@@ -1,0 +1,203 @@
+#include "eitbench/bench/data/measurements.h"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "eitbench/augment/impedance_map.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/csv.h"
+#include "eitbench/bench/io/matlab.h"
+#include "eitbench/bench/io/numpy.h"
+#include "eitbench/bench/support/version.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+// The arrays of a file and how it was read.
+std::vector<detail::NamedArray> read_arrays(const std::string& path, std::string& format,
+                                            bool& columns_first) {
+  const std::string ext = lower_extension(path);
+  columns_first = false;
+  if (ext == ".npy") {
+    format = "NumPy .npy";
+    return {detail::read_npy(read_file_bytes(path), path, "")};
+  }
+  if (ext == ".npz") {
+    format = "NumPy .npz";
+    return detail::read_npz(read_file_bytes(path), path);
+  }
+  if (ext == ".mat") {
+    columns_first = true;
+    if (is_hdf5_file(path)) {
+      format = "MATLAB v7.3";
+      return detail::read_mat_v73(path);
+    }
+    format = "MATLAB v5";
+    return detail::read_mat_v5(read_file_bytes(path), path);
+  }
+  if (ext == ".csv" || ext == ".txt") {
+    format = "CSV";
+    const Eigen::MatrixXd m = read_frames_csv(path);
+    detail::NamedArray a;
+    a.shape = {static_cast<std::size_t>(m.rows()), static_cast<std::size_t>(m.cols())};
+    a.values.resize(m.size());
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+      for (Eigen::Index j = 0; j < m.cols(); ++j) a.values[i * m.cols() + j] = m(i, j);
+    return {a};
+  }
+  if (ext == ".h5" || ext == ".hdf5")
+    throw InputError(path, "", "not an HDF5 file (no HDF5 signature): empty, or another format");
+  throw InputError(
+      path, "",
+      "unknown file type '" + ext + "' (.csv, .txt, .npy, .npz, .mat or an eitbench .h5)");
+}
+
+const detail::NamedArray& choose(const std::vector<detail::NamedArray>& arrays,
+                                 const std::string& variable, const std::string& path) {
+  std::string names;
+  for (const auto& a : arrays)
+    names += (names.empty() ? "" : ", ") + a.name + (a.numeric ? "" : " (" + a.kind + ")");
+  if (!variable.empty()) {
+    for (const auto& a : arrays)
+      if (a.name == variable) {
+        if (!a.numeric)
+          throw InputError(path, variable, "is a " + a.kind + ", not a numeric matrix of frames");
+        return a;
+      }
+    throw InputError(path, variable, "no such variable; the file holds: " + names);
+  }
+  std::vector<const detail::NamedArray*> numeric;
+  for (const auto& a : arrays)
+    if (a.numeric) numeric.push_back(&a);
+  if (numeric.size() == 1) return *numeric.front();
+  for (const char* preferred : {"frames", "data", "vv", "v", "voltages", "meas"})
+    for (const auto* a : numeric)
+      if (a->name == preferred) return *a;
+  throw InputError(path, "variables",
+                   numeric.empty()
+                       ? "no numeric matrix; the file holds: " + names
+                       : "several candidates (" + names + "): choose one with --variable");
+}
+
+}  // namespace
+
+Measurements read_measurements(const std::string& path, const ImportOptions& o) {
+  const int L = o.electrodes;
+  if (L < 4 || L > 256) throw InputError("--electrodes", "", "need 4 <= L <= 256");
+  std::string format;
+  bool columns_first = false;
+  const auto arrays = read_arrays(path, format, columns_first);
+  const detail::NamedArray& a = choose(arrays, o.variable, path);
+  const std::string field = a.name.empty() ? "frames" : a.name;
+  if (a.shape.size() > 2)
+    throw InputError(path, field,
+                     "has " + std::to_string(a.shape.size()) + " dimensions; frames need 1 or 2");
+  const std::size_t full = L * (L - 3), reduced = full / 2, square = L * L;
+  auto fits = [&](std::size_t n) { return n == full || n == reduced || n == square; };
+  std::size_t rows = a.shape.size() == 2 ? a.shape[0] : 1,
+              cols = a.shape.empty() ? 0 : a.shape.back();
+  bool transpose = false;  // frames are columns
+  if (a.shape.size() == 2) {
+    if (fits(cols) && fits(rows))
+      transpose = columns_first;
+    else if (!fits(cols) && fits(rows))
+      transpose = true;
+  }
+  const std::size_t n = transpose ? cols : rows, length = transpose ? rows : cols;
+  if (!fits(length))
+    throw InputError(path, field,
+                     "frames of " + std::to_string(length) + " values do not fit " +
+                         std::to_string(L) + " electrodes (" + std::to_string(full) + ", " +
+                         std::to_string(reduced) + " reduced, or " + std::to_string(square) +
+                         " as an L x L map)");
+  if (n == 0) throw InputError(path, field, "holds no frames");
+  for (std::size_t i = 0; i < a.values.size(); ++i)
+    if (!std::isfinite(a.values[i]))
+      throw InputError(path, field, "value " + std::to_string(i) + " is NaN or infinite");
+  auto value = [&](std::size_t frame, std::size_t k) {
+    return transpose ? a.values[k * cols + frame] : a.values[frame * cols + k];
+  };
+
+  const Protocol protocol(L);
+  Measurements m;
+  m.frames.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(full));
+  std::string layout;
+  double reciprocity = 0;
+  for (std::size_t f = 0; f < n; ++f) {
+    Eigen::VectorXd raw(length);
+    for (std::size_t k = 0; k < length; ++k) raw[k] = value(f, k);
+    Eigen::VectorXd rotating;
+    if (length == square) {
+      layout = "L x L map";
+      rotating.resize(full);
+      const auto& pairs = protocol.pairs(MeasurementOrder::rotating);
+      for (std::size_t i = 0; i < full; ++i)
+        rotating[i] = raw[pairs[i].drive * L + pairs[i].measure];
+    } else if (length == reduced) {
+      layout = "reduced (" + std::to_string(reduced) + " values)";
+      rotating = protocol.expand(raw, MeasurementOrder::rotating);
+      m.reduced_input = true;
+    } else {
+      layout = to_string(o.order) + " order";
+      rotating = protocol.reorder(raw, o.order, MeasurementOrder::rotating);
+    }
+    reciprocity += protocol.reciprocity_error(rotating, MeasurementOrder::rotating);
+    m.frames.row(f) = rotating.transpose();
+  }
+  m.reciprocity_error = reciprocity / n;
+  m.description = format + (a.name.empty() ? "" : " (variable '" + a.name + "')") + ", " +
+                  std::to_string(n) + " frames, " + layout +
+                  (transpose ? ", one frame a column" : "");
+  return m;
+}
+
+Dataset import_measurements(const std::string& path, const std::string& reference_path,
+                            const ImportOptions& o, const std::string& reference_variable) {
+  return import_measurements(read_measurements(path, o), reference_path, o, reference_variable);
+}
+
+Dataset import_measurements(const Measurements& m, const std::string& reference_path,
+                            const ImportOptions& o, const std::string& reference_variable) {
+  const int L = o.electrodes;
+  Dataset d;
+  d.electrodes = L;
+  d.preset = "imported";
+  d.simulation_mesh = m.description;
+  d.program = program_version();
+  d.frames = m.frames;
+  d.reference = Eigen::VectorXd::Zero(m.frames.cols());
+  if (!reference_path.empty()) {
+    ImportOptions ro = o;
+    ro.variable = reference_variable;
+    const Measurements r = read_measurements(reference_path, ro);
+    d.reference = r.frames.colwise().mean().transpose();
+  }
+  const Protocol protocol(L);
+  d.differences.resize(m.frames.rows(), protocol.reduced_size());
+  for (Eigen::Index i = 0; i < m.frames.rows(); ++i)
+    d.differences.row(i) =
+        protocol.reduce(m.frames.row(i).transpose() - d.reference, MeasurementOrder::rotating)
+            .transpose();
+  d.split.assign(static_cast<std::size_t>(m.frames.rows()), Split::test);
+  return d;
+}
+
+ReferenceCalibration calibrate_to_model(const Eigen::VectorXd& measured_reference,
+                                        const Eigen::VectorXd& model_reference) {
+  if (measured_reference.size() != model_reference.size())
+    throw std::invalid_argument("calibrate_to_model: the references differ in length");
+  const double mm = measured_reference.squaredNorm(), rr = model_reference.squaredNorm();
+  if (mm == 0 || rr == 0) return {};
+  const double dot = model_reference.dot(measured_reference);
+  return {dot / mm, dot / std::sqrt(mm * rr)};
+}
+
+}  // namespace eitbench

@@ -1,0 +1,129 @@
+#include "eitbench/bench/data/simulate.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <cmath>
+
+#include "eitbench/bench/support/version.h"
+#include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/forward_model.h"
+#include "eitbench/jacobian/pixel_grid.h"
+#include "eitbench/jacobian/random.h"
+
+namespace eitbench {
+
+PresetCounts preset_counts(const std::string& preset) {
+  // The paper's EdEIT counts, and the same proportions scaled down.
+  const double base[4] = {7035, 7298, 7500, 7500};
+  double scale;
+  if (preset == "paper")
+    scale = 1.0;
+  else if (preset == "standard")
+    scale = 0.25;
+  else if (preset == "quick")
+    scale = 2000.0 / 21833.0;
+  else if (preset == "tiny")
+    scale = 60.0 / 21833.0;  // for tests: seconds, every code path
+  else
+    throw InputError("--preset", "", "unknown preset '" + preset + "' (quick, standard or paper)");
+  PresetCounts counts{};
+  for (int k = 0; k < 4; ++k)
+    counts.circles[k] = std::max(3, static_cast<int>(std::lround(base[k] * scale)));
+  counts.validation = static_cast<int>(std::lround(counts.circles[3] * 5000.0 / 7500.0));
+  return counts;
+}
+
+namespace {
+
+// k non-overlapping circles fully inside the disk of radius R, by rejection (docs/conventions.md).
+std::vector<Circle> draw_circles(int k, double R, RandomStream& rng) {
+  for (;;) {  // a fresh start in the (rare) case the last circle finds no room
+    std::vector<Circle> circles;
+    for (int attempt = 0; static_cast<int>(circles.size()) < k && attempt < 10000; ++attempt) {
+      const double r = rng.uniform(0.05 * R, 0.25 * R);
+      const double rho = (R - r) * std::sqrt(rng.uniform()), phi = 2 * M_PI * rng.uniform();
+      const double sigma = rng.uniform(0.0001, 0.05);
+      const Circle c{rho * std::cos(phi), rho * std::sin(phi), r, sigma};
+      bool free = true;
+      for (const Circle& o : circles) free &= std::hypot(c.x - o.x, c.y - o.y) >= c.r + o.r;
+      if (free) circles.push_back(c);
+    }
+    if (static_cast<int>(circles.size()) == k) return circles;
+  }
+}
+
+}  // namespace
+
+Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress) {
+  const PresetCounts counts = preset_counts(o.preset);
+  if (!(o.background > 0)) throw InputError("--background", "", "must be positive");
+  DiskMeshOptions disk;
+  disk.electrodes = o.electrodes;
+  disk.density = o.density;
+  disk.electrode_coverage = o.electrode_coverage;
+  const Mesh mesh = generate_disk_mesh(disk);
+  ForwardOptions forward;
+  forward.current = o.current;
+  forward.contact_impedance = o.contact_impedance;
+  const ForwardModel model(mesh, forward);
+  const PixelGrid grid(o.image_size, disk.radius);
+  const Protocol& protocol = model.protocol();
+
+  Dataset data;
+  data.electrodes = o.electrodes;
+  data.radius = disk.radius;
+  data.background = o.background;
+  data.contact_impedance = o.contact_impedance;
+  data.current = o.current;
+  data.electrode_coverage = o.electrode_coverage;
+  data.image_size = o.image_size;
+  data.seed = o.seed;
+  data.preset = o.preset;
+  data.simulation_mesh = "disk L=" + std::to_string(o.electrodes) + " " + to_string(o.density);
+  data.simulation_triangles = mesh.num_triangles();
+  data.program = program_version();
+  data.reference = model.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), o.background));
+
+  int n = 0;
+  for (int c : counts.circles) n += c;
+  std::vector<int> circle_count(n);
+  for (int k = 0, i = 0; k < 4; ++k)
+    for (int j = 0; j < counts.circles[k]; ++j, ++i) {
+      circle_count[i] = k + 1;
+      const bool four = k == 3;
+      data.split.push_back(!four                   ? Split::train
+                           : j < counts.validation ? Split::validation
+                                                   : Split::test);
+    }
+  data.frames.resize(n, protocol.frame_size());
+  data.differences.resize(n, protocol.reduced_size());
+  data.labels.resize(n, grid.num_pixels());
+  data.circles.resize(n);
+
+  std::atomic<int> done{0};
+  tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(0, n, [&](int i) {
+      RandomStream rng(o.seed, static_cast<std::uint64_t>(i));  // sample i's own stream
+      data.circles[i] = draw_circles(circle_count[i], disk.radius, rng);
+      const Eigen::VectorXd frame =
+          model.frame(conductivity_from_circles(mesh, data.circles[i], o.background));
+      data.frames.row(i) = frame.transpose();
+      data.differences.row(i) =
+          protocol.reduce(frame - data.reference, MeasurementOrder::rotating).transpose();
+      // Labels are float32 in the file: rounded here too, so that a set in memory and the same
+      // set read back are identical (a training checkpoint hashes them).
+      data.labels.row(i) = circles_image(grid, data.circles[i], o.background)
+                               .cast<float>()
+                               .cast<double>()
+                               .transpose();
+      const int finished = ++done;
+      if (progress) progress(finished, n);
+    });
+  });
+  return data;
+}
+
+}  // namespace eitbench

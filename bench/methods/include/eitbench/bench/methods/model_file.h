@@ -1,0 +1,18 @@
+#pragma once
+// The learned reconstructor's files: the model (.pt, a LibTorch archive with eitbench's metadata)
+// and the training checkpoint beside it. learned/ makes and reads the bytes; these move them.
+#include <string>
+
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/learned.h"
+
+namespace eitbench {
+
+LearnedModel read_model_file(const std::string& path);
+void write_model_file(const std::string& path, const LearnedModel& model);
+// Checks that a model fits a sensor: InputError naming `path` when the electrode count or the
+// image size differ.
+void check_model_fits(const LearnedModel& model, const std::string& path, int electrodes,
+                      int image_size);
+
+}  // namespace eitbench

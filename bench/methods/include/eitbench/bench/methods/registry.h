@@ -1,0 +1,48 @@
+#pragma once
+// The benchmark's reconstructors by their command-line names: for each, how it is built on the
+// linear problem and how its hyperparameter is tuned. One file a method in bench/methods/src/; a
+// new method is that file and one line in registry.cpp.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "eitbench/learned.h"
+#include "eitbench/solvers.h"
+
+namespace eitbench {
+
+// What the command line and the benchmark ask of a method.
+struct MethodOptions {
+  std::string choose = "gcv";         // gcv | lcurve | validation | fixed
+  double lambda = 0;                  // with choose == fixed
+  bool absolute = false;              // gn: absolute frames instead of differences
+  std::string neighbours = "pixels";  // laplace: pixels | elements
+  double tolerance = 0;               // tv, gn: stopping tolerance (0: the method's default)
+};
+
+struct MethodSpec {
+  std::string name;    // on the command line, in results.json and the report
+  std::string tuning;  // its hyperparameter, the candidates and how one is chosen, for people
+  // The benchmark tunes it on at most RunConfig::sweep_frames validation frames instead of all:
+  // the iterative methods, whose sweep costs a solve per frame and candidate.
+  bool sweep_on_subset = false;
+  // Null for a method that is trained, not built on the linear problem (dnn).
+  std::function<std::unique_ptr<Reconstructor>(const LinearProblem&, const MethodOptions&)> make;
+};
+
+// Every method, in the order the benchmark runs and reports them.
+const std::vector<MethodSpec>& method_registry();
+const std::vector<std::string>& method_names();  // tikhonov noser laplace tv gn greit dnn
+// The spec of `name`; InputError naming --method for an unknown one.
+const MethodSpec& find_method(const std::string& name);
+// find_method(name).make; InputError naming --model for dnn (it needs a trained model).
+std::unique_ptr<Reconstructor> make_reconstructor(const std::string& name,
+                                                  const LinearProblem& problem,
+                                                  const MethodOptions& options);
+
+// The learned reconstructor behind the same interface ("dnn"): fit() does nothing (it was
+// trained), reconstruct_all runs in batches.
+std::unique_ptr<Reconstructor> make_learned_reconstructor(LearnedModel model);
+
+}  // namespace eitbench

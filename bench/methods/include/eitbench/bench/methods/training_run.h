@@ -1,0 +1,38 @@
+#pragma once
+// One training run as the command line and the benchmark run do it: progress on the terminal, a
+// checkpoint after every epoch (atomic), resumable after a kill, and at the end the model file and
+// its loss curves (CSV and PNG).
+#include <string>
+#include <vector>
+
+#include "eitbench/augment/augmented_set.h"
+#include "eitbench/learned.h"
+
+namespace eitbench {
+
+struct TrainingRun {
+  std::string out;      // the model file; its checkpoint is out + ".checkpoint"
+  bool resume = false;  // continue from the checkpoint (InputError when there is none)
+  bool quiet = false;   // no progress
+  std::string label = "train";
+  bool curves = true;  // <stem>_loss.csv and <stem>_loss.png beside out
+};
+
+struct TrainingResult {
+  LearnedModel model;  // the best by validation loss
+  std::vector<EpochRecord> history;
+  int best_epoch = 0;
+  long long total_steps = 0, steps_per_epoch = 0;
+  double seconds = 0;  // training and validation, this session
+  bool resumed = false;
+};
+
+std::string checkpoint_path(const std::string& model_path);
+// <out's folder>/<out's stem>_loss.csv (and .png).
+std::string loss_curve_path(const std::string& model_path, const std::string& extension);
+
+TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptions& options,
+                              LabelledFrames train, const LabelledFrames& validation,
+                              const AugmentSetup& sensor, const TrainingRun& run);
+
+}  // namespace eitbench

@@ -1,0 +1,24 @@
+// Regularised Gauss-Newton on the nonlinear forward model: lambda by validation CC.
+#include "eitbench/solvers/gauss_newton.h"
+
+#include "method_specs.h"
+
+namespace eitbench::methods {
+
+MethodSpec gauss_newton() {
+  MethodSpec spec;
+  spec.name = "gn";
+  spec.tuning = "lambda from {1e-5, 1e-4, ..., 1e-1} by validation CC";
+  spec.sweep_on_subset = true;
+  spec.make = [](const LinearProblem& problem, const MethodOptions& o) {
+    GaussNewtonOptions g;
+    if (o.choose == "fixed") g.lambda = o.lambda;
+    g.choose_by_validation = o.choose == "validation";
+    g.absolute = o.absolute;
+    if (o.tolerance > 0) g.tolerance = o.tolerance;
+    return std::unique_ptr<Reconstructor>(std::make_unique<GaussNewton>(problem, g));
+  };
+  return spec;
+}
+
+}  // namespace eitbench::methods

@@ -1,0 +1,21 @@
+// GREIT: a linear map trained on point targets; its lambda by validation CC.
+#include "eitbench/solvers/greit.h"
+
+#include "method_specs.h"
+
+namespace eitbench::methods {
+
+MethodSpec greit() {
+  MethodSpec spec;
+  spec.name = "greit";
+  spec.tuning = "lambda from {1e-5, 1e-4, ..., 1} by validation CC";
+  spec.make = [](const LinearProblem& problem, const MethodOptions& o) {
+    GreitOptions g;
+    if (o.choose == "fixed") g.lambda = o.lambda;
+    g.choose_by_validation = o.choose == "validation";
+    return std::unique_ptr<Reconstructor>(std::make_unique<Greit>(problem, g));
+  };
+  return spec;
+}
+
+}  // namespace eitbench::methods

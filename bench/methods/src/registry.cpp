@@ -1,0 +1,40 @@
+#include "eitbench/bench/methods/registry.h"
+
+#include "eitbench/jacobian/error.h"
+#include "method_specs.h"
+
+namespace eitbench {
+
+const std::vector<MethodSpec>& method_registry() {
+  static const std::vector<MethodSpec> registry{
+      methods::tikhonov(),     methods::noser(), methods::laplace(), methods::total_variation(),
+      methods::gauss_newton(), methods::greit(), methods::learned()};
+  return registry;
+}
+
+const std::vector<std::string>& method_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const auto& m : method_registry()) out.push_back(m.name);
+    return out;
+  }();
+  return names;
+}
+
+const MethodSpec& find_method(const std::string& name) {
+  for (const auto& m : method_registry())
+    if (m.name == name) return m;
+  throw InputError("--method", "", "unknown method '" + name + "'");
+}
+
+std::unique_ptr<Reconstructor> make_reconstructor(const std::string& name,
+                                                  const LinearProblem& problem,
+                                                  const MethodOptions& options) {
+  const MethodSpec& spec = find_method(name);
+  if (!spec.make)
+    throw InputError("--model", "",
+                     "the " + name + " method needs a trained model (eitbench train)");
+  return spec.make(problem, options);
+}
+
+}  // namespace eitbench

@@ -1,0 +1,84 @@
+#include "eitbench/bench/methods/training_run.h"
+
+#include <fmt/core.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/methods/model_file.h"
+#include "eitbench/bench/report/loss_curves.h"
+#include "eitbench/bench/support/progress.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+
+std::string checkpoint_path(const std::string& model_path) {
+  return model_path + ".checkpoint";
+}
+
+std::string loss_curve_path(const std::string& model_path, const std::string& extension) {
+  const std::filesystem::path p(model_path);
+  return (p.parent_path() / (p.stem().string() + "_loss." + extension)).string();
+}
+
+TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptions& options,
+                              LabelledFrames train, const LabelledFrames& validation,
+                              const AugmentSetup& sensor, const TrainingRun& run) {
+  const std::string checkpoint = checkpoint_path(run.out);
+  temporary_path_for(run.out);  // the output folder must exist before hours of training
+  std::unique_ptr<Trainer> trainer;
+  bool resumed = false;
+  if (run.resume) {
+    if (!std::filesystem::exists(checkpoint))
+      throw InputError("--resume", "",
+                       "no checkpoint at " + checkpoint +
+                           ": nothing to resume (run without "
+                           "--resume to start)");
+    trainer = Trainer::resume(read_file_bytes(checkpoint), checkpoint, std::move(train), validation,
+                              sensor);
+    resumed = true;
+  } else {
+    trainer = std::make_unique<Trainer>(network, options, std::move(train), validation, sensor);
+  }
+  const long long total = trainer->total_steps();
+  const long long done_before = trainer->history().empty() ? 0 : trainer->history().back().steps;
+  Progress progress(run.label, static_cast<int>(total), run.quiet);
+  if (resumed)
+    progress.note(fmt::format("{}: resuming after epoch {} ({} of {} steps)", run.label,
+                              trainer->history().size(), done_before, total));
+  const auto t0 = std::chrono::steady_clock::now();
+  long long steps = done_before;
+  while (!trainer->done()) {
+    const int epoch = static_cast<int>(trainer->history().size()) + 1;
+    double loss_sum = 0;
+    long long count = 0;
+    const EpochRecord r = trainer->run_epoch([&](long long, long long, double loss) {
+      loss_sum += loss, ++count, ++steps;
+      progress.update(static_cast<int>(steps),
+                      fmt::format("epoch {}/{}, loss {:.4g}", epoch, trainer->total_epochs(),
+                                  loss_sum / count));
+    });
+    write_bytes_atomically(checkpoint, trainer->checkpoint());
+    progress.note(
+        fmt::format("{} epoch {:3d}/{}: train {:.5g}, validation {:.5g}{}, {:.0f} samples/s",
+                    run.label, r.epoch, trainer->total_epochs(), r.train_loss, r.validation_loss,
+                    trainer->best_epoch() == r.epoch ? " (best)" : "", r.samples_per_second));
+  }
+  TrainingResult result{
+      trainer->best_model(),
+      trainer->history(),
+      trainer->best_epoch(),
+      trainer->total_steps(),
+      trainer->steps_per_epoch(),
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+      resumed};
+  write_model_file(run.out, result.model);
+  if (run.curves)
+    write_loss_curves(loss_curve_path(run.out, "csv"), loss_curve_path(run.out, "png"),
+                      {{to_string(trainer->options().augment), result.history}});
+  std::filesystem::remove(checkpoint);  // the model is complete: nothing left to resume
+  return result;
+}
+
+}  // namespace eitbench

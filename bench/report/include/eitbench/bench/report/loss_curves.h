@@ -1,0 +1,15 @@
+#pragma once
+// Training curves: training and validation MSE by epoch for one run or several.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "eitbench/learned/trainer.h"
+
+namespace eitbench {
+
+// The loss curves of one run or several (label each), as CSV rows and a PNG.
+void write_loss_curves(const std::string& csv_path, const std::string& png_path,
+                       const std::vector<std::pair<std::string, std::vector<EpochRecord>>>& runs);
+
+}  // namespace eitbench

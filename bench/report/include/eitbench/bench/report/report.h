@@ -1,0 +1,19 @@
+#pragma once
+// What a benchmark run tells its reader: report.md (the paper's Table I for every method, the
+// augmentation's relative improvement, runtime, training, data efficiency, figures), the choice of
+// a reconstructor with its reasons, and the summary table on the terminal.
+#include <string>
+#include <vector>
+
+#include "eitbench/bench/report/results.h"
+
+namespace eitbench {
+
+// Which method to use and why: the best CC at 40 dB (or the data's SNR), and the fastest method
+// within 0.02 of it.
+std::string recommend(const std::vector<ResultRow>& rows);
+void write_report(const std::string& path, const RunResults& results);
+void draw_efficiency_png(const std::vector<EfficiencyPoint>& points, const std::string& path);
+std::string summary_table(const RunResults& results);
+
+}  // namespace eitbench

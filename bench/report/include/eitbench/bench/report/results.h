@@ -1,0 +1,64 @@
+#pragma once
+// The results store: the figures of a benchmark run and their files, results.json (everything, with
+// the configuration, program and machine) and results.csv (tidy: one row per method x augmentation
+// x SNR). One JSON form of each record serves results.json and the run's stage cache.
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "eitbench/learned/trainer.h"
+
+namespace eitbench {
+
+struct ResultRow {
+  std::string method;         // tikhonov | noser | laplace | tv | gn | greit | dnn
+  std::string augment = "-";  // dnn: none | rotations | d16 | paper; "-" for model-based methods
+  double snr_db = 0;          // infinity when noise-free ("inf" in the files)
+  double cc = 0, re = 0, ssim = 0, mse = 0, cc_std = 0, re_std = 0;
+  double latency_median_ms = 0, latency_p95_ms = 0, setup_s = 0;
+  int frames = 0;        // frames scored (0: the data have no labels)
+  std::string settings;  // hyperparameters and how they were chosen
+};
+
+struct TrainingSummary {
+  std::string augment;
+  std::vector<EpochRecord> history;
+  int best_epoch = 0;
+  long long steps = 0, samples = 0;
+  double seconds = 0, samples_per_second = 0;
+};
+
+struct EfficiencyPoint {
+  std::string augment;  // none | d16
+  std::string budget;   // steps (the same optimiser steps at every size) | epochs (the same passes)
+  int train_size = 0;
+  long long steps = 0;
+  int epochs = 0;
+  double test_mse = 0, cc = 0, re = 0;
+};
+
+struct RunResults {
+  std::string program;
+  std::map<std::string, std::string> configuration, machine;
+  std::vector<ResultRow> rows;
+  std::vector<TrainingSummary> training;
+  std::vector<EfficiencyPoint> efficiency;
+  std::string recommendation;
+};
+
+// One record as results.json holds it; the readers throw nlohmann::json's exceptions on a missing
+// or mistyped field (parse_results_json turns them into InputError).
+nlohmann::json to_json(const ResultRow& row);
+ResultRow result_row_from_json(const nlohmann::json& j);
+nlohmann::json to_json(const EfficiencyPoint& point);
+EfficiencyPoint efficiency_point_from_json(const nlohmann::json& j);
+
+void write_results_json(const std::string& path, const RunResults& results);
+// InputError naming the file and the field on anything that is not a results.json.
+RunResults read_results_json(const std::string& path);
+RunResults parse_results_json(const std::string& text, const std::string& source);
+void write_results_csv(const std::string& path, const std::vector<ResultRow>& rows);
+std::string snr_label(double snr_db);  // "inf" or "40"
+
+}  // namespace eitbench

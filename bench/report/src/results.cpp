@@ -1,0 +1,177 @@
+#include "eitbench/bench/report/results.h"
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+using nlohmann::json;
+
+json number(double v) {
+  return std::isfinite(v) ? json(v) : json(nullptr);
+}
+double number(const json& j) {
+  return j.is_null() ? NAN : j.get<double>();
+}
+
+json snr_json(double snr) {
+  return std::isfinite(snr) ? json(snr) : json("inf");
+}
+double snr_from(const json& j) {
+  if (j.is_string() && j.get<std::string>() == "inf") return INFINITY;
+  return j.get<double>();
+}
+
+}  // namespace
+
+std::string snr_label(double snr_db) {
+  return std::isfinite(snr_db) ? fmt::format("{:g}", snr_db) : "inf";
+}
+
+json to_json(const ResultRow& x) {
+  return {{"method", x.method},
+          {"augment", x.augment},
+          {"snr_db", snr_json(x.snr_db)},
+          {"cc", number(x.cc)},
+          {"re", number(x.re)},
+          {"ssim", number(x.ssim)},
+          {"mse", number(x.mse)},
+          {"cc_std", number(x.cc_std)},
+          {"re_std", number(x.re_std)},
+          {"latency_median_ms", x.latency_median_ms},
+          {"latency_p95_ms", x.latency_p95_ms},
+          {"setup_s", x.setup_s},
+          {"frames", x.frames},
+          {"settings", x.settings}};
+}
+
+ResultRow result_row_from_json(const json& x) {
+  ResultRow row;
+  row.method = x.at("method").get<std::string>();
+  row.augment = x.at("augment").get<std::string>();
+  row.snr_db = snr_from(x.at("snr_db"));
+  row.cc = number(x.at("cc"));
+  row.re = number(x.at("re"));
+  row.ssim = number(x.at("ssim"));
+  row.mse = number(x.at("mse"));
+  row.cc_std = number(x.at("cc_std"));
+  row.re_std = number(x.at("re_std"));
+  row.latency_median_ms = x.at("latency_median_ms").get<double>();
+  row.latency_p95_ms = x.at("latency_p95_ms").get<double>();
+  row.setup_s = x.at("setup_s").get<double>();
+  row.frames = x.at("frames").get<int>();
+  row.settings = x.at("settings").get<std::string>();
+  return row;
+}
+
+json to_json(const EfficiencyPoint& e) {
+  return {{"augment", e.augment}, {"budget", e.budget}, {"train_size", e.train_size},
+          {"steps", e.steps},     {"epochs", e.epochs}, {"test_mse", number(e.test_mse)},
+          {"cc", number(e.cc)},   {"re", number(e.re)}};
+}
+
+EfficiencyPoint efficiency_point_from_json(const json& e) {
+  EfficiencyPoint p;
+  p.augment = e.at("augment").get<std::string>();
+  p.budget = e.at("budget").get<std::string>();
+  p.train_size = e.at("train_size").get<int>();
+  p.steps = e.at("steps").get<long long>();
+  p.epochs = e.at("epochs").get<int>();
+  p.test_mse = number(e.at("test_mse"));
+  p.cc = number(e.at("cc"));
+  p.re = number(e.at("re"));
+  return p;
+}
+
+void write_results_json(const std::string& path, const RunResults& r) {
+  json rows = json::array(), training = json::array(), efficiency = json::array();
+  for (const auto& x : r.rows) rows.push_back(to_json(x));
+  for (const auto& t : r.training)
+    training.push_back({{"augment", t.augment},
+                        {"best_epoch", t.best_epoch},
+                        {"steps", t.steps},
+                        {"samples", t.samples},
+                        {"seconds", t.seconds},
+                        {"samples_per_second", t.samples_per_second},
+                        {"history", json::parse(history_to_json(t.history))}});
+  for (const auto& e : r.efficiency) efficiency.push_back(to_json(e));
+  const json doc = {{"format", "eitbench-results-1"},
+                    {"program", r.program},
+                    {"configuration", r.configuration},
+                    {"machine", r.machine},
+                    {"results", rows},
+                    {"training", training},
+                    {"data_efficiency", efficiency},
+                    {"recommendation", r.recommendation}};
+  write_text_atomically(path, [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
+}
+
+RunResults read_results_json(const std::string& path) {
+  return parse_results_json(read_file_bytes(path, 1LL << 30), path);
+}
+
+RunResults parse_results_json(const std::string& text, const std::string& path) {
+  RunResults r;
+  std::string field = "";
+  try {
+    const json doc = json::parse(text);
+    field = "format";
+    if (doc.at("format").get<std::string>() != "eitbench-results-1")
+      throw InputError(path, "format", "not an eitbench results file");
+    field = "program";
+    r.program = doc.at("program").get<std::string>();
+    field = "configuration";
+    r.configuration = doc.at("configuration").get<std::map<std::string, std::string>>();
+    field = "machine";
+    r.machine = doc.at("machine").get<std::map<std::string, std::string>>();
+    field = "results";
+    for (const auto& x : doc.at("results")) r.rows.push_back(result_row_from_json(x));
+    field = "training";
+    for (const auto& t : doc.at("training")) {
+      TrainingSummary s;
+      s.augment = t.at("augment").get<std::string>();
+      s.best_epoch = t.at("best_epoch").get<int>();
+      s.steps = t.at("steps").get<long long>();
+      s.samples = t.at("samples").get<long long>();
+      s.seconds = t.at("seconds").get<double>();
+      s.samples_per_second = t.at("samples_per_second").get<double>();
+      s.history = history_from_json(t.at("history").dump(), path);
+      r.training.push_back(s);
+    }
+    field = "data_efficiency";
+    for (const auto& e : doc.at("data_efficiency"))
+      r.efficiency.push_back(efficiency_point_from_json(e));
+    field = "recommendation";
+    r.recommendation = doc.at("recommendation").get<std::string>();
+  } catch (const json::exception& e) {
+    throw InputError(path, field, std::string("not a valid results file: ") + e.what());
+  }
+  return r;
+}
+
+void write_results_csv(const std::string& path, const std::vector<ResultRow>& rows) {
+  write_text_atomically(path, [&](std::ostream& out) {
+    out << "method,augment,snr_db,cc,re,ssim,mse,latency_median_ms,latency_p95_ms,setup_s,cc_std,"
+           "re_std,frames,settings\n";
+    out << std::setprecision(8);
+    for (const auto& r : rows) {
+      std::string settings = r.settings;
+      for (char& c : settings)
+        if (c == '"') c = '\'';
+      out << r.method << ',' << r.augment << ',' << snr_label(r.snr_db) << ',' << r.cc << ','
+          << r.re << ',' << r.ssim << ',' << r.mse << ',' << r.latency_median_ms << ','
+          << r.latency_p95_ms << ',' << r.setup_s << ',' << r.cc_std << ',' << r.re_std << ','
+          << r.frames << ",\"" << settings << "\"\n";
+    }
+  });
+}
+
+}  // namespace eitbench

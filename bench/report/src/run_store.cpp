@@ -1,0 +1,103 @@
+#include "eitbench/bench/report/run_store.h"
+
+#include <fmt/core.h>
+
+#include <filesystem>
+
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/numpy.h"
+#include "eitbench/bench/report/loss_curves.h"
+#include "eitbench/bench/report/report.h"
+#include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/pixel_grid.h"
+
+namespace eitbench {
+namespace fs = std::filesystem;
+namespace {
+
+// The labels of reconstructions.npy's rows, from results.json: the truth when the rows were
+// scored against labels, then each (method, augmentation) in the order the run produced them.
+std::vector<std::string> figure_labels(const RunResults& results) {
+  std::vector<std::string> labels;
+  if (!results.rows.empty() && results.rows.front().frames > 0) labels.push_back("truth");
+  std::vector<std::pair<std::string, std::string>> seen;
+  for (const auto& r : results.rows) {
+    const auto key = std::make_pair(r.method, r.augment);
+    if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+    seen.push_back(key);
+    labels.push_back(r.augment == "-" ? r.method : r.method + " " + r.augment);
+  }
+  return labels;
+}
+
+void draw_reconstructions(const std::string& path, const RunResults& results,
+                          const std::string& out) {
+  const auto array = detail::read_npy(read_file_bytes(path, 1LL << 30), path, "");
+  const std::vector<std::string> labels = figure_labels(results);
+  const auto& s = array.shape;
+  if (s.size() != 4 || s[2] != s[3] || s[2] == 0 || s[0] != labels.size())
+    throw InputError(
+        path, "shape",
+        fmt::format("expected ({}, samples, n, n) for the rows of results.json", labels.size()));
+  const Eigen::Index pixels = static_cast<Eigen::Index>(s[2] * s[3]);
+  std::vector<ImageRow> rows;
+  for (std::size_t r = 0; r < s[0]; ++r) {
+    ImageRow row{labels[r], {}};
+    for (std::size_t k = 0; k < s[1]; ++k)
+      row.images.push_back(
+          Eigen::Map<const Eigen::VectorXd>(array.values.data() + (r * s[1] + k) * pixels, pixels));
+    rows.push_back(std::move(row));
+  }
+  // The mask depends on n only: a pixel is in when its centre is, whatever the radius.
+  const PixelGrid grid(static_cast<int>(s[2]));
+  const bool labelled = labels.front() == "truth";
+  draw_image_grid_png(rows, grid.mask(),
+                      labelled ? "test samples: truth, then each method (noise-free)"
+                               : "measured frames: each method",
+                      out);
+}
+
+}  // namespace
+
+void write_run_store(const std::string& folder, const RunResults& results,
+                     const std::vector<ImageRow>& figure, int image_size) {
+  write_results_json((fs::path(folder) / "results.json").string(), results);
+  const std::size_t samples = figure.empty() ? 0 : figure.front().images.size();
+  const std::size_t pixels = static_cast<std::size_t>(image_size) * image_size;
+  std::vector<float> values;
+  values.reserve(figure.size() * samples * pixels);
+  for (const auto& row : figure) {
+    if (row.images.size() != samples)
+      throw std::logic_error("write_run_store: rows with different numbers of images");
+    for (const auto& im : row.images) {
+      if (static_cast<std::size_t>(im.size()) != pixels)
+        throw std::logic_error("write_run_store: an image of the wrong size");
+      for (Eigen::Index i = 0; i < im.size(); ++i) values.push_back(static_cast<float>(im[i]));
+    }
+  }
+  const std::vector<std::size_t> shape{figure.size(), samples, static_cast<std::size_t>(image_size),
+                                       static_cast<std::size_t>(image_size)};
+  write_bytes_atomically((fs::path(folder) / "reconstructions.npy").string(),
+                         detail::npy_bytes(values, shape));
+}
+
+RunResults draw_run_report(const std::string& folder, bool quiet) {
+  const fs::path dir(folder);
+  if (!fs::is_directory(dir)) throw InputError(folder, "", "is not a folder of a benchmark run");
+  const RunResults results = read_results_json((dir / "results.json").string());
+  const fs::path images = dir / "reconstructions.npy";
+  if (fs::exists(images))
+    draw_reconstructions(images.string(), results, (dir / "reconstructions.png").string());
+  else if (!quiet)
+    fmt::print("{}: not found; reconstructions.png is left as it is\n", images.string());
+  write_results_csv((dir / "results.csv").string(), results.rows);
+  std::vector<std::pair<std::string, std::vector<EpochRecord>>> curves;
+  for (const auto& t : results.training) curves.emplace_back(t.augment, t.history);
+  write_loss_curves((dir / "loss_curves.csv").string(), (dir / "loss_curves.png").string(), curves);
+  if (!results.efficiency.empty())
+    draw_efficiency_png(results.efficiency, (dir / "data_efficiency.png").string());
+  write_report((dir / "report.md").string(), results);
+  return results;
+}
+
+}  // namespace eitbench

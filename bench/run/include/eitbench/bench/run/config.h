@@ -1,0 +1,43 @@
+#pragma once
+// What a benchmark run does: the data, the methods, the budgets. A preset fills every field;
+// `eitbench run`'s flags then change some.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "eitbench/jacobian/disk_mesh.h"
+
+namespace eitbench {
+
+struct RunConfig {
+  std::string preset = "quick";  // tiny | quick | standard | paper: the data and the budgets
+  std::string data;              // a data set (or measured frames) instead of simulating
+  std::string reference;         // measured frames: the empty sensor's frame
+  std::string out;               // the output folder
+  std::uint64_t seed = 1;
+  bool resume = false;  // reuse what an interrupted run in `out` finished
+  bool quiet = false;
+  int electrodes = 16;  // of measured frames (--data with --reference)
+
+  std::vector<double> snrs;           // dB; infinity: noise-free
+  std::vector<std::string> methods;   // model-based
+  std::vector<std::string> augments;  // the learned reconstructor's
+  MeshDensity mesh = MeshDensity::medium;
+  MeshDensity simulation = MeshDensity::fine;
+  std::string model = "small";
+  std::string device = "cpu";
+  int threads = 2;
+  int epochs = 25, batch = 128;
+  double learning_rate = 1e-3;
+  std::vector<int> efficiency_sizes;  // training-set sizes of the data-efficiency sweep
+  int efficiency_epochs = 0;          // the equal-epoch budget (0: `epochs`)
+  long long efficiency_steps = 0;     // the equal-step budget (0: the main runs' steps)
+  int sweep_frames = 12;  // validation frames for the iterative methods' hyperparameter sweep
+  int timed_frames = 32;  // test frames reconstructed one at a time for the latency figures
+  int figure_samples = 8;
+
+  // The preset's data and budgets; InputError naming --preset for an unknown one.
+  static RunConfig for_preset(const std::string& preset);
+};
+
+}  // namespace eitbench

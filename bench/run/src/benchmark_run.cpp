@@ -1,0 +1,122 @@
+// The benchmark run: the stages of stages.h in order, then the results store and the report drawn
+// from it (so `eitbench report` draws the same report from a finished run).
+#include "eitbench/bench/run/benchmark_run.h"
+
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "eitbench/bench/report/report.h"
+#include "eitbench/bench/report/run_store.h"
+#include "eitbench/bench/support/machine.h"
+#include "eitbench/bench/support/version.h"
+#include "eitbench/jacobian/error.h"
+#include "stages.h"
+
+namespace eitbench {
+namespace fs = std::filesystem;
+
+namespace run {
+
+void Context::say(const std::string& line) const {
+  if (!config.quiet) fmt::print("{}\n", line), std::fflush(stdout);
+}
+
+namespace {
+
+fs::path output_folder(const RunConfig& config) {
+  const fs::path out(config.out);
+  if (fs::exists(out) && !fs::is_directory(out))
+    throw InputError(config.out, "", "is a file; --out takes a folder");
+  std::error_code error;
+  fs::create_directories(out / "models", error);
+  if (error) throw InputError(config.out, "", "cannot create the folder: " + error.message());
+  return out;
+}
+
+// How the run was made, for results.json and the report.
+std::map<std::string, std::string> describe_run(const RunConfig& config, const RunData& data,
+                                                const Reconstruction& reconstruction,
+                                                const LearnedSetup& learned, long long parameters,
+                                                double total_s) {
+  std::map<std::string, std::string> c;
+  c["preset"] = config.preset;
+  c["seed"] = std::to_string(config.seed);
+  c["data"] = data.data_path;
+  c["data_provenance"] =
+      data.data.simulation_mesh + " (" + data.data.preset + ", " + data.data.program + ")";
+  c["test_frames"] = std::to_string(data.test.frames.rows());
+  c["training_samples"] = std::to_string(data.source.indices(Split::train).size());
+  c["validation_frames"] = std::to_string(data.validation.frames.rows());
+  c["reconstruction_mesh"] =
+      fmt::format("disk L={} {} ({} triangles)", data.data.electrodes, to_string(config.mesh),
+                  reconstruction.mesh.num_triangles());
+  c["background"] = fmt::format("{:g}", (data.own_training ? data.data : data.source).background);
+  if (!data.own_training) c["calibration"] = describe(data.calibration);
+  std::string snrs;
+  for (double v : data.snrs) snrs += (snrs.empty() ? "" : " ") + snr_label(v);
+  c["snrs_db"] = snrs;
+  c["model"] = fmt::format("{} ({} parameters, {:.1f} MFLOP a frame)", config.model, parameters,
+                           forward_flops(learned.network) / 1e6);
+  c["training"] =
+      fmt::format("{} epochs, batch {}, Adam lr {:g}, on-the-fly augmentation, device {}",
+                  config.epochs, config.batch, config.learning_rate, learned.training.device);
+  c["efficiency"] =
+      fmt::format("sizes up to {}, {} steps or {} epochs",
+                  config.efficiency_sizes.empty() ? 0 : config.efficiency_sizes.back(),
+                  config.efficiency_steps, config.efficiency_epochs);
+  c["hyperparameters"] =
+      fmt::format("validation CC at each SNR ({} validation frames; tv and gn sweep {})",
+                  data.validation.frames.rows(), config.sweep_frames);
+  c["latency"] = fmt::format("the first {} test frames one at a time, wall clock, {} threads",
+                             config.timed_frames, config.threads);
+  c["total_seconds"] = fmt::format("{:.1f}", total_s);
+  return c;
+}
+
+}  // namespace
+}  // namespace run
+
+RunResults run_benchmark(const RunConfig& config) {
+  using namespace run;
+  const auto t_start = std::chrono::steady_clock::now();
+  const fs::path out = output_folder(config);
+  const Context context{config, out, StageCache(out / "stages", config.resume)};
+  set_torch_threads(config.threads);
+
+  const RunData data = load_data(context);
+  const Reconstruction reconstruction = set_up_reconstruction(context, data);
+  const NoisyFrames noisy = noisy_copies(config, data);
+
+  RunResults results;
+  results.program = program_version();
+  std::vector<ImageRow> figure;  // the first test frames: truth, then each method (noise-free)
+  if (data.labelled)
+    figure.push_back({"truth", first_images(data.test.labels, config.figure_samples)});
+  for (const std::string& name : config.methods) {
+    MethodResults m = run_model_based(context, name, data, reconstruction, noisy);
+    results.rows.insert(results.rows.end(), m.rows.begin(), m.rows.end());
+    figure.push_back({name, m.images});
+  }
+  const LearnedSetup learned = learned_setup(config, data.source);
+  long long parameters = 0;
+  for (const std::string& augment : config.augments) {
+    LearnedResults l = run_learned(context, augment, learned, data, reconstruction, noisy);
+    results.rows.insert(results.rows.end(), l.method.rows.begin(), l.method.rows.end());
+    results.training.push_back(l.training);
+    figure.push_back({"dnn " + augment, l.method.images});
+    parameters = l.parameters;
+  }
+  results.efficiency = run_sweep(context, learned, data, reconstruction, results);
+
+  const double total_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  results.machine = describe_machine();
+  results.configuration = describe_run(config, data, reconstruction, learned, parameters, total_s);
+  results.recommendation = recommend(results.rows);
+  write_run_store(out.string(), results, figure, reconstruction.grid.size());
+  return draw_run_report(out.string());
+}
+
+}  // namespace eitbench

@@ -1,0 +1,40 @@
+#include "eitbench/bench/run/config.h"
+
+#include <cmath>
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+
+RunConfig RunConfig::for_preset(const std::string& preset) {
+  RunConfig c;
+  c.preset = preset;
+  c.snrs = {INFINITY, 50, 40, 30};
+  c.methods = {"tikhonov", "noser", "laplace", "greit", "gn", "tv"};
+  c.augments = {"none", "rotations", "d16", "paper"};
+  c.efficiency_epochs = 0, c.efficiency_steps = 0;  // the main runs' budgets
+  if (preset == "tiny") {                           // the test suite's: every code path in seconds
+    c.mesh = c.simulation = MeshDensity::coarse;
+    c.epochs = 3, c.batch = 16;
+    c.efficiency_sizes = {15, 30, 60};
+    c.sweep_frames = 3, c.timed_frames = 3, c.figure_samples = 4;
+  } else if (preset == "quick") {  // under 15 minutes on 2 cores
+    c.efficiency_sizes = {250, 500, 1000, 2000};
+  } else if (preset == "standard") {
+    c.epochs = 40;
+    c.efficiency_sizes = {350, 700, 1400, 2800, 5500};
+    c.sweep_frames = 20, c.timed_frames = 50;
+  } else if (preset == "paper") {  // the paper's protocol: GPU advised, resumable
+    c.model = "paper";
+    c.device = "auto";
+    c.epochs = 300, c.batch = 512, c.learning_rate = 1e-4;
+    c.efficiency_sizes = {700, 1400, 2800, 5600, 11200, 21833};
+    c.sweep_frames = 20, c.timed_frames = 100;
+  } else {
+    throw InputError("--preset", "",
+                     "unknown preset '" + preset + "' (tiny, quick, standard, paper)");
+  }
+  return c;
+}
+
+}  // namespace eitbench

@@ -1,0 +1,131 @@
+// Stage 1: the data, simulated for the preset or the user's, and the frames every later stage uses.
+#include <fmt/core.h>
+
+#include <cmath>
+
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/simulate.h"
+#include "eitbench/bench/support/progress.h"
+#include "eitbench/jacobian/error.h"
+#include "stages.h"
+
+namespace eitbench::run {
+namespace fs = std::filesystem;
+namespace {
+
+FrameSet rows_of(const Dataset& d, const std::vector<int>& rows) {
+  FrameSet f;
+  f.frames.resize(static_cast<Eigen::Index>(rows.size()), d.differences.cols());
+  f.labels.resize(static_cast<Eigen::Index>(rows.size()), d.labels.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    f.frames.row(k) = d.differences.row(rows[k]);
+    if (d.has_labels()) f.labels.row(k) = d.labels.row(rows[k]);
+  }
+  return f;
+}
+
+// The preset's simulated set in <out>/data.h5, read back when resuming the same preset and seed.
+Dataset simulated(const Context& context) {
+  const RunConfig& config = context.config;
+  const std::string path = (context.out / "data.h5").string();
+  if (config.resume && fs::exists(path)) {
+    Dataset d = read_dataset(path);
+    if (d.preset == config.preset && d.seed == config.seed) {
+      context.say(fmt::format("data: {} samples from {} (resumed)", d.size(), path));
+      return d;
+    }
+  }
+  SimulationOptions s;
+  s.preset = config.preset;
+  s.seed = config.seed;
+  s.density = config.simulation;
+  s.electrodes = config.electrodes;
+  const auto counts = preset_counts(config.preset);
+  int total = 0;
+  for (int c : counts.circles) total += c;
+  context.say(fmt::format("data: simulating the {} preset ({} samples, seed {}, {} mesh)",
+                          config.preset, total, config.seed, to_string(config.simulation)));
+  Progress progress("simulate", total, config.quiet);
+  Dataset d = simulate_dataset(s, [&](int done, int) { progress.update(done); });
+  write_dataset(path, d);
+  return d;
+}
+
+// The user's data: an eitbench data set, or measured frames (with their reference) to import.
+Dataset users(const RunConfig& config) {
+  if (is_hdf5_file(config.data) && config.reference.empty()) return read_dataset(config.data);
+  ImportOptions o;
+  o.electrodes = config.electrodes;
+  return import_measurements(config.data, config.reference, o);
+}
+
+// Frames evaluated against a simulated source must come from its sensor; they are brought to its
+// units by their reference frame.
+void calibrate_to_source(const Context& context, RunData& r) {
+  const RunConfig& config = context.config;
+  if (r.data.electrodes != r.source.electrodes)
+    throw InputError(config.data, "electrodes",
+                     fmt::format("{} electrodes, but the preset simulates {}: pass --electrodes {}",
+                                 r.data.electrodes, r.source.electrodes, r.data.electrodes));
+  if (r.labelled && r.data.image_size != r.source.image_size)
+    throw InputError(
+        config.data, "image_size",
+        fmt::format("{}×{} labels, but the preset's images are {}×{}", r.data.image_size,
+                    r.data.image_size, r.source.image_size, r.source.image_size));
+  r.calibration = calibrate_to_model(r.data.reference, r.source.reference);
+  r.test.frames *= r.calibration.scale;
+  context.say("calibration: " + describe(r.calibration));
+  if (r.calibration.fit < 0.95)
+    context.say(
+        "warning: the reference frame fits the model's poorly; check --electrodes and the "
+        "measurement order (--order of eitbench import)");
+}
+
+}  // namespace
+
+std::string describe(const ReferenceCalibration& c) {
+  return std::isnan(c.fit)
+             ? "none (no reference frame: the frames are taken as differences in the preset's "
+               "units)"
+             : fmt::format(
+                   "frames × {:.6g}, the least-squares fit of the data's reference frame "
+                   "to the simulated preset's (cosine {:.6f})",
+                   c.scale, c.fit);
+}
+
+RunData load_data(const Context& context) {
+  const RunConfig& config = context.config;
+  RunData r;
+  if (config.data.empty()) {
+    r.data = simulated(context);
+    r.data_path = (context.out / "data.h5").string();
+  } else {
+    r.data = users(config);
+    r.data_path = config.data;
+    context.say(fmt::format("data: {} frames from {}{}", r.data.size(), config.data,
+                            r.data.has_labels() ? "" : " (no labels: images and speed only)"));
+  }
+  r.own_training = r.data.has_labels() && !r.data.indices(Split::train).empty() &&
+                   !r.data.indices(Split::validation).empty();
+  if (r.own_training) {
+    r.source = r.data;
+  } else {
+    r.labelled = r.data.has_labels();
+    context.say(
+        "training and hyperparameters: the simulated preset (the data have no labelled "
+        "train/validation splits)");
+    r.source = simulated(context);
+  }
+  std::vector<int> test_rows = r.data.indices(Split::test);
+  if (test_rows.empty() && !r.data.has_labels())  // measured frames: all of them
+    for (int i = 0; i < r.data.size(); ++i) test_rows.push_back(i);
+  if (test_rows.empty()) throw InputError(config.data, "split", "no test frames to evaluate");
+  r.test = rows_of(r.data, test_rows);
+  r.validation = rows_of(r.source, r.source.indices(Split::validation));
+  if (!r.own_training) calibrate_to_source(context, r);
+  // Measured frames carry their own noise: they are evaluated as they are.
+  r.snrs = r.data.preset == "imported" ? std::vector<double>{INFINITY} : config.snrs;
+  return r;
+}
+
+}  // namespace eitbench::run

@@ -1,0 +1,144 @@
+// Stages 2 and 3: the reconstruction model, the noisy frames, and each model-based method tuned
+// on validation data and scored on the test split.
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "eitbench/bench/data/noise.h"
+#include "eitbench/bench/methods/evaluate.h"
+#include "eitbench/bench/methods/registry.h"
+#include "eitbench/jacobian.h"
+#include "stages.h"
+
+namespace eitbench::run {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::string quality(const ResultRow& row) {
+  return row.frames > 0 ? fmt::format("CC {:.3f}, RE {:.3f}", row.cc, row.re) : "no labels";
+}
+
+Reconstruction set_up_reconstruction(const Context& context, const RunData& data) {
+  // The methods are set up for the sensor of the data that tune and train them.
+  const Dataset& sensor = data.own_training ? data.data : data.source;
+  const auto t0 = std::chrono::steady_clock::now();
+  DiskMeshOptions disk;
+  disk.electrodes = sensor.electrodes;
+  disk.density = context.config.mesh;
+  disk.radius = sensor.radius;
+  disk.electrode_coverage = sensor.electrode_coverage;
+  Reconstruction r{generate_disk_mesh(disk), PixelGrid(sensor.image_size, sensor.radius), {}, 0};
+  ForwardOptions fo;
+  fo.contact_impedance = sensor.contact_impedance;
+  fo.current = sensor.current;
+  const auto model = std::make_shared<const ForwardModel>(r.mesh, fo);
+  r.problem =
+      std::make_unique<const LinearProblem>(make_linear_problem(model, sensor.background, r.grid));
+  r.setup_s = seconds_since(t0);
+  context.say(fmt::format(
+      "reconstruction mesh: {} triangles; Jacobian and pixel map in {:.2f} s; "
+      "{} test frames, {} validation frames",
+      r.mesh.num_triangles(), r.setup_s, data.test.frames.rows(), data.validation.frames.rows()));
+  return r;
+}
+
+NoisyFrames noisy_copies(const RunConfig& config, const RunData& data) {
+  NoisyFrames noisy;
+  for (std::size_t k = 0; k < data.snrs.size(); ++k) {
+    SampleMatrix t = data.test.frames, v = data.validation.frames;
+    if (std::isfinite(data.snrs[k])) {
+      add_noise(t, data.snrs[k], config.seed * 1000 + 2 * k + 1);
+      add_noise(v, data.snrs[k], config.seed * 1000 + 2 * k + 2);
+    }
+    noisy.test.push_back(t), noisy.validation.push_back(v);
+  }
+  return noisy;
+}
+
+ResultRow evaluate_row(const Reconstructor& method, const SampleMatrix& frames,
+                       const SampleMatrix& labels, const PixelGrid& grid, int timed_frames,
+                       SampleMatrix* images) {
+  EvaluationOptions options;
+  options.timed_frames = timed_frames;
+  Evaluation e = evaluate(method, frames, labels, grid, options);
+  ResultRow row;
+  row.latency_median_ms = e.latency_median_ms;
+  row.latency_p95_ms = e.latency_p95_ms;
+  if (e.scores.count > 0) {
+    row.cc = e.scores.mean.cc, row.re = e.scores.mean.re;
+    row.ssim = e.scores.mean.ssim, row.mse = e.scores.mean.mse;
+    row.cc_std = e.scores.std.cc, row.re_std = e.scores.std.re;
+    row.frames = e.scores.count;
+  } else {
+    row.cc = row.re = row.ssim = row.mse = row.cc_std = row.re_std = NAN;
+  }
+  row.settings = e.settings;
+  if (images) *images = std::move(e.images);
+  return row;
+}
+
+std::vector<Eigen::VectorXd> first_images(const SampleMatrix& images, int count) {
+  std::vector<Eigen::VectorXd> out;
+  for (Eigen::Index i = 0; i < std::min<Eigen::Index>(count, images.rows()); ++i)
+    out.push_back(images.row(i).transpose());
+  return out;
+}
+
+namespace {
+
+MethodResults tune_and_score(const Context& context, const std::string& name, const RunData& data,
+                             const Reconstruction& reconstruction, const NoisyFrames& noisy) {
+  const RunConfig& config = context.config;
+  const MethodSpec& spec = find_method(name);
+  const ScoreFn score = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    return correlation(x, y, reconstruction.grid);
+  };
+  const Eigen::Index tuning_frames =
+      spec.sweep_on_subset
+          ? std::min<Eigen::Index>(config.sweep_frames, data.validation.frames.rows())
+          : data.validation.frames.rows();
+  MethodResults out;
+  for (std::size_t k = 0; k < data.snrs.size(); ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    MethodOptions mo;
+    mo.choose = "validation";
+    auto method = make_reconstructor(name, *reconstruction.problem, mo);
+    method->fit(noisy.validation[k].topRows(tuning_frames),
+                data.validation.labels.topRows(tuning_frames), score);
+    const double setup = reconstruction.setup_s + seconds_since(t0);
+    SampleMatrix images;
+    ResultRow row =
+        evaluate_row(*method, noisy.test[k], data.labelled ? data.test.labels : SampleMatrix(),
+                     reconstruction.grid, config.timed_frames, &images);
+    row.method = name, row.snr_db = data.snrs[k], row.setup_s = setup;
+    context.say(fmt::format("{:>9} at {:>3} dB: {}, {:.3g} ms a frame ({})", name,
+                            snr_label(data.snrs[k]), quality(row), row.latency_median_ms,
+                            row.settings));
+    if (k == 0) out.images = first_images(images, config.figure_samples);
+    out.rows.push_back(row);
+  }
+  return out;
+}
+
+}  // namespace
+
+MethodResults run_model_based(const Context& context, const std::string& name, const RunData& data,
+                              const Reconstruction& reconstruction, const NoisyFrames& noisy) {
+  const std::string stage = "method_" + name;
+  MethodResults out;
+  if (context.cache.find(stage, [&](const nlohmann::json& j) { out = method_results_from(j); })) {
+    context.say(fmt::format("{}: resumed", name));
+    return out;
+  }
+  out = tune_and_score(context, name, data, reconstruction, noisy);
+  context.cache.save(stage, to_json(out));
+  return out;
+}
+
+}  // namespace eitbench::run

@@ -1,0 +1,111 @@
+#pragma once
+// Internal: the benchmark run's stages. Each takes what it needs as typed input and returns what
+// the next ones use; benchmark_run.cpp calls them in order:
+//
+//   load_data -> set_up_reconstruction -> noisy_copies -> run_model_based (each method)
+//             -> run_learned (each augmentation) -> run_sweep -> the results store -> the report
+#include <Eigen/Core>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "eitbench/bench/data/dataset.h"
+#include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/report/results.h"
+#include "eitbench/bench/run/config.h"
+#include "eitbench/learned.h"
+#include "eitbench/solvers.h"
+#include "stage_cache.h"
+
+namespace eitbench::run {
+
+// What every stage shares: the configuration, the output folder, the stage cache, the log.
+struct Context {
+  const RunConfig& config;
+  std::filesystem::path out;
+  StageCache cache;
+  void say(const std::string& line) const;
+};
+
+// Frames (difference, reduced layout) and their labels (N x 0 without labels).
+struct FrameSet {
+  SampleMatrix frames, labels;
+};
+
+// 1. The data: `data` is evaluated; `source` trains the learned model and tunes hyperparameters.
+// They are the same set when the data have labelled train and validation splits; otherwise the
+// simulated preset is the source and the evaluated frames are calibrated to its units.
+struct RunData {
+  Dataset data, source;
+  bool own_training = true;          // source is data
+  bool labelled = true;              // the test frames have labels
+  FrameSet test;                     // data's test split (all frames of unlabelled measurements)
+  FrameSet validation;               // source's validation split
+  ReferenceCalibration calibration;  // of the test frames, when !own_training
+  std::vector<double> snrs;          // the SNRs evaluated (the data's own for measured frames)
+  std::string data_path;             // where the evaluated data came from
+};
+RunData load_data(const Context& context);
+std::string describe(const ReferenceCalibration& calibration);
+
+// 2. The reconstruction model for the source's sensor: mesh, Jacobian and pixel map.
+struct Reconstruction {
+  Mesh mesh;
+  PixelGrid grid;
+  std::unique_ptr<const LinearProblem> problem;  // the methods keep a reference: not moved
+  double setup_s = 0;                            // time to build it
+};
+Reconstruction set_up_reconstruction(const Context& context, const RunData& data);
+
+// Noisy copies of the test and validation frames, one seed per SNR.
+struct NoisyFrames {
+  std::vector<SampleMatrix> test, validation;  // by SNR
+};
+NoisyFrames noisy_copies(const RunConfig& config, const RunData& data);
+
+// A method's rows (one per SNR) and the noise-free images of the first test frames.
+struct MethodResults {
+  std::vector<ResultRow> rows;
+  std::vector<Eigen::VectorXd> images;
+};
+
+// 3. A model-based method: its hyperparameter by validation CC at each SNR, scored on the test set.
+MethodResults run_model_based(const Context& context, const std::string& method,
+                              const RunData& data, const Reconstruction& reconstruction,
+                              const NoisyFrames& noisy);
+
+// 4. The learned reconstructor with one augmentation: trained (or read back), scored at each SNR.
+struct LearnedResults {
+  MethodResults method;
+  TrainingSummary training;
+  long long parameters = 0;
+};
+// The network and training options every learned model of the run shares.
+struct LearnedSetup {
+  NetworkOptions network;
+  TrainingOptions training;
+};
+LearnedSetup learned_setup(const RunConfig& config, const Dataset& source);
+LearnedResults run_learned(const Context& context, const std::string& augment,
+                           const LearnedSetup& setup, const RunData& data,
+                           const Reconstruction& reconstruction, const NoisyFrames& noisy);
+
+// 5. Data efficiency (the paper's Fig. 8): test scores against the training-set size.
+std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetup& setup,
+                                       const RunData& data, const Reconstruction& reconstruction,
+                                       const RunResults& main_runs);
+
+// The row of one evaluation (quality, latency and settings); labels may be empty.
+ResultRow evaluate_row(const Reconstructor& method, const SampleMatrix& frames,
+                       const SampleMatrix& labels, const PixelGrid& grid, int timed_frames,
+                       SampleMatrix* images = nullptr);
+std::vector<Eigen::VectorXd> first_images(const SampleMatrix& images, int count);
+std::string quality(const ResultRow& row);  // "CC 0.812, RE 0.634" or "no labels", for the log
+
+// A method's results in the stage cache (the rows in results.json's form, the images as float).
+nlohmann::json to_json(const MethodResults& results);
+MethodResults method_results_from(const nlohmann::json& j);
+
+}  // namespace eitbench::run
