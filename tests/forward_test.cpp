@@ -118,6 +118,17 @@ TEST(ForwardModel, RejectsBadInput) {
   EXPECT_THROW(ForwardModel(mesh, {1.0, -1.0}), InputError);
   EXPECT_THROW(ForwardModel(mesh, {1.0, NAN}), InputError);
   EXPECT_THROW(ForwardModel(mesh, {0.0, 0.01}), InputError);
+  // Options are named by their fields (the command line maps flags to them), and a mesh built in
+  // code with too few electrodes is refused as input, before the protocol is made from it.
+  try {
+    ForwardModel(mesh, {NAN, 0.01});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "current") << e.what();
+  }
+  Mesh three = mesh;
+  three.electrodes.resize(3);
+  EXPECT_THROW(ForwardModel(three, {}, "three.msh"), InputError);
   const ForwardModel model(mesh);
   const int T = mesh.num_triangles();
   EXPECT_THROW(model.solve(Eigen::VectorXd::Ones(T - 1)), InputError);

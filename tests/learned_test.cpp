@@ -132,6 +132,16 @@ TEST(Trainer, ResumedRunMatchesUninterruptedRun) {
   other.frames(0, 0) += 1e-9;
   EXPECT_THROW(Trainer::resume(checkpoint, "checkpoint", other, validation, sensor_of(data)),
                InputError);
+  // Nor on other circles or another background: augmented samples' labels are drawn from them.
+  ASSERT_FALSE(train.circles.empty());
+  other = train;
+  other.circles[0][0].r *= 1.01;
+  EXPECT_THROW(Trainer::resume(checkpoint, "checkpoint", other, validation, sensor_of(data)),
+               InputError);
+  other = train;
+  other.background *= 2;
+  EXPECT_THROW(Trainer::resume(checkpoint, "checkpoint", other, validation, sensor_of(data)),
+               InputError);
 }
 
 TEST(Trainer, OnTheFlyPairsEachFrameWithItsLabel) {
@@ -290,6 +300,17 @@ TEST(LearnedModel, CorruptBytesAreRefused) {
   }
   SampleMatrix wrong = SampleMatrix::Zero(2, 103);
   EXPECT_THROW(model.reconstruct(wrong), InputError);
+  // The electrode count must be a protocol's (at least 4) and give the network's input size.
+  for (int electrodes : {3, 17}) {
+    const LearnedModel odd(test_network(), electrodes, 1);
+    try {
+      LearnedModel::from_bytes(odd.to_bytes(), "odd.pt");
+      FAIL() << electrodes << " electrodes with a 104-input network loaded";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.source(), "odd.pt");
+      EXPECT_TRUE(e.field() == "electrodes" || e.field() == "network") << e.what();
+    }
+  }
 }
 
 }  // namespace

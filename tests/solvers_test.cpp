@@ -8,6 +8,7 @@
 #include "eitbench/bench/methods/metrics.h"
 #include "eitbench/jacobian.h"
 #include "eitbench/solvers.h"
+#include "operator_norm.h"  // solvers/src
 #include "test_support.h"
 
 namespace eitbench {
@@ -16,14 +17,14 @@ namespace {
 struct Reconstruction {
   std::shared_ptr<const ForwardModel> model;
   PixelGrid grid{64, 1.0};
-  LinearProblem problem;
+  std::shared_ptr<const LinearProblem> problem;
 };
 
 const Reconstruction& medium() {
   static const Reconstruction s = [] {
     Reconstruction s;
     s.model = std::make_shared<const ForwardModel>(generate_disk_mesh({16, MeshDensity::medium}));
-    s.problem = make_linear_problem(s.model, 1.0, s.grid);
+    s.problem = std::make_shared<const LinearProblem>(make_linear_problem(s.model, 1.0, s.grid));
     return s;
   }();
   return s;
@@ -32,12 +33,12 @@ const Reconstruction& medium() {
 // Linear data on the reconstruction model itself: y = A x for circle images x.
 SampleMatrix linear_frames(const Reconstruction& s, const std::vector<std::vector<Circle>>& touches,
                            SampleMatrix* labels) {
-  SampleMatrix frames(static_cast<Eigen::Index>(touches.size()), s.problem.measurements());
+  SampleMatrix frames(static_cast<Eigen::Index>(touches.size()), s.problem->measurements());
   labels->resize(static_cast<Eigen::Index>(touches.size()), s.grid.num_pixels());
   for (std::size_t k = 0; k < touches.size(); ++k) {
     const Eigen::VectorXd image = circles_image(s.grid, touches[k], 1.0);
     labels->row(k) = image.transpose();
-    frames.row(k) = (s.problem.A * s.problem.from_image(image)).transpose();
+    frames.row(k) = (s.problem->A * s.problem->from_image(image)).transpose();
   }
   return frames;
 }
@@ -52,17 +53,17 @@ std::vector<std::vector<Circle>> touches(int n, unsigned seed) {
 
 TEST(LinearProblem, IsTheLinearisedForwardModelOnTheLabelScale) {
   const Reconstruction& s = medium();
-  ASSERT_EQ(s.problem.measurements(), 104);
-  ASSERT_EQ(s.problem.unknowns(), s.grid.num_inside());
+  ASSERT_EQ(s.problem->measurements(), 104);
+  ASSERT_EQ(s.problem->unknowns(), s.grid.num_inside());
   // A small conductivity change: dv ~ A x with x = -dsigma / sigma_0, to first order.
   const std::vector<Circle> touch{{0.3, 0.2, 0.2, 0.99}};
   const Eigen::VectorXd x = circles_image(s.grid, touch, 1.0);
   const Mesh& mesh = s.model->mesh();
   const Eigen::VectorXd v0 = s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles()));
   const Eigen::VectorXd v1 = s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles()) -
-                                            s.problem.pixel_to_element * s.problem.from_image(x));
+                                            s.problem->pixel_to_element * s.problem->from_image(x));
   const Eigen::VectorXd dv = s.model->protocol().reduce(v1 - v0, MeasurementOrder::rotating);
-  EXPECT_LT((s.problem.A * s.problem.from_image(x) - dv).norm() / dv.norm(), 0.01);
+  EXPECT_LT((s.problem->A * s.problem->from_image(x) - dv).norm() / dv.norm(), 0.01);
 }
 
 TEST(Tikhonov, TinyLambdaFitsNoiseFreeDataAndBatchesAgree) {
@@ -79,8 +80,8 @@ TEST(Tikhonov, TinyLambdaFitsNoiseFreeDataAndBatchesAgree) {
     t.set_lambda(1e-10 * t.scale(), "fixed");
     const SampleMatrix images = t.reconstruct_all(y);
     for (int k = 0; k < y.rows(); ++k) {
-      const Eigen::VectorXd x = s.problem.from_image(images.row(k).transpose());
-      EXPECT_LT((s.problem.A * x - y.row(k).transpose()).norm() / y.row(k).norm(), 1e-4)
+      const Eigen::VectorXd x = s.problem->from_image(images.row(k).transpose());
+      EXPECT_LT((s.problem->A * x - y.row(k).transpose()).norm() / y.row(k).norm(), 1e-4)
           << t.name();
       EXPECT_LT((t.reconstruct(y.row(k).transpose()) - images.row(k).transpose()).norm(),
                 1e-5 * images.row(k).norm());
@@ -143,6 +144,71 @@ TEST(Tikhonov, RejectsBadInput) {
   TotalVariationOptions tv;
   tv.alpha = 0;
   EXPECT_THROW(TotalVariation(s.problem, tv), InputError);
+}
+
+// A solver keeps the problem it is built on: one made from a temporary works after the caller's
+// handle is gone, and gives the images of the shared fixture's problem.
+TEST(LinearProblem, SolversKeepTheProblemTheyAreBuiltOn) {
+  const Reconstruction& s = medium();
+  TikhonovOptions o;
+  const double scale = Tikhonov(s.problem, o).scale();
+  o.choice = Choice::fixed;
+  o.lambda = 1e-3 * scale;
+  const Tikhonov owned(
+      std::make_shared<const LinearProblem>(make_linear_problem(s.model, 1.0, s.grid)), o);
+  const Tikhonov shared(s.problem, o);
+  SampleMatrix labels;
+  const SampleMatrix frames = linear_frames(s, touches(3, 5), &labels);
+  EXPECT_EQ(owned.reconstruct_all(frames), shared.reconstruct_all(frames));
+  EXPECT_THROW(Tikhonov(nullptr, o), std::invalid_argument);
+}
+
+// Choosing lambda on frames that cannot tell lambdas apart is an error, not the grid's end.
+TEST(Tikhonov, RefusesToChooseOnDegenerateInput) {
+  const Reconstruction& s = medium();
+  TikhonovOptions o;
+  o.grid = 2;
+  EXPECT_THROW(Tikhonov(s.problem, o), InputError);
+  o.grid = 41;
+  Tikhonov t(s.problem, o);
+  const SampleMatrix none(0, 104), zeros = SampleMatrix::Zero(3, 104);
+  EXPECT_THROW(t.choose_gcv(none), InputError);
+  EXPECT_THROW(t.choose_gcv(zeros), InputError);
+  EXPECT_THROW(t.choose_lcurve(none), InputError);
+  EXPECT_THROW(t.choose_lcurve(zeros), InputError);
+  // Scores that are all NaN pick no candidate, for Tikhonov's sweep and the shared one (GREIT's).
+  SampleMatrix labels;
+  const SampleMatrix frames = linear_frames(s, touches(4, 3), &labels);
+  const ScoreFn nan_score = [](const Eigen::VectorXd&, const Eigen::VectorXd&) { return NAN; };
+  EXPECT_THROW(t.choose_validation(frames, labels, nan_score), InputError);
+  GreitOptions g;
+  g.choose_by_validation = true;
+  Greit greit(s.problem, g);
+  EXPECT_THROW(greit.fit(frames, labels, nan_score), InputError);
+}
+
+// The pixel basis is the grid's disk: a mesh in other units, off centre or of another shape is
+// refused instead of giving a wrong A. Disk meshes of every density pass at every grid size.
+TEST(LinearProblem, RefusesAMeshThatIsNotTheGridsDisk) {
+  for (MeshDensity density : {MeshDensity::coarse, MeshDensity::medium, MeshDensity::fine})
+    for (int pixels : {16, 32, 64, 128}) {
+      const auto model = std::make_shared<const ForwardModel>(testing::disk(16, density));
+      EXPECT_NO_THROW(make_linear_problem(model, 1.0, PixelGrid(pixels, 1.0)))
+          << to_string(density) << ", " << pixels << " pixels";
+    }
+  // The background is user data too: an InputError, not a programming error.
+  for (double background : {0.0, -1.0, double(NAN)})
+    EXPECT_THROW(make_linear_problem(medium().model, background, PixelGrid(64, 1.0)), InputError);
+  auto moved = [](double scale, double dx) {
+    Mesh m = testing::disk(16, MeshDensity::coarse);
+    m.nodes *= scale;
+    m.nodes.col(0).array() += dx;
+    return std::make_shared<const ForwardModel>(m);
+  };
+  EXPECT_THROW(make_linear_problem(moved(0.05, 0), 1.0, PixelGrid(64, 1.0)), InputError);  // metres
+  EXPECT_THROW(make_linear_problem(moved(1, 0.3), 1.0, PixelGrid(64, 1.0)),
+               InputError);  // off centre
+  EXPECT_THROW(make_linear_problem(moved(1.2, 0), 1.0, PixelGrid(64, 1.0)), InputError);  // larger
 }
 
 // EIDORS's case (issue 5): two discs of +1 in a unit disk, radii 0.2, centres (0.45, 0.10) and
@@ -224,6 +290,21 @@ TEST(EidorsCase, TotalVariationOnElementNeighbours) {
   EXPECT_GT(cc, two_disc_cc(s, laplace->reconstruct(two_discs().frame)) + 0.02);
 }
 
+// ||K||^2 of a difference operator, whose null space holds the constant vector (a power iteration
+// started there gives 0/0): the chain's K^T K has largest eigenvalue 4 sin^2(pi (n-1) / 2n).
+TEST(OperatorNorm, DifferenceOperatorFromAboveWithinFivePercent) {
+  for (int n : {2, 10, 200}) {
+    Eigen::SparseMatrix<double, Eigen::RowMajor> K(n - 1, n);
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int i = 0; i + 1 < n; ++i) entries.insert(entries.end(), {{i, i, 1.0}, {i, i + 1, -1.0}});
+    K.setFromTriplets(entries.begin(), entries.end());
+    const double exact = 4 * std::pow(std::sin(M_PI * (n - 1) / (2.0 * n)), 2);
+    const double norm2 = detail::squared_operator_norm(K);
+    EXPECT_GE(norm2, exact * (1 - 1e-12)) << n;
+    EXPECT_LE(norm2, exact * 1.05 + 1e-12) << n;
+  }
+}
+
 TEST(EidorsCase, TotalVariationReachesEidorsAndBeatsTikhonov) {
   const Reconstruction& s = medium();
   const TotalVariation tv(s.problem, {});
@@ -260,9 +341,9 @@ TEST(GaussNewton, ResidualFallsEveryStepAndEndsBelowTheOneStepSolution) {
   const auto t = lcurve_on_two_discs(s, Prior::noser);
   const Mesh& mesh = s.model->mesh();
   auto residual = [&](const Eigen::VectorXd& img) {  // sigma = sigma_0 (1 - x) on the label scale
-    const Eigen::VectorXd sigma_pix = (1.0 - s.problem.from_image(img).array()).max(1e-3).matrix();
+    const Eigen::VectorXd sigma_pix = (1.0 - s.problem->from_image(img).array()).max(1e-3).matrix();
     const Eigen::VectorXd v = s.model->protocol().reduce(
-        s.model->frame(s.problem.pixel_to_element * sigma_pix), MeasurementOrder::rotating);
+        s.model->frame(s.problem->pixel_to_element * sigma_pix), MeasurementOrder::rotating);
     const Eigen::VectorXd v0 = s.model->protocol().reduce(
         s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles())), MeasurementOrder::rotating);
     return (v - v0 - two_discs().frame).norm();
@@ -283,7 +364,7 @@ TEST(GaussNewton, AbsoluteModeRecoversAHomogeneousConductivity) {
     o.absolute = true;
     const GaussNewton gn(s.problem, o);
     const Eigen::VectorXd image = gn.reconstruct(frame);
-    for (int p : s.problem.pixels)
+    for (int p : s.problem->pixels)
       EXPECT_NEAR(image[p], 1.0 - sigma, 0.02 * sigma) << "pixel " << p;
   }
 }
@@ -304,7 +385,7 @@ TEST(GaussNewton, WildFramesGiveFiniteImagesWithinTheConductivityBound) {
     Eigen::VectorXd image;
     ASSERT_NO_THROW(image = gn.reconstruct(frame)) << "amplitude " << amplitude;
     ASSERT_TRUE(image.allFinite());
-    for (int p : s.problem.pixels) {  // 1 - sigma / sigma_0 within the bound
+    for (int p : s.problem->pixels) {  // 1 - sigma / sigma_0 within the bound
       ASSERT_LE(image[p], 1.0 - 1e-4 + 1e-9);
       ASSERT_GE(image[p], 1.0 - 1e4 - 1e-6);
     }

@@ -1,6 +1,7 @@
 #include "options.h"
 
 #include <cmath>
+#include <cstdlib>
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/csv.h"
@@ -95,7 +96,17 @@ void add_model_options(CLI::App& app, ModelSetup& s) {
                  "contact impedance z_c of every electrode")
       ->capture_default_str()
       ->check(kPositive);
-  app.add_option("--current", s.forward.current, "drive current I")->capture_default_str();
+  app.add_option("--current", s.forward.current, "drive current I (finite, non-zero)")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            if (end == text.c_str() || *end != '\0' || !std::isfinite(v) || v == 0)
+              return "'" + text + "' must be a finite, non-zero number";
+            return "";
+          },
+          "NONZERO"));
   app.add_option("--order", s.order, "measurement order: rotating | ascending")
       ->capture_default_str()
       ->check(CLI::IsMember({"rotating", "ascending"}));

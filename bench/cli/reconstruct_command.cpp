@@ -171,25 +171,24 @@ struct FrameSelection {
 // else the selected frames themselves.
 FrameSelection tuning_frames(const Args* args, const Selection& s, const std::string& choose);
 
-// A model-based method on the mesh, its hyperparameter chosen as --choose says. It keeps a
-// reference to the linear problem, which `problem` holds for it.
+// A model-based method on the mesh, its hyperparameter chosen as --choose says.
 std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd,
                                            const Selection& s, const Mesh& mesh,
-                                           const PixelGrid& grid, double background,
-                                           std::unique_ptr<LinearProblem>& problem) {
+                                           const PixelGrid& grid, double background) {
   ForwardOptions forward;
   forward.contact_impedance = s.data.contact_impedance;
   forward.current = s.data.current;
   const auto model = std::make_shared<const ForwardModel>(
       mesh, forward, args->mesh.file.empty() ? "mesh" : args->mesh.file);
-  problem = std::make_unique<LinearProblem>(make_linear_problem(model, background, grid));
+  const auto problem =
+      std::make_shared<const LinearProblem>(make_linear_problem(model, background, grid));
   MethodOptions mo;
   mo.choose = cmd.count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
   mo.lambda = args->lambda;
   mo.absolute = args->absolute;
   mo.neighbours = args->neighbours;
   mo.tolerance = args->tolerance;
-  auto method = make_reconstructor(args->method, *problem, mo);
+  auto method = make_reconstructor(args->method, problem, mo);
   if (mo.choose != "fixed") {
     const FrameSelection tuning = tuning_frames(args, s, mo.choose);
     method->fit(tuning.frames, tuning.labels,
@@ -315,14 +314,13 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
                                                             : s.data.background;
     const PixelGrid grid(s.data.image_size, s.data.radius);
     const auto t0 = std::chrono::steady_clock::now();
-    std::unique_ptr<LinearProblem> problem;  // outlives the method, which refers to it
     std::unique_ptr<Reconstructor> method;
     if (args->method == "dnn") {
       method = learned(args.get(), *cmd, s.data);
     } else {
       if (!args->model.empty())
         throw InputError("--model", "", "only --method dnn takes a model file");
-      method = model_based(args.get(), *cmd, s, mesh, grid, background, problem);
+      method = model_based(args.get(), *cmd, s, mesh, grid, background);
     }
     const double setup_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -14,9 +14,10 @@ using namespace eitbench;
 struct Fixture {
   std::shared_ptr<const ForwardModel> model =
       std::make_shared<const ForwardModel>(generate_disk_mesh({16, MeshDensity::medium}));
-  LinearProblem problem = make_linear_problem(model, 1.0, PixelGrid(64, 1.0));
-  Eigen::VectorXd frame = problem.A * problem.from_image(circles_image(
-                                          PixelGrid(64, 1.0), {{0.3, 0.2, 0.2, 0.5}}, 1.0));
+  std::shared_ptr<const LinearProblem> problem =
+      std::make_shared<const LinearProblem>(make_linear_problem(model, 1.0, PixelGrid(64, 1.0)));
+  Eigen::VectorXd frame = problem->A * problem->from_image(circles_image(
+                                           PixelGrid(64, 1.0), {{0.3, 0.2, 0.2, 0.5}}, 1.0));
 };
 const Fixture& fixture() {
   static const Fixture f;
@@ -48,6 +49,17 @@ void BM_TikhonovFrame(benchmark::State& state) {
   state.SetLabel(o.single_precision ? "single precision" : "double precision");
 }
 
+void BM_GreitSetup(benchmark::State& state) {  // 1,000 training targets, their products, R
+  const auto& f = fixture();
+  for (auto _ : state) benchmark::DoNotOptimize(Greit(f.problem, {}).settings().size());
+}
+
+void BM_GreitFrame(benchmark::State& state) {
+  const auto& f = fixture();
+  const Greit greit(f.problem, {});
+  for (auto _ : state) benchmark::DoNotOptimize(greit.reconstruct(f.frame).data());
+}
+
 void BM_TotalVariationFrame(benchmark::State& state) {
   const auto& f = fixture();
   const TotalVariation tv(f.problem, {});
@@ -70,6 +82,8 @@ void BM_GaussNewtonFrame(benchmark::State& state) {  // to convergence, differen
 BENCHMARK(BM_LinearProblemSetup)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TikhonovSetup)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TikhonovFrame)->Arg(1)->Arg(0)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GreitSetup)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GreitFrame)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_TotalVariationFrame)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GaussNewtonFrame)->Unit(benchmark::kMillisecond);
 

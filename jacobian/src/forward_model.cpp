@@ -227,14 +227,14 @@ cholmod_sparse ForwardModel::Impl::view(std::vector<double>& values) const {
 
 ForwardModel::ForwardModel(const Mesh& mesh, const ForwardOptions& options,
                            const std::string& source)
-    : impl_(std::make_unique<Impl>(mesh, options)) {
-  validate_mesh(mesh, source);
+    // The mesh is checked before Impl builds the protocol from its electrode count.
+    : impl_((validate_mesh(mesh, source), std::make_unique<Impl>(mesh, options))) {
   const int L = mesh.num_electrodes();
   if (!std::isfinite(options.current) || options.current == 0)
-    throw InputError("--current", "", "the drive current must be finite and non-zero");
+    throw InputError("ForwardOptions", "current", "the drive current must be finite and non-zero");
   if (options.contact_impedances.size() > 0) {
     if (options.contact_impedances.size() != L)
-      throw InputError("--contact-impedance", "",
+      throw InputError("ForwardOptions", "contact_impedances",
                        "needs one value per electrode (" + std::to_string(L) + ")");
     impl_->z = options.contact_impedances;
   } else {
@@ -242,7 +242,7 @@ ForwardModel::ForwardModel(const Mesh& mesh, const ForwardOptions& options,
   }
   for (int e = 0; e < L; ++e)
     if (!(impl_->z[e] > 0) || !std::isfinite(impl_->z[e]))
-      throw InputError("--contact-impedance", "electrode " + std::to_string(e),
+      throw InputError("ForwardOptions", "contact impedance of electrode " + std::to_string(e),
                        "must be positive and finite");
   impl_->build();
 }

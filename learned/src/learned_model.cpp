@@ -141,7 +141,15 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, "meta", std::string("unreadable: ") + e.what());
   }
-  if (impl->info.electrodes < 3) throw InputError(source, "electrodes", "must be at least 3");
+  // The adjacent protocol needs 4 electrodes, and the network reads a frame's L(L-3)/2 values.
+  const int L = impl->info.electrodes;
+  if (L < 4 || L > 1024)
+    throw InputError(source, "electrodes", std::to_string(L) + " is not between 4 and 1024");
+  if (impl->info.network.inputs != L * (L - 3) / 2)
+    throw InputError(source, "network",
+                     "takes " + std::to_string(impl->info.network.inputs) +
+                         " values a frame, but " + std::to_string(L) + " electrodes give " +
+                         std::to_string(L * (L - 3) / 2));
   impl->net = Network(impl->info.network);
   const auto expected = shapes(impl->net);
   try {

@@ -17,7 +17,9 @@ namespace {
 constexpr const char* kCheckpointFormat = "eitbench-checkpoint-1";
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// A hash of a set's frames and labels: a checkpoint only resumes on the data it was made with.
+// A hash of everything a set's samples depend on: frames and labels, and the circles and
+// background that re-rasterise the labels of augmented samples. A checkpoint only resumes on the
+// data it was made with.
 std::uint64_t fingerprint(const LabelledFrames& set) {
   std::uint64_t h = mix64(static_cast<std::uint64_t>(set.frames.rows()) * 31 +
                           static_cast<std::uint64_t>(set.frames.cols()));
@@ -28,8 +30,20 @@ std::uint64_t fingerprint(const LabelledFrames& set) {
       h = mix64(h ^ bits);
     }
   };
+  auto add_number = [&](double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    h = mix64(h ^ bits);
+  };
   add(set.frames);
   add(set.labels);
+  add_number(set.background);
+  add_number(static_cast<double>(set.circles.size()));
+  for (const auto& sample : set.circles) {
+    add_number(static_cast<double>(sample.size()));
+    for (const Circle& c : sample)
+      add_number(c.x), add_number(c.y), add_number(c.r), add_number(c.conductivity);
+  }
   return h;
 }
 

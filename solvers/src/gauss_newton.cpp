@@ -33,8 +33,10 @@ State evaluate(const LinearProblem& p, const Eigen::VectorXd& theta, bool jacobi
 
 }  // namespace
 
-GaussNewton::GaussNewton(const LinearProblem& problem, const GaussNewtonOptions& options)
-    : problem_(problem), options_(options) {
+GaussNewton::GaussNewton(std::shared_ptr<const LinearProblem> shared,
+                         const GaussNewtonOptions& options)
+    : owner_(required(std::move(shared), "GaussNewton")), problem_(*owner_), options_(options) {
+  const LinearProblem& problem = problem_;
   if (!problem.model)
     throw std::invalid_argument("GaussNewton: the linear problem has no forward model");
   if (options.lambda < 0 || !std::isfinite(options.lambda))

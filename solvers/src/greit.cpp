@@ -1,24 +1,33 @@
 #include "eitbench/solvers/greit.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/SparseCore>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/random.h"
 
 namespace eitbench {
 
-Greit::Greit(const LinearProblem& problem, const GreitOptions& options)
-    : problem_(problem), options_(options), lambda_(options.lambda > 0 ? options.lambda : 1e-2) {
+Greit::Greit(std::shared_ptr<const LinearProblem> shared, const GreitOptions& options)
+    : owner_(required(std::move(shared), "Greit")),
+      problem_(*owner_),
+      options_(options),
+      lambda_(options.lambda > 0 ? options.lambda : 1e-2) {
+  const LinearProblem& problem = problem_;
   if (options.targets < 10)
-    throw InputError("targets", "", "GREIT needs at least 10 training targets");
+    throw InputError("GreitOptions", "targets", "GREIT needs at least 10 training targets");
   if (options.lambda < 0 || !std::isfinite(options.lambda))
-    throw InputError("--lambda", "", "must be positive");
+    throw InputError("GreitOptions", "lambda", "must be positive (or 0 for the default)");
   const PixelGrid grid(problem.image_size, problem.radius);
   const double R = problem.radius;
   const int m = problem.measurements(), n = problem.unknowns();
-  Eigen::MatrixXd Y(m, options.targets), D(n, options.targets);
+  // Each target and desired image covers a few dozen pixels of thousands: Y = A X and D Y^T are
+  // formed from their non-zeros only (X and D sparse).
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(m, options.targets);
+  std::vector<Eigen::Triplet<double>> desired_entries;
   RandomStream rng(options.seed, 0);
   const double rt = options.target_radius * R, rd = options.desired_radius * R;
   for (int k = 0; k < options.targets; ++k) {
@@ -28,11 +37,15 @@ Greit::Greit(const LinearProblem& problem, const GreitOptions& options)
     // A target of label intensity 1; the desired image carries the same total intensity on a disc
     // of radius rd (clipped by the rim, so its mass is normalised after rasterising).
     const Eigen::VectorXd target = problem.from_image(circles_image(grid, {{x, y, rt, 0.0}}, 1.0));
-    Eigen::VectorXd desired = problem.from_image(circles_image(grid, {{x, y, rd, 0.0}}, 1.0));
-    desired *= target.sum() / std::max(desired.sum(), 1e-300);
-    Y.col(k) = problem.A * target;
-    D.col(k) = desired;
+    const Eigen::VectorXd desired = problem.from_image(circles_image(grid, {{x, y, rd, 0.0}}, 1.0));
+    for (int j = 0; j < n; ++j)
+      if (target[j] != 0) Y.col(k) += target[j] * problem.A.col(j);
+    const double mass = target.sum() / std::max(desired.sum(), 1e-300);
+    for (int j = 0; j < n; ++j)
+      if (desired[j] != 0) desired_entries.emplace_back(j, k, desired[j] * mass);
   }
+  Eigen::SparseMatrix<double> D(n, options.targets);
+  D.setFromTriplets(desired_entries.begin(), desired_entries.end());
   DYt_ = D * Y.transpose();
   YYt_ = Y * Y.transpose();
   N_ = YYt_.diagonal().asDiagonal();  // noise power proportional to each measurement's signal power
@@ -50,8 +63,8 @@ std::string Greit::settings() const {
 void Greit::set_lambda(double relative, const std::string& how) {
   lambda_ = relative;
   how_ = how;
-  const double scale = YYt_.trace() / N_.trace();
-  const Eigen::MatrixXd S = YYt_ + relative * scale * N_;
+  // N is diag(Y Y^T), so lambda is already relative to the training frames' power: no scale.
+  const Eigen::MatrixXd S = YYt_ + relative * N_;
   R_ = S.ldlt().solve(DYt_.transpose()).transpose().cast<float>();  // D Y^T S^-1 (S symmetric)
 }
 

@@ -42,6 +42,9 @@ double Reconstructor::best_by_score(const std::vector<double>& candidates,
       total += score(images.row(k).transpose(), labels.row(rows[k]).transpose());
     if (total > best_score) best_score = total, best = candidate;
   }
+  // Every score NaN (images or labels without variation): no candidate is better than another.
+  if (best_score == -INFINITY)
+    throw InputError("validation frames", "", "no candidate could be scored (every score is NaN)");
   return best;
 }
 

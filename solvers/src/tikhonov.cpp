@@ -74,8 +74,9 @@ Choice parse_choice(const std::string& name) {
   throw InputError("--choose", "", "unknown choice '" + name + "' (gcv, lcurve or validation)");
 }
 
-Tikhonov::Tikhonov(const LinearProblem& problem, const TikhonovOptions& options)
-    : problem_(problem), options_(options) {
+Tikhonov::Tikhonov(std::shared_ptr<const LinearProblem> shared, const TikhonovOptions& options)
+    : owner_(required(std::move(shared), "Tikhonov")), problem_(*owner_), options_(options) {
+  const LinearProblem& problem = problem_;
   const Eigen::MatrixXd& A = problem.A;
   // B = P A^T with P = (R^T R)^-1.
   Eigen::MatrixXd B;
@@ -110,6 +111,10 @@ Tikhonov::Tikhonov(const LinearProblem& problem, const TikhonovOptions& options)
   U_ = eig.eigenvectors();
   C_ = B * U_;
   const double scale = g_.sum() / static_cast<double>(g_.size());
+  // GCV and the L-curve need a curve to minimise or to bend: at least three candidates.
+  if (options.grid < 3)
+    throw InputError("TikhonovOptions", "grid",
+                     "needs at least 3 lambdas, got " + std::to_string(options.grid));
   for (int k = 0; k < options.grid; ++k)
     grid_.push_back(scale * std::pow(10.0, -8.0 + 10.0 * k / std::max(1, options.grid - 1)));
   if (options.choice == Choice::fixed) {
@@ -176,7 +181,22 @@ std::vector<double> Tikhonov::gcv_curve(const SampleMatrix& frames) const {
   return out;
 }
 
+namespace {
+
+// GCV and the L-curve measure how lambda trades residual for smoothness on the frames: with no
+// frames, or only zero frames, every lambda scores alike and the choice would be arbitrary.
+void check_frames_to_choose_on(const SampleMatrix& frames, const char* criterion) {
+  if (frames.rows() == 0)
+    throw InputError("frames", "", std::string(criterion) + " needs at least one frame");
+  if (!(frames.squaredNorm() > 0) || !frames.allFinite())
+    throw InputError("frames", "",
+                     std::string(criterion) + " needs frames that are finite and not all zero");
+}
+
+}  // namespace
+
 double Tikhonov::choose_gcv(const SampleMatrix& frames) {
+  check_frames_to_choose_on(frames, "GCV");
   const std::vector<double> curve = gcv_curve(frames);
   const std::size_t best = std::min_element(curve.begin(), curve.end()) - curve.begin();
   set_lambda(grid_[best], "gcv");
@@ -184,6 +204,7 @@ double Tikhonov::choose_gcv(const SampleMatrix& frames) {
 }
 
 double Tikhonov::choose_lcurve(const SampleMatrix& frames) {
+  check_frames_to_choose_on(frames, "the L-curve");
   const Eigen::MatrixXd Z = frames * U_;
   const Eigen::ArrayXd z2 = Z.colwise().squaredNorm().transpose().array();
   const std::size_t n = grid_.size();
@@ -230,6 +251,8 @@ double Tikhonov::choose_validation(const SampleMatrix& frames, const SampleMatri
       total += score(problem_.to_image(X.row(k).transpose()), labels.row(rows[k]).transpose());
     if (total > best_score) best_score = total, best = lambda;
   }
+  if (best_score == -INFINITY)
+    throw InputError("validation frames", "", "no lambda could be scored (every score is NaN)");
   set_lambda(best, "validation");
   return lambda_;
 }

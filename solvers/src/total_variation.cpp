@@ -10,6 +10,7 @@
 
 #include "eitbench/jacobian/error.h"
 #include "eitbench/solvers/tikhonov.h"
+#include "operator_norm.h"
 
 namespace eitbench {
 
@@ -116,8 +117,14 @@ Eigen::VectorXd chambolle_pock(const TotalVariation::Impl& im, const Eigen::Vect
 
 }  // namespace
 
-TotalVariation::TotalVariation(const LinearProblem& problem, const TotalVariationOptions& options)
-    : impl_(std::make_unique<Impl>()), problem_(problem), options_(options), alpha_(options.alpha) {
+TotalVariation::TotalVariation(std::shared_ptr<const LinearProblem> shared,
+                               const TotalVariationOptions& options)
+    : impl_(std::make_unique<Impl>()),
+      owner_(required(std::move(shared), "TotalVariation")),
+      problem_(*owner_),
+      options_(options),
+      alpha_(options.alpha) {
+  const LinearProblem& problem = problem_;
   if (!(options.alpha > 0) || !std::isfinite(options.alpha))
     throw InputError("--lambda", "", "the TV weight must be positive");
   if (!(options.tolerance > 0)) throw InputError("tolerance", "", "must be positive");
@@ -152,14 +159,7 @@ TotalVariation::TotalVariation(const LinearProblem& problem, const TotalVariatio
     impl_->Kt = impl_->K.transpose();
     impl_->weight = Eigen::Map<const Eigen::VectorXd>(weights.data(),
                                                       static_cast<Eigen::Index>(weights.size()));
-    Eigen::VectorXd u = Eigen::VectorXd::Ones(problem.unknowns());  // ||K||^2 by power iteration
-    double estimate = 1;
-    for (int k = 0; k < 50; ++k) {
-      const Eigen::VectorXd w = impl_->Kt * (impl_->K * u);
-      estimate = w.norm() / u.norm();
-      u = w / w.norm();
-    }
-    impl_->norm2 = 1.05 * estimate;
+    impl_->norm2 = detail::squared_operator_norm(impl_->K);
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(problem.A * problem.A.transpose());
   // Eigenvalues ascend: the rank largest are the last columns.
@@ -171,7 +171,7 @@ TotalVariation::TotalVariation(const LinearProblem& problem, const TotalVariatio
   TikhonovOptions start;  // the starting point: NOSER, regularised near its usual optimum
   start.prior = Prior::noser;
   start.choice = Choice::gcv;  // placeholder choice; lambda is set just below
-  impl_->start = std::make_unique<Tikhonov>(problem, start);
+  impl_->start = std::make_unique<Tikhonov>(owner_, start);
   impl_->start->set_lambda(1e-3 * impl_->start->scale(), "start");
 }
 

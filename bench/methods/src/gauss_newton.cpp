@@ -10,13 +10,13 @@ MethodSpec gauss_newton() {
   spec.name = "gn";
   spec.tuning = "lambda from {1e-5, 1e-4, ..., 1e-1} by validation CC";
   spec.sweep_on_subset = true;
-  spec.make = [](const LinearProblem& problem, const MethodOptions& o) {
+  spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GaussNewtonOptions g;
     if (o.choose == "fixed") g.lambda = o.lambda;
     g.choose_by_validation = o.choose == "validation";
     g.absolute = o.absolute;
     if (o.tolerance > 0) g.tolerance = o.tolerance;
-    return std::unique_ptr<Reconstructor>(std::make_unique<GaussNewton>(problem, g));
+    return std::unique_ptr<Reconstructor>(std::make_unique<GaussNewton>(std::move(problem), g));
   };
   return spec;
 }

@@ -9,11 +9,11 @@ MethodSpec greit() {
   MethodSpec spec;
   spec.name = "greit";
   spec.tuning = "lambda from {1e-5, 1e-4, ..., 1} by validation CC";
-  spec.make = [](const LinearProblem& problem, const MethodOptions& o) {
+  spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GreitOptions g;
     if (o.choose == "fixed") g.lambda = o.lambda;
     g.choose_by_validation = o.choose == "validation";
-    return std::unique_ptr<Reconstructor>(std::make_unique<Greit>(problem, g));
+    return std::unique_ptr<Reconstructor>(std::make_unique<Greit>(std::move(problem), g));
   };
   return spec;
 }

@@ -28,13 +28,13 @@ const MethodSpec& find_method(const std::string& name) {
 }
 
 std::unique_ptr<Reconstructor> make_reconstructor(const std::string& name,
-                                                  const LinearProblem& problem,
+                                                  std::shared_ptr<const LinearProblem> problem,
                                                   const MethodOptions& options) {
   const MethodSpec& spec = find_method(name);
   if (!spec.make)
     throw InputError("--model", "",
                      "the " + name + " method needs a trained model (eitbench train)");
-  return spec.make(problem, options);
+  return spec.make(std::move(problem), options);
 }
 
 }  // namespace eitbench

@@ -10,13 +10,13 @@ MethodSpec tikhonov_with(const std::string& prior, const std::string& tuning) {
   MethodSpec spec;
   spec.name = prior;
   spec.tuning = tuning;
-  spec.make = [prior](const LinearProblem& problem, const MethodOptions& o) {
+  spec.make = [prior](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     TikhonovOptions t;
     t.prior = parse_prior(prior);
     t.choice = o.choose == "fixed" ? Choice::fixed : parse_choice(o.choose);
     t.lambda = o.lambda;
     t.neighbours = parse_neighbours(o.neighbours);
-    return std::unique_ptr<Reconstructor>(std::make_unique<Tikhonov>(problem, t));
+    return std::unique_ptr<Reconstructor>(std::make_unique<Tikhonov>(std::move(problem), t));
   };
   return spec;
 }

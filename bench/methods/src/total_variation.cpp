@@ -12,13 +12,13 @@ MethodSpec total_variation() {
       "alpha from {1e-6, 3e-6, ..., 1e-3} by validation CC; GCV and the L-curve do not "
       "apply (the default alpha stays)";
   spec.sweep_on_subset = true;
-  spec.make = [](const LinearProblem& problem, const MethodOptions& o) {
+  spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     TotalVariationOptions t;
     if (o.choose == "fixed") t.alpha = o.lambda;
     t.choose_by_validation = o.choose == "validation";
     if (o.tolerance > 0) t.tolerance = o.tolerance;
     t.neighbours = parse_neighbours(o.neighbours);
-    return std::unique_ptr<Reconstructor>(std::make_unique<TotalVariation>(problem, t));
+    return std::unique_ptr<Reconstructor>(std::make_unique<TotalVariation>(std::move(problem), t));
   };
   return spec;
 }

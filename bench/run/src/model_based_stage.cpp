@@ -39,7 +39,7 @@ Reconstruction set_up_reconstruction(const Context& context, const RunData& data
   fo.current = sensor.current;
   const auto model = std::make_shared<const ForwardModel>(r.mesh, fo);
   r.problem =
-      std::make_unique<const LinearProblem>(make_linear_problem(model, sensor.background, r.grid));
+      std::make_shared<const LinearProblem>(make_linear_problem(model, sensor.background, r.grid));
   r.setup_s = seconds_since(t0);
   context.say(fmt::format(
       "reconstruction mesh: {} triangles; Jacobian and pixel map in {:.2f} s; "
@@ -108,7 +108,7 @@ MethodResults tune_and_score(const Context& context, const std::string& name, co
     const auto t0 = std::chrono::steady_clock::now();
     MethodOptions mo;
     mo.choose = "validation";
-    auto method = make_reconstructor(name, *reconstruction.problem, mo);
+    auto method = make_reconstructor(name, reconstruction.problem, mo);
     method->fit(noisy.validation[k].topRows(tuning_frames),
                 data.validation.labels.topRows(tuning_frames), score);
     const double setup = reconstruction.setup_s + seconds_since(t0);

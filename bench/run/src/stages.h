@@ -54,7 +54,7 @@ std::string describe(const ReferenceCalibration& calibration);
 struct Reconstruction {
   Mesh mesh;
   PixelGrid grid;
-  std::unique_ptr<const LinearProblem> problem;  // the methods keep a reference: not moved
+  std::shared_ptr<const LinearProblem> problem;  // shared with every method built on it
   double setup_s = 0;                            // time to build it
 };
 Reconstruction set_up_reconstruction(const Context& context, const RunData& data);

@@ -26,7 +26,8 @@ struct DiskMeshOptions {
 // Meshes one fundamental sector (0 <= theta <= pi/L) with Gmsh's frontal-Delaunay mesher, refined
 // towards the electrode edges, and replicates it by the group's reflections. The centre is a node
 // surrounded by L triangles: symmetry forces that, so for L > 24 their apex angle 360/L deg is the
-// mesh's smallest angle. Deterministic; not thread-safe (Gmsh has global state).
+// mesh's smallest angle. Deterministic; safe to call from several threads (Gmsh's global state is
+// behind a mutex, so calls mesh one at a time).
 Mesh generate_disk_mesh(const DiskMeshOptions& options);
 
 }  // namespace eitbench

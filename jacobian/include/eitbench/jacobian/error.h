@@ -1,6 +1,13 @@
 #pragma once
 // The one exception type for bad input anywhere in eitbench: it names where the input came from
-// (a file path, "--option" or "argument") and the field that is wrong, so a user can fix it.
+// (a file path, "--option", or in the libraries the options struct or argument) and the field that
+// is wrong, so a user can fix it.
+//
+// The convention, in every library: InputError for data and options that come from a user (a
+// file, a flag, an options struct, a frame); std::logic_error and its subclasses (such as
+// std::invalid_argument) for a programming error, a call the code around it should never make
+// (a null pointer, a size that an earlier check guaranteed); std::runtime_error for the rest
+// (a factorisation that failed, a file system error).
 #include <stdexcept>
 #include <string>
 

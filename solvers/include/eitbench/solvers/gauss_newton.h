@@ -10,6 +10,7 @@
 //   absolute mode:   v_target = the frame itself (absolute, reduced layout), starting from and
 //                    regularised towards the best homogeneous conductivity
 // (theta_prior = 0, i.e. sigma_0, in difference mode).
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,8 @@ struct GaussNewtonOptions {
 
 class GaussNewton : public Reconstructor {
  public:
-  GaussNewton(const LinearProblem& problem, const GaussNewtonOptions& options);
+  // Keeps `problem` (shared with the other methods built on it) for as long as it lives.
+  GaussNewton(std::shared_ptr<const LinearProblem> problem, const GaussNewtonOptions& options);
 
   std::string name() const override { return "gn"; }
   std::string settings() const override;
@@ -47,7 +49,8 @@ class GaussNewton : public Reconstructor {
   void set_lambda(double relative, const std::string& how);
 
  private:
-  const LinearProblem& problem_;
+  std::shared_ptr<const LinearProblem> owner_;
+  const LinearProblem& problem_;  // *owner_
   GaussNewtonOptions options_;
   Eigen::VectorXd reference_;  // v(sigma_0), reduced
   Eigen::VectorXd weight_;     // W (diagonal)

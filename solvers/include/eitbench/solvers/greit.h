@@ -7,6 +7,7 @@
 // with y_k = A x_k the training frames (small targets are in the linear regime) and N the noise
 // covariance, diagonal and proportional to each measurement's mean signal power.
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "eitbench/solvers/linear_problem.h"
@@ -18,14 +19,18 @@ struct GreitOptions {
   int targets = 1000;            // training targets, uniform over the disk
   double target_radius = 0.05;   // relative to R
   double desired_radius = 0.15;  // the desired image's disc, relative to R
-  double lambda = 0;             // relative to trace(Y Y^T) / trace(N); 0: the default 1e-2
+  // The noise term's weight. N = diag(Y Y^T), so lambda is dimensionless: 1 weighs each
+  // measurement's noise as much as its mean training signal. It is not Adler et al.'s noise figure
+  // (NF): choose it by validation (choose_by_validation) or set it. 0: the default 1e-2.
+  double lambda = 0;
   std::uint64_t seed = 1;
   bool choose_by_validation = false;
 };
 
 class Greit : public Reconstructor {
  public:
-  Greit(const LinearProblem& problem, const GreitOptions& options);
+  // Keeps `problem` (shared with the other methods built on it) for as long as it lives.
+  Greit(std::shared_ptr<const LinearProblem> problem, const GreitOptions& options);
 
   std::string name() const override { return "greit"; }
   std::string settings() const override;
@@ -35,7 +40,8 @@ class Greit : public Reconstructor {
   void set_lambda(double relative, const std::string& how);
 
  private:
-  const LinearProblem& problem_;
+  std::shared_ptr<const LinearProblem> owner_;
+  const LinearProblem& problem_;  // *owner_
   GreitOptions options_;
   Eigen::MatrixXd DYt_, YYt_, N_;  // the training products, kept to change lambda
   double lambda_;

@@ -36,6 +36,10 @@ struct LinearProblem {
   void check_frame_size(Eigen::Index values) const;
 };
 
+// `problem` itself, for a solver to keep; std::invalid_argument naming `who` when it is null.
+std::shared_ptr<const LinearProblem> required(std::shared_ptr<const LinearProblem> problem,
+                                              const char* who);
+
 // Builds A for a mesh, a background conductivity and a pixel grid.
 LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, double background,
                                   const PixelGrid& grid);

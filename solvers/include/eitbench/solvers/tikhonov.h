@@ -4,6 +4,7 @@
 // One eigendecomposition G = U diag(g) U^T serves every lambda: the fixed-lambda reconstruction
 // matrix, GCV, the L-curve and the validation sweep. The per-frame work is one matrix-vector
 // product.
+#include <memory>
 #include <string>
 
 #include "eitbench/solvers/linear_problem.h"
@@ -14,8 +15,8 @@ namespace eitbench {
 enum class Prior {
   identity,  // R = I
   noser,     // R^T R = diag(A^T A)^p (Cheney's NOSER; p = 0.5 as in EIDORS)
-  laplace,   // R = the 4-neighbour Laplacian of the in-disk pixels (plus epsilon I: L has constants
-             // in its kernel)
+  laplace,   // R^T R = L^T L + epsilon I, L the Laplacian of the in-disk pixels (4-neighbour) or
+             // of the elements (epsilon I because L has the constants in its kernel)
 };
 Prior parse_prior(const std::string& method);  // tikhonov | noser | laplace
 
@@ -33,16 +34,17 @@ struct TikhonovOptions {
   double lambda = 0;  // used when choice == fixed; must then be > 0
   Choice choice = Choice::gcv;
   int grid = 41;                  // lambdas tried: trace(G)/m x 10^[-8, 2], log-spaced
-  double laplace_epsilon = 1e-3;  // relative to the Laplacian's mean diagonal
+  double laplace_epsilon = 1e-3;  // relative to the mean diagonal of L^T L
   Neighbours neighbours = Neighbours::pixels;
-  // The reconstruction matrix in single precision: 39 us a frame instead of 85 us (medium mesh,
-  // this machine), at 7 significant digits; double for exact work (tiny lambdas amplify rounding).
+  // The reconstruction matrix in single precision: about twice as fast (docs/speed.md) at 7
+  // significant digits; double for exact work (tiny lambdas amplify rounding).
   bool single_precision = true;
 };
 
 class Tikhonov : public Reconstructor {
  public:
-  Tikhonov(const LinearProblem& problem, const TikhonovOptions& options);
+  // Keeps `problem` (shared with the other methods built on it) for as long as it lives.
+  Tikhonov(std::shared_ptr<const LinearProblem> problem, const TikhonovOptions& options);
 
   std::string name() const override;
   std::string settings() const override;
@@ -66,7 +68,8 @@ class Tikhonov : public Reconstructor {
   std::vector<double> gcv_curve(const SampleMatrix& frames) const;
 
  private:
-  const LinearProblem& problem_;
+  std::shared_ptr<const LinearProblem> owner_;
+  const LinearProblem& problem_;  // *owner_
   TikhonovOptions options_;
   Eigen::MatrixXd C_;  // P A^T U (n x m)
   Eigen::MatrixXd U_;  // eigenvectors of G

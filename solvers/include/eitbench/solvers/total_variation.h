@@ -26,7 +26,9 @@ struct TotalVariationOptions {
 
 class TotalVariation : public Reconstructor {
  public:
-  TotalVariation(const LinearProblem& problem, const TotalVariationOptions& options);
+  // Keeps `problem` (shared with the other methods built on it) for as long as it lives.
+  TotalVariation(std::shared_ptr<const LinearProblem> problem,
+                 const TotalVariationOptions& options);
   ~TotalVariation() override;
 
   std::string name() const override { return "tv"; }
@@ -46,7 +48,8 @@ class TotalVariation : public Reconstructor {
 
  private:
   std::unique_ptr<Impl> impl_;
-  const LinearProblem& problem_;
+  std::shared_ptr<const LinearProblem> owner_;
+  const LinearProblem& problem_;  // *owner_
   TotalVariationOptions options_;
   double alpha_;
   std::string how_ = "default";

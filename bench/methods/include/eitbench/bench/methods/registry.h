@@ -28,7 +28,9 @@ struct MethodSpec {
   // the iterative methods, whose sweep costs a solve per frame and candidate.
   bool sweep_on_subset = false;
   // Null for a method that is trained, not built on the linear problem (dnn).
-  std::function<std::unique_ptr<Reconstructor>(const LinearProblem&, const MethodOptions&)> make;
+  std::function<std::unique_ptr<Reconstructor>(std::shared_ptr<const LinearProblem>,
+                                               const MethodOptions&)>
+      make;
 };
 
 // Every method, in the order the benchmark runs and reports them.
@@ -38,7 +40,7 @@ const std::vector<std::string>& method_names();  // tikhonov noser laplace tv gn
 const MethodSpec& find_method(const std::string& name);
 // find_method(name).make; InputError naming --model for dnn (it needs a trained model).
 std::unique_ptr<Reconstructor> make_reconstructor(const std::string& name,
-                                                  const LinearProblem& problem,
+                                                  std::shared_ptr<const LinearProblem> problem,
                                                   const MethodOptions& options);
 
 // The learned reconstructor behind the same interface ("dnn"): fit() does nothing (it was
