@@ -42,11 +42,18 @@ class Common {
 
 // A numeric factor with its CHOLMOD workspace. Reusing one across solves avoids allocating (and
 // page-faulting in) megabytes for every conductivity.
+// What one solve needs, kept between solves: the factor (with the symbolic analysis), the
+// system's values, and CHOLMOD's solution and work arrays (cholmod_solve2 reuses them when their
+// size fits), so that a solve allocates nothing after the first.
 struct Workspace {
   Common common;
   cholmod_factor* factor = nullptr;
+  std::vector<double> values;
+  cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
   ~Workspace() {
     if (factor) cholmod_free_factor(&factor, common.get());
+    for (cholmod_dense** d : {&X, &Y, &E})
+      if (*d) cholmod_free_dense(d, common.get());
   }
 };
 
@@ -65,6 +72,7 @@ struct ForwardModel::Impl {
   std::vector<int> col_ptr, row_idx;
   std::vector<double> base_values;  // the sigma-independent electrode blocks
   int dofs = 0;
+  Eigen::MatrixXd rhs;  // dofs x L: drive d puts +I on electrode d and -I on d + 1
   mutable Common analysis_common;
   cholmod_factor* symbolic = nullptr;
   // Idle workspaces: solve() takes one (or makes one) and gives it back, so concurrent solves
@@ -86,6 +94,9 @@ struct ForwardModel::Impl {
     if (!w->factor) throw std::runtime_error("CHOLMOD: out of memory");
     return w;
   }
+  // Assembles and factorises for sigma and solves every drive, in a workspace from the pool: the
+  // solution is its X (dofs x L). Give it back when done.
+  std::unique_ptr<Workspace> solve(const Eigen::VectorXd& sigma) const;
   void give_back(std::unique_ptr<Workspace> w) const {
     std::lock_guard<std::mutex> lock(pool_mutex);
     pool.push_back(std::move(w));
@@ -245,6 +256,11 @@ ForwardModel::ForwardModel(const Mesh& mesh, const ForwardOptions& options,
       throw InputError("ForwardOptions", "contact impedance of electrode " + std::to_string(e),
                        "must be positive and finite");
   impl_->build();
+  impl_->rhs = Eigen::MatrixXd::Zero(impl_->dofs, L);
+  for (int d = 0; d < L; ++d) {
+    impl_->rhs(impl_->electrode_dof(d), d) += options.current;
+    impl_->rhs(impl_->electrode_dof((d + 1) % L), d) -= options.current;
+  }
 }
 
 ForwardModel::~ForwardModel() = default;
@@ -261,9 +277,19 @@ const ForwardOptions& ForwardModel::options() const {
   return impl_->options;
 }
 
-ForwardSolution ForwardModel::solve(const Eigen::VectorXd& sigma) const {
-  const Impl& m = *impl_;
-  const int T = m.mesh.num_triangles(), N = m.mesh.num_nodes(), L = m.mesh.num_electrodes();
+namespace {
+
+// The electrode potentials of drive d in a solution X (dofs x L): X's last L rows.
+double electrode_potential(const cholmod_dense& X, int dofs, int L, int electrode, int drive) {
+  return static_cast<const double*>(
+      X.x)[static_cast<std::size_t>(drive) * X.d + dofs - L + electrode];
+}
+
+}  // namespace
+
+std::unique_ptr<Workspace> ForwardModel::Impl::solve(const Eigen::VectorXd& sigma) const {
+  const Impl& m = *this;
+  const int T = m.mesh.num_triangles();
   if (sigma.size() != T)
     throw InputError(
         "conductivity", "",
@@ -272,45 +298,45 @@ ForwardSolution ForwardModel::solve(const Eigen::VectorXd& sigma) const {
     if (!(sigma[t] > 0) || !std::isfinite(sigma[t]))
       throw InputError("conductivity", "element " + std::to_string(t),
                        "must be positive and finite");
-
-  std::vector<double> values = m.base_values;
-  for (int t = 0; t < T; ++t)
-    for (int q = 0; q < kLocalPairs; ++q) {
-      const int pos = m.scatter(t, q);
-      if (pos >= 0) values[pos] += sigma[t] * m.stiffness(t, q);
-    }
-  cholmod_sparse A = m.view(values);
-
   // Each call factorises into a workspace of its own (the factor keeps the symbolic analysis):
   // solve() is safe to call from several threads at once.
   std::unique_ptr<Workspace> w = m.take();
+  w->values.assign(m.base_values.begin(), m.base_values.end());
+  for (int t = 0; t < T; ++t)
+    for (int q = 0; q < kLocalPairs; ++q) {
+      const int pos = m.scatter(t, q);
+      if (pos >= 0) w->values[pos] += sigma[t] * m.stiffness(t, q);
+    }
+  cholmod_sparse A = m.view(w->values);
   cholmod_factorize(&A, w->factor, w->common.get());
   if (w->common.get()->status != CHOLMOD_OK) {
     // The workspace may hold a failed factor: drop it rather than pool it.
     throw std::runtime_error("CHOLMOD: the CEM system is not positive definite");
   }
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m.dofs, L);
-  for (int d = 0; d < L; ++d) {
-    rhs(m.electrode_dof(d), d) += m.options.current;
-    rhs(m.electrode_dof((d + 1) % L), d) -= m.options.current;
-  }
   cholmod_dense B{};
   B.nrow = static_cast<size_t>(m.dofs);
-  B.ncol = static_cast<size_t>(L);
+  B.ncol = static_cast<size_t>(m.rhs.cols());
   B.nzmax = B.nrow * B.ncol;
   B.d = B.nrow;
-  B.x = rhs.data();
+  B.x = const_cast<double*>(m.rhs.data());  // read only
   B.xtype = CHOLMOD_REAL;
   B.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* X = cholmod_solve(CHOLMOD_A, w->factor, &B, w->common.get());
-  if (!X) throw std::runtime_error("CHOLMOD: solve failed (out of memory?)");
-  const Eigen::Map<const Eigen::MatrixXd> x(static_cast<const double*>(X->x), m.dofs, L);
+  if (!cholmod_solve2(CHOLMOD_A, w->factor, &B, nullptr, &w->X, nullptr, &w->Y, &w->E,
+                      w->common.get()))
+    throw std::runtime_error("CHOLMOD: solve failed (out of memory?)");
+  return w;
+}
+
+ForwardSolution ForwardModel::solve(const Eigen::VectorXd& sigma) const {
+  const Impl& m = *impl_;
+  const int N = m.mesh.num_nodes(), L = m.mesh.num_electrodes();
+  std::unique_ptr<Workspace> w = m.solve(sigma);
+  const Eigen::Map<const Eigen::MatrixXd> x(static_cast<const double*>(w->X->x), m.dofs, L);
   ForwardSolution solution;
   solution.node_potentials.resize(N, L);
   solution.node_potentials.row(0).setZero();
   solution.node_potentials.bottomRows(N - 1) = x.topRows(N - 1);
   solution.electrode_potentials = x.bottomRows(L);
-  cholmod_free_dense(&X, w->common.get());
   m.give_back(std::move(w));
   return solution;
 }
@@ -327,7 +353,19 @@ Eigen::VectorXd ForwardModel::frame(const ForwardSolution& s, MeasurementOrder o
 }
 
 Eigen::VectorXd ForwardModel::frame(const Eigen::VectorXd& sigma, MeasurementOrder order) const {
-  return frame(solve(sigma), order);
+  // Only the electrode rows of the solution are read: no node potentials are copied out.
+  const Impl& m = *impl_;
+  std::unique_ptr<Workspace> w = m.solve(sigma);
+  const auto& pairs = m.protocol.pairs(order);
+  const int L = m.mesh.num_electrodes();
+  Eigen::VectorXd v(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const auto [d, e] = pairs[i];
+    v[i] = electrode_potential(*w->X, m.dofs, L, e, d) -
+           electrode_potential(*w->X, m.dofs, L, (e + 1) % L, d);
+  }
+  m.give_back(std::move(w));
+  return v;
 }
 
 Eigen::MatrixXd ForwardModel::electrode_currents(const ForwardSolution& s) const {
