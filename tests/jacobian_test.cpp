@@ -73,5 +73,18 @@ TEST(Jacobian, SatisfiesEulersRelationForTheScalingLaw) {
   EXPECT_GT((z * dv_dz).norm() / v.norm(), 1e-4) << "the contact term matters at this z";
 }
 
+// The rows a reconstruction uses, computed alone, are the full Jacobian's rows bit for bit.
+TEST(Jacobian, ChosenRowsEqualTheFullJacobiansRows) {
+  const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
+  const ForwardModel model(mesh);
+  const ForwardSolution s = model.solve(testing::random_conductivity(mesh.num_triangles(), 9));
+  const Protocol& p = model.protocol();
+  const Eigen::MatrixXd reduced = model.jacobian(s, p.reduced_pairs());
+  ASSERT_EQ(reduced.rows(), 104);
+  EXPECT_EQ(reduced, p.select_rows(model.jacobian(s), MeasurementOrder::rotating, true));
+  const Eigen::MatrixXd ascending = model.jacobian(s, p.pairs(MeasurementOrder::ascending));
+  EXPECT_EQ(ascending, p.select_rows(model.jacobian(s), MeasurementOrder::ascending, false));
+}
+
 }  // namespace
 }  // namespace eitbench

@@ -392,6 +392,11 @@ Eigen::MatrixXd ForwardModel::electrode_currents(const ForwardSolution& s) const
 }
 
 Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s) const {
+  return jacobian(s, impl_->protocol.pairs(MeasurementOrder::rotating));
+}
+
+Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
+                                       const std::vector<MeasurementPair>& pairs) const {
   const Impl& m = *impl_;
   const int T = m.mesh.num_triangles(), L = m.mesh.num_electrodes();
   // Field gradients per element, all drives side by side: gx(t, d), gy(t, d).
@@ -403,10 +408,13 @@ Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s) const {
     gx.row(t) = m.grad(t, 0) * u0 + m.grad(t, 1) * u1 + m.grad(t, 2) * u2;
     gy.row(t) = m.grad(t, 3) * u0 + m.grad(t, 4) * u1 + m.grad(t, 5) * u2;
   }
-  const auto& pairs = m.protocol.pairs(MeasurementOrder::rotating);
   const int rows = static_cast<int>(pairs.size());
   std::vector<int> drive(rows), measure(rows);
-  for (int r = 0; r < rows; ++r) drive[r] = pairs[r].drive, measure[r] = pairs[r].measure;
+  for (int r = 0; r < rows; ++r) {
+    drive[r] = pairs[r].drive, measure[r] = pairs[r].measure;
+    if (drive[r] < 0 || drive[r] >= L || measure[r] < 0 || measure[r] >= L)
+      throw std::invalid_argument("ForwardModel::jacobian: a pair names no electrode");
+  }
   Eigen::MatrixXd J(rows, T);
   const double inv_current = 1.0 / m.options.current;
   for (int t = 0; t < T; ++t) {

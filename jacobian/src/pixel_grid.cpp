@@ -55,7 +55,12 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_overlap(const Mesh& mesh,
 
 Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_to_element(const Mesh& mesh,
                                                               const PixelGrid& grid) {
-  const auto overlap = pixel_overlap(mesh, grid);
+  return pixel_to_element(mesh, grid, pixel_overlap(mesh, grid));
+}
+
+Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_to_element(
+    const Mesh& mesh, const PixelGrid& grid,
+    const Eigen::SparseMatrix<double, Eigen::RowMajor>& overlap) {
   const auto& mask = grid.mask();
   std::vector<Eigen::Triplet<double>> entries;
   for (int t = 0; t < overlap.rows(); ++t) {

@@ -24,8 +24,7 @@ State evaluate(const LinearProblem& p, const Eigen::VectorXd& theta, bool jacobi
   State out;
   out.v = p.model->protocol().reduce(p.model->frame(s), MeasurementOrder::rotating);
   if (jacobian) {
-    const Eigen::MatrixXd J =
-        p.model->protocol().select_rows(p.model->jacobian(s), MeasurementOrder::rotating, true);
+    const Eigen::MatrixXd J = p.model->jacobian(s, p.model->protocol().reduced_pairs());
     out.J = (J * p.pixel_to_element) * sigma_pix.asDiagonal();
   }
   return out;

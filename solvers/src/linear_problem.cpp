@@ -48,8 +48,8 @@ constexpr double kDiskCoverage = 0.9;
 // The pixel basis assumes the mesh is the grid's disk: the disk of grid.radius() about the
 // origin. A mesh in other units, off centre or of another shape would give a wrong A without an
 // error, so the overlap of the mesh with the in-disk pixels must cover nearly all of both.
-void check_mesh_is_the_grids_disk(const Mesh& mesh, const PixelGrid& grid) {
-  const auto overlap = pixel_overlap(mesh, grid);
+void check_mesh_is_the_grids_disk(const Mesh& mesh, const PixelGrid& grid,
+                                  const Eigen::SparseMatrix<double, Eigen::RowMajor>& overlap) {
   double shared = 0;
   for (int t = 0; t < overlap.rows(); ++t)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(overlap, t); it; ++it)
@@ -88,9 +88,10 @@ LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, dou
   for (int k = 0; k < grid.num_pixels(); ++k)
     if (grid.mask()[k]) p.pixels.push_back(k);
   const Mesh& mesh = model->mesh();
-  check_mesh_is_the_grids_disk(mesh, grid);
+  const auto overlap = pixel_overlap(mesh, grid);
+  check_mesh_is_the_grids_disk(mesh, grid, overlap);
   // Columns of P for the in-disk pixels only (P has no weight on the others).
-  const auto full = eitbench::pixel_to_element(mesh, grid);
+  const auto full = eitbench::pixel_to_element(mesh, grid, overlap);
   std::vector<int> column(grid.num_pixels(), -1);
   for (std::size_t j = 0; j < p.pixels.size(); ++j) column[p.pixels[j]] = static_cast<int>(j);
   std::vector<Eigen::Triplet<double>> entries;
@@ -99,9 +100,9 @@ LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, dou
       entries.emplace_back(t, column[it.col()], it.value());
   p.pixel_to_element.resize(full.rows(), static_cast<Eigen::Index>(p.pixels.size()));
   p.pixel_to_element.setFromTriplets(entries.begin(), entries.end());
-  const Eigen::MatrixXd J = model->protocol().select_rows(
-      model->jacobian(Eigen::VectorXd::Constant(mesh.num_triangles(), background)),
-      MeasurementOrder::rotating, true);
+  const Eigen::MatrixXd J =
+      model->jacobian(model->solve(Eigen::VectorXd::Constant(mesh.num_triangles(), background)),
+                      model->protocol().reduced_pairs());
   p.A = -background * (J * p.pixel_to_element);
   return p;
 }

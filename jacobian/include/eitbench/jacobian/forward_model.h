@@ -54,6 +54,10 @@ class ForwardModel {
   // column per triangle. The adjoint of measurement m is drive m's field scaled by 1/I, so the
   // drive solves give every row: J(d,m; k) = -area_k * grad u_d . grad u_m / I.
   Eigen::MatrixXd jacobian(const ForwardSolution& solution) const;
+  // Only the rows of `pairs` (e.g. protocol().reduced_pairs(), the 104 a reconstruction uses):
+  // each row costs as much as any other, so asking for fewer is that much faster.
+  Eigen::MatrixXd jacobian(const ForwardSolution& solution,
+                           const std::vector<MeasurementPair>& pairs) const;
   Eigen::MatrixXd jacobian(const Eigen::VectorXd& sigma) const;
 
  private:

@@ -39,6 +39,10 @@ Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_overlap(const Mesh& mesh, con
 // triangle that covers only masked pixels takes the in-disk pixel nearest its centroid.
 Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_to_element(const Mesh& mesh,
                                                               const PixelGrid& grid);
+// The same from overlaps already computed by pixel_overlap(mesh, grid).
+Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_to_element(
+    const Mesh& mesh, const PixelGrid& grid,
+    const Eigen::SparseMatrix<double, Eigen::RowMajor>& overlap);
 
 // Q (pixels x triangles): each in-disk pixel's value as the area-weighted mean of the elements over
 // it (images of element data); masked pixels get an empty row and hold 0.
