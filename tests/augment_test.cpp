@@ -314,6 +314,7 @@ LabelledFrames circle_set(const Mesh& mesh, int n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> pos(-0.45, 0.45), radius(0.08, 0.2), cond(0.001, 0.04);
   LabelledFrames set;
+  set.background = 0.05;  // the labels below are relative to 0.05
   set.frames.resize(n, 104);
   set.labels.resize(n, 4096);
   const Eigen::VectorXd ref = model.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), 0.05));
@@ -414,6 +415,15 @@ TEST(Augment, RejectsBadSets) {
   LabelledFrames set;
   AugmentSetup setup;
   EXPECT_THROW(expand(set, setup), InputError);  // empty
+  {  // circles without the background their labels are relative to
+    LabelledFrames unset;
+    unset.frames = SampleMatrix::Ones(1, 104);
+    unset.labels = SampleMatrix::Zero(1, 4096);
+    unset.circles = {{{0.1, 0.2, 0.2, 0.01}}};
+    EXPECT_THROW(expand(unset, setup), InputError);
+    unset.background = 0.05;
+    EXPECT_NO_THROW(expand(unset, setup));
+  }
   set.frames = SampleMatrix::Ones(2, 103);
   EXPECT_THROW(expand(set, setup), InputError);  // wrong length
   set.frames = SampleMatrix::Ones(2, 104);

@@ -1,5 +1,7 @@
 #include "eitbench/augment/augmented_set.h"
 
+#include <cmath>
+
 #include <tbb/parallel_for.h>
 
 #include "eitbench/jacobian/error.h"
@@ -34,8 +36,10 @@ void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup)
                      "labels must be N x " + std::to_string(setup.image_size * setup.image_size));
   if (!set.circles.empty() && static_cast<Eigen::Index>(set.circles.size()) != n)
     throw InputError("circles", "count", "one circle list per frame is needed");
-  if (!set.circles.empty() && !(set.background > 0))
-    throw InputError("background", "", "must be positive");
+  if (!set.circles.empty() && !(set.background > 0 && std::isfinite(set.background)))
+    throw InputError("LabelledFrames", "background",
+                     "must be set, positive and finite when circles are given (their labels are "
+                     "relative to it)");
 }
 
 LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup) {

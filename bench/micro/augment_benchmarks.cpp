@@ -16,6 +16,7 @@ LabelledFrames random_set(int n, bool circles) {
   std::uniform_real_distribution<double> pos(-0.45, 0.45), radius(0.05, 0.25), cond(0.0001, 0.05);
   const PixelGrid grid(64, 1.0);
   LabelledFrames set;
+  set.background = 0.05;  // the labels below are relative to 0.05
   set.frames.resize(n, 104);
   for (auto& x : set.frames.reshaped()) x = normal(rng);
   set.labels.resize(n, 4096);

@@ -17,6 +17,7 @@ using namespace eitbench;
 // Random circles with their exact labels; random frames (speed does not depend on the physics).
 LabelledFrames synthetic(int n, std::uint64_t seed) {
   LabelledFrames set;
+  set.background = 0.05;  // the labels below are relative to 0.05
   const PixelGrid grid(64, 1.0);
   set.frames.resize(n, 104);
   set.labels.resize(n, grid.num_pixels());

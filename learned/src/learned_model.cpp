@@ -1,3 +1,4 @@
+#include <ATen/CPUGeneratorImpl.h>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -24,13 +25,22 @@ std::vector<std::pair<std::string, std::vector<long>>> shapes(const Network& net
 LearnedModel::LearnedModel(const NetworkOptions& network, int electrodes, std::uint64_t seed)
     : impl_(std::make_unique<Impl>()) {
   check_network_options(network, "network");
-  torch::manual_seed(seed);
   impl_->info.network = network;
   impl_->info.electrodes = electrodes;
+  // LibTorch initialises weights from its process-wide generator: seed it for these weights, then
+  // give it back its state, so that making a model (Trainer::best_model() makes one) changes no
+  // other random numbers of the process.
+  at::Generator generator = at::detail::getDefaultCPUGenerator();
+  const torch::Tensor state = generator.get_state();
+  torch::manual_seed(seed);
   impl_->net = Network(network);
+  generator.set_state(state);
+  impl_->net->eval();  // a model reconstructs; only the trainer's own networks train
 }
 
-LearnedModel::LearnedModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+LearnedModel::LearnedModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {
+  if (impl_->net) impl_->net->eval();
+}
 LearnedModel::~LearnedModel() = default;
 LearnedModel::LearnedModel(LearnedModel&&) noexcept = default;
 LearnedModel& LearnedModel::operator=(LearnedModel&&) noexcept = default;
@@ -41,6 +51,7 @@ LearnedModel::LearnedModel(const LearnedModel& other) : impl_(std::make_unique<I
   impl_->net = Network(other.impl_->info.network);
   impl_->net->to(impl_->device);
   copy_state(other.impl_->net, impl_->net);
+  impl_->net->eval();
 }
 
 LearnedModel& LearnedModel::operator=(const LearnedModel& other) {
@@ -79,8 +90,9 @@ SampleMatrix LearnedModel::reconstruct(const SampleMatrix& frames, int batch) co
   if (!frames.allFinite()) throw InputError("frames", "values", "NaN or infinite values");
   SampleMatrix images(frames.rows(), o.image_size * o.image_size);
   if (frames.rows() == 0) return images;
+  // No eval() here: this is const, and the mode is set once when the model is made (eval() writes
+  // every module's flag, a data race between threads sharing the model).
   torch::InferenceMode guard;
-  impl_->net->eval();
   batch = std::max(1, batch);
   for (Eigen::Index start = 0; start < frames.rows(); start += batch) {
     const Eigen::Index rows = std::min<Eigen::Index>(batch, frames.rows() - start);

@@ -472,6 +472,15 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
     m->net->to(m->device);
     m->best->to(m->device);
     m->adam->load(adam);
+    // The archive was read onto the CPU, and Adam's load keeps its state tensors where the archive
+    // put them: move them to the device the parameters are on (a CUDA resume would otherwise mix
+    // devices at the first step).
+    for (auto& [key, state] : m->adam->state()) {
+      auto& s = static_cast<torch::optim::AdamParamState&>(*state);
+      s.exp_avg(s.exp_avg().to(m->device));
+      s.exp_avg_sq(s.exp_avg_sq().to(m->device));
+      if (s.max_exp_avg_sq().defined()) s.max_exp_avg_sq(s.max_exp_avg_sq().to(m->device));
+    }
   } catch (const c10::Error& e) {
     throw InputError(source, "weights", first_line(e));
   }

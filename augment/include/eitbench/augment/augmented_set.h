@@ -2,6 +2,7 @@
 // Augmenting a whole set of labelled frames: expanded (every frame times every group element), or
 // on the fly (one group element per sample and epoch, drawn deterministically, with no copy).
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -17,7 +18,9 @@ struct LabelledFrames {
   SampleMatrix frames;                       // N x frame size
   SampleMatrix labels;                       // N x pixels, or N x 0
   std::vector<std::vector<Circle>> circles;  // N lists, or empty
-  double background = 0.05;                  // sigma_0 for re-rasterised labels
+  // sigma_0, which re-rasterised labels are relative to: required with circles (no default, so
+  // that a set on another scale cannot take the simulated data set's 0.05 by omission).
+  double background = NAN;
 };
 
 struct AugmentSetup {
