@@ -1,5 +1,5 @@
 // eitbench run: the main job. Data, every reconstructor, the learned one trained without and with
-// augmentation, all scored at every SNR, the data-efficiency sweep, and the report (issue 7).
+// augmentation, all scored at every SNR, the data-efficiency sweep, and the report.
 #include <fmt/core.h>
 
 #include <chrono>
@@ -30,7 +30,7 @@ std::function<void()> add_run_command(CLI::App& app) {
       "The benchmark: every reconstructor on one data set, scored at every SNR, with a "
       "report");
   cmd->add_option("--preset", args->preset,
-                  "quick (about 10 min on 2 cores) | standard | paper (the paper's protocol; GPU "
+                  "quick (about 14 min on 2 cores) | standard | paper (the paper's protocol; GPU "
                   "advised, resumable) | tiny (seconds, for tests)")
       ->capture_default_str()
       ->check(CLI::IsMember({"tiny", "quick", "standard", "paper"}));
