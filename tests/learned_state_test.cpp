@@ -4,32 +4,15 @@
 #include <gtest/gtest.h>
 #include <torch/torch.h>
 
-#include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/data/training_data.h"
 #include "eitbench/learned.h"
+#include "learned_support.h"
 
 namespace eitbench {
 namespace {
 
-NetworkOptions small_network() {
-  NetworkOptions n;
-  n.hidden = {32};
-  n.latent_channels = 4;
-  n.decoder_channels = {4, 4, 4};
-  n.dropout = 0.2;  // so that a model left in training mode would reconstruct at random
-  return n;
-}
-
-const Dataset& data() {
-  static const Dataset d = [] {
-    SimulationOptions o;
-    o.preset = "tiny";
-    o.density = MeshDensity::coarse;
-    o.threads = 1;
-    return simulate_dataset(o);
-  }();
-  return d;
-}
+using testing::test_network;  // dropout 0.1: a model left in training mode reconstructs at random
+using testing::tiny;
 
 // Trainer::best_model() makes a model, which seeds LibTorch's generator for its initial weights:
 // the process's generator must come out as it went in.
@@ -37,25 +20,25 @@ TEST(LearnedState, MakingAModelLeavesTheGlobalGeneratorAlone) {
   TrainingOptions o;
   o.steps = 2;
   o.batch_size = 16;
-  Trainer trainer(small_network(), o, labelled_frames(data(), Split::train),
-                  labelled_frames(data(), Split::validation), sensor_of(data()));
+  Trainer trainer(test_network(), o, labelled_frames(tiny(), Split::train),
+                  labelled_frames(tiny(), Split::validation), sensor_of(tiny()));
   trainer.run_epoch();
   torch::manual_seed(123);
   const torch::Tensor expected = torch::rand({8});
   torch::manual_seed(123);
   const LearnedModel model = trainer.best_model();
-  const LearnedModel fresh(small_network(), 16, 7);
+  const LearnedModel fresh(test_network(), 16, 7);
   EXPECT_TRUE(torch::equal(torch::rand({8}), expected));
   // And a fresh model's weights are still a function of its seed.
-  const SampleMatrix frames = labelled_frames(data(), Split::validation).frames;
-  EXPECT_EQ(LearnedModel(small_network(), 16, 7).reconstruct(frames), fresh.reconstruct(frames));
+  const SampleMatrix frames = labelled_frames(tiny(), Split::validation).frames;
+  EXPECT_EQ(LearnedModel(test_network(), 16, 7).reconstruct(frames), fresh.reconstruct(frames));
 }
 
 // With dropout in the network, a model in training mode gives a different image on every call:
 // every way of making a model leaves it in evaluation mode, so reconstruct (const) need not set it.
 TEST(LearnedState, ModelsReconstructInEvaluationMode) {
-  const SampleMatrix frames = labelled_frames(data(), Split::validation).frames.topRows(4);
-  const LearnedModel fresh(small_network(), 16, 3);
+  const SampleMatrix frames = labelled_frames(tiny(), Split::validation).frames.topRows(4);
+  const LearnedModel fresh(test_network(), 16, 3);
   const LearnedModel copy = fresh;
   const LearnedModel loaded = LearnedModel::from_bytes(fresh.to_bytes(), "mem");
   for (const LearnedModel* m : {&fresh, &copy, &loaded})

@@ -9,31 +9,13 @@
 #include "eitbench/jacobian.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/learned.h"
+#include "learned_support.h"
 
 namespace eitbench {
 namespace {
 
-// The tiny preset on the coarse mesh: 60 training samples, 14 validation, 7 test, in seconds.
-const Dataset& tiny() {
-  static const Dataset data = [] {
-    SimulationOptions o;
-    o.preset = "tiny";
-    o.seed = 7;
-    o.density = MeshDensity::coarse;
-    return simulate_dataset(o);
-  }();
-  return data;
-}
-
-// A network small enough for tests: 104 -> 64 -> 8 x 8 x 8 -> 8, 4, 4 -> 64 x 64.
-NetworkOptions test_network() {
-  NetworkOptions n;
-  n.hidden = {64};
-  n.latent_channels = 8;
-  n.decoder_channels = {8, 4, 4};
-  n.dropout = 0.1;
-  return n;
-}
+using testing::test_network;
+using testing::tiny;
 
 double mse(const SampleMatrix& a, const SampleMatrix& b) {
   return (a - b).squaredNorm() / a.size();

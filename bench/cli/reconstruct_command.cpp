@@ -169,7 +169,23 @@ struct FrameSelection {
 
 // Frames and labels to choose a hyperparameter on: the validation split when the data have one,
 // else the selected frames themselves.
-FrameSelection tuning_frames(const Args* args, const Selection& s, const std::string& choose);
+FrameSelection tuning_frames(const Args* args, const Selection& s, const std::string& choose) {
+  const Dataset& data = s.data;
+  const std::vector<int> val = data.indices(Split::validation);
+  if (choose == "validation" && (val.empty() || !data.has_labels()))
+    throw InputError(args->data, "split",
+                     "--choose validation needs a data set with a labelled validation split");
+  FrameSelection t{s.frames, s.labels};
+  if (val.empty()) return t;
+  t.frames.resize(static_cast<Eigen::Index>(val.size()), data.differences.cols());
+  t.labels.resize(static_cast<Eigen::Index>(val.size()), data.labels.cols());
+  for (std::size_t k = 0; k < val.size(); ++k) {
+    t.frames.row(k) = data.differences.row(val[k]);
+    if (data.has_labels()) t.labels.row(k) = data.labels.row(val[k]);
+  }
+  if (std::isfinite(args->snr)) add_noise(t.frames, args->snr, args->noise_seed + 1);
+  return t;
+}
 
 // A model-based method on the mesh, its hyperparameter chosen as --choose says.
 std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd,
@@ -197,24 +213,6 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
                 });
   }
   return method;
-}
-
-FrameSelection tuning_frames(const Args* args, const Selection& s, const std::string& choose) {
-  const Dataset& data = s.data;
-  const std::vector<int> val = data.indices(Split::validation);
-  if (choose == "validation" && (val.empty() || !data.has_labels()))
-    throw InputError(args->data, "split",
-                     "--choose validation needs a data set with a labelled validation split");
-  FrameSelection t{s.frames, s.labels};
-  if (val.empty()) return t;
-  t.frames.resize(static_cast<Eigen::Index>(val.size()), data.differences.cols());
-  t.labels.resize(static_cast<Eigen::Index>(val.size()), data.labels.cols());
-  for (std::size_t k = 0; k < val.size(); ++k) {
-    t.frames.row(k) = data.differences.row(val[k]);
-    if (data.has_labels()) t.labels.row(k) = data.labels.row(val[k]);
-  }
-  if (std::isfinite(args->snr)) add_noise(t.frames, args->snr, args->noise_seed + 1);
-  return t;
 }
 
 std::unique_ptr<Reconstructor> learned(const Args* args, const CLI::App& cmd, const Dataset& data) {

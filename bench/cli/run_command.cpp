@@ -49,7 +49,7 @@ std::function<void()> add_run_command(CLI::App& app) {
                 "checkpoints)");
   cmd->add_option("--methods", args->methods, "model-based methods (default: all six)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"tikhonov", "noser", "laplace", "tv", "gn", "greit"}));
+      ->check(CLI::IsMember(model_based_method_names()));
   cmd->add_option("--augment", args->augments,
                   "augmentations of the learned reconstructor (default: none,rotations,d16,paper)")
       ->delimiter(',')

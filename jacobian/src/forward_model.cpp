@@ -279,10 +279,18 @@ const ForwardOptions& ForwardModel::options() const {
 
 namespace {
 
-// The electrode potentials of drive d in a solution X (dofs x L): X's last L rows.
-double electrode_potential(const cholmod_dense& X, int dofs, int L, int electrode, int drive) {
-  return static_cast<const double*>(
-      X.x)[static_cast<std::size_t>(drive) * X.d + dofs - L + electrode];
+// A frame from the electrode potentials U (electrode e, drive d): v = U(m, d) - U(m + 1, d) for
+// each measurement pair.
+template <typename Potentials>
+Eigen::VectorXd adjacent_differences(const std::vector<MeasurementPair>& pairs,
+                                     const Potentials& U) {
+  const Eigen::Index L = U.rows();
+  Eigen::VectorXd v(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const auto [d, m] = pairs[i];
+    v[i] = U(m, d) - U((m + 1) % L, d);
+  }
+  return v;
 }
 
 }  // namespace
@@ -342,28 +350,19 @@ ForwardSolution ForwardModel::solve(const Eigen::VectorXd& sigma) const {
 }
 
 Eigen::VectorXd ForwardModel::frame(const ForwardSolution& s, MeasurementOrder order) const {
-  const auto& pairs = impl_->protocol.pairs(order);
-  const int L = impl_->mesh.num_electrodes();
-  Eigen::VectorXd v(pairs.size());
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const auto [d, m] = pairs[i];
-    v[i] = s.electrode_potentials(m, d) - s.electrode_potentials((m + 1) % L, d);
-  }
-  return v;
+  return adjacent_differences(impl_->protocol.pairs(order), s.electrode_potentials);
 }
 
 Eigen::VectorXd ForwardModel::frame(const Eigen::VectorXd& sigma, MeasurementOrder order) const {
   // Only the electrode rows of the solution are read: no node potentials are copied out.
   const Impl& m = *impl_;
   std::unique_ptr<Workspace> w = m.solve(sigma);
-  const auto& pairs = m.protocol.pairs(order);
   const int L = m.mesh.num_electrodes();
-  Eigen::VectorXd v(pairs.size());
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const auto [d, e] = pairs[i];
-    v[i] = electrode_potential(*w->X, m.dofs, L, e, d) -
-           electrode_potential(*w->X, m.dofs, L, (e + 1) % L, d);
-  }
+  // X's last L rows (CHOLMOD's leading dimension may exceed dofs).
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> U(
+      static_cast<const double*>(w->X->x) + m.dofs - L, L, L,
+      Eigen::OuterStride<>(static_cast<Eigen::Index>(w->X->d)));
+  const Eigen::VectorXd v = adjacent_differences(m.protocol.pairs(order), U);
   m.give_back(std::move(w));
   return v;
 }

@@ -34,8 +34,8 @@ State evaluate(const LinearProblem& p, const Eigen::VectorXd& theta, bool jacobi
 
 GaussNewton::GaussNewton(std::shared_ptr<const LinearProblem> shared,
                          const GaussNewtonOptions& options)
-    : owner_(required(std::move(shared), "GaussNewton")), problem_(*owner_), options_(options) {
-  const LinearProblem& problem = problem_;
+    : problem_(require_problem(std::move(shared), "GaussNewton")), options_(options) {
+  const LinearProblem& problem = *problem_;
   if (!problem.model)
     throw std::invalid_argument("GaussNewton: the linear problem has no forward model");
   if (options.lambda < 0 || !std::isfinite(options.lambda))
@@ -63,7 +63,7 @@ void GaussNewton::set_lambda(double relative, const std::string& how) {
 }
 
 Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report) const {
-  const LinearProblem& p = problem_;
+  const LinearProblem& p = *problem_;
   p.check_frame_size(frame.size());
   const Eigen::VectorXd target = options_.absolute ? frame : Eigen::VectorXd(reference_ + frame);
   Eigen::VectorXd theta = Eigen::VectorXd::Zero(p.unknowns());

@@ -12,11 +12,10 @@
 namespace eitbench {
 
 Greit::Greit(std::shared_ptr<const LinearProblem> shared, const GreitOptions& options)
-    : owner_(required(std::move(shared), "Greit")),
-      problem_(*owner_),
+    : problem_(require_problem(std::move(shared), "Greit")),
       options_(options),
       lambda_(options.lambda > 0 ? options.lambda : 1e-2) {
-  const LinearProblem& problem = problem_;
+  const LinearProblem& problem = *problem_;
   if (options.targets < 10)
     throw InputError("GreitOptions", "targets", "GREIT needs at least 10 training targets");
   if (options.lambda < 0 || !std::isfinite(options.lambda))
@@ -77,14 +76,14 @@ void Greit::fit(const SampleMatrix& frames, const SampleMatrix& labels, const Sc
 }
 
 Eigen::VectorXd Greit::reconstruct(const Eigen::VectorXd& frame) const {
-  problem_.check_frame_size(frame.size());
+  problem_->check_frame_size(frame.size());
   const Eigen::VectorXf x = R_ * frame.cast<float>();
-  return problem_.to_image(x.cast<double>());
+  return problem_->to_image(x.cast<double>());
 }
 
 SampleMatrix Greit::reconstruct_all(const SampleMatrix& frames) const {
-  problem_.check_frame_size(frames.cols());
-  return problem_.to_images((frames.cast<float>() * R_.transpose()).cast<double>());
+  problem_->check_frame_size(frames.cols());
+  return problem_->to_images((frames.cast<float>() * R_.transpose()).cast<double>());
 }
 
 }  // namespace eitbench

@@ -70,8 +70,8 @@ void check_mesh_is_the_grids_disk(const Mesh& mesh, const PixelGrid& grid,
 
 }  // namespace
 
-std::shared_ptr<const LinearProblem> required(std::shared_ptr<const LinearProblem> problem,
-                                              const char* who) {
+std::shared_ptr<const LinearProblem> require_problem(std::shared_ptr<const LinearProblem> problem,
+                                                     const char* who) {
   if (!problem) throw std::invalid_argument(std::string(who) + ": no linear problem");
   return problem;
 }

@@ -75,8 +75,8 @@ Choice parse_choice(const std::string& name) {
 }
 
 Tikhonov::Tikhonov(std::shared_ptr<const LinearProblem> shared, const TikhonovOptions& options)
-    : owner_(required(std::move(shared), "Tikhonov")), problem_(*owner_), options_(options) {
-  const LinearProblem& problem = problem_;
+    : problem_(require_problem(std::move(shared), "Tikhonov")), options_(options) {
+  const LinearProblem& problem = *problem_;
   const Eigen::MatrixXd& A = problem.A;
   // B = P A^T with P = (R^T R)^-1.
   Eigen::MatrixXd B;
@@ -248,7 +248,7 @@ double Tikhonov::choose_validation(const SampleMatrix& frames, const SampleMatri
         Z * (g_.array() + lambda).inverse().matrix().asDiagonal() * C_.transpose();
     double total = 0;
     for (std::size_t k = 0; k < rows.size(); ++k)
-      total += score(problem_.to_image(X.row(k).transpose()), labels.row(rows[k]).transpose());
+      total += score(problem_->to_image(X.row(k).transpose()), labels.row(rows[k]).transpose());
     if (total > best_score) best_score = total, best = lambda;
   }
   if (best_score == -INFINITY)
@@ -258,16 +258,16 @@ double Tikhonov::choose_validation(const SampleMatrix& frames, const SampleMatri
 }
 
 Eigen::VectorXd Tikhonov::reconstruct(const Eigen::VectorXd& frame) const {
-  problem_.check_frame_size(frame.size());
-  if (!options_.single_precision) return problem_.to_image(Md_ * frame);
+  problem_->check_frame_size(frame.size());
+  if (!options_.single_precision) return problem_->to_image(Md_ * frame);
   const Eigen::VectorXf x = M_ * frame.cast<float>();
-  return problem_.to_image(x.cast<double>());
+  return problem_->to_image(x.cast<double>());
 }
 
 SampleMatrix Tikhonov::reconstruct_all(const SampleMatrix& frames) const {
-  problem_.check_frame_size(frames.cols());
-  if (!options_.single_precision) return problem_.to_images(frames * Md_.transpose());
-  return problem_.to_images((frames.cast<float>() * M_.transpose()).cast<double>());
+  problem_->check_frame_size(frames.cols());
+  if (!options_.single_precision) return problem_->to_images(frames * Md_.transpose());
+  return problem_->to_images((frames.cast<float>() * M_.transpose()).cast<double>());
 }
 
 }  // namespace eitbench

@@ -120,11 +120,10 @@ Eigen::VectorXd chambolle_pock(const TotalVariation::Impl& im, const Eigen::Vect
 TotalVariation::TotalVariation(std::shared_ptr<const LinearProblem> shared,
                                const TotalVariationOptions& options)
     : impl_(std::make_unique<Impl>()),
-      owner_(required(std::move(shared), "TotalVariation")),
-      problem_(*owner_),
+      problem_(require_problem(std::move(shared), "TotalVariation")),
       options_(options),
       alpha_(options.alpha) {
-  const LinearProblem& problem = problem_;
+  const LinearProblem& problem = *problem_;
   if (!(options.alpha > 0) || !std::isfinite(options.alpha))
     throw InputError("--lambda", "", "the TV weight must be positive");
   if (!(options.tolerance > 0)) throw InputError("tolerance", "", "must be positive");
@@ -171,7 +170,7 @@ TotalVariation::TotalVariation(std::shared_ptr<const LinearProblem> shared,
   TikhonovOptions start;  // the starting point: NOSER, regularised near its usual optimum
   start.prior = Prior::noser;
   start.choice = Choice::gcv;  // placeholder choice; lambda is set just below
-  impl_->start = std::make_unique<Tikhonov>(owner_, start);
+  impl_->start = std::make_unique<Tikhonov>(problem_, start);
   impl_->start->set_lambda(1e-3 * impl_->start->scale(), "start");
 }
 
@@ -190,10 +189,10 @@ void TotalVariation::set_alpha(double alpha, const std::string& how) {
 }
 
 Eigen::VectorXd TotalVariation::solve(const Eigen::VectorXd& frame, Report* report) const {
-  problem_.check_frame_size(frame.size());
-  const Eigen::VectorXd start = problem_.from_image(impl_->start->reconstruct(frame));
-  return problem_.to_image(chambolle_pock(*impl_, frame, start, alpha_, options_.tolerance,
-                                          options_.max_iterations, report));
+  problem_->check_frame_size(frame.size());
+  const Eigen::VectorXd start = problem_->from_image(impl_->start->reconstruct(frame));
+  return problem_->to_image(chambolle_pock(*impl_, frame, start, alpha_, options_.tolerance,
+                                           options_.max_iterations, report));
 }
 
 Eigen::VectorXd TotalVariation::reconstruct(const Eigen::VectorXd& frame) const {

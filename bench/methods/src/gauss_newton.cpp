@@ -1,4 +1,5 @@
-// Regularised Gauss-Newton on the nonlinear forward model: lambda by validation CC.
+// Regularised Gauss-Newton on the nonlinear forward model: lambda from {1e-5, 1e-4, ..., 1e-1} by
+// validation CC.
 #include "eitbench/solvers/gauss_newton.h"
 
 #include "method_specs.h"
@@ -8,7 +9,6 @@ namespace eitbench::methods {
 MethodSpec gauss_newton() {
   MethodSpec spec;
   spec.name = "gn";
-  spec.tuning = "lambda from {1e-5, 1e-4, ..., 1e-1} by validation CC";
   spec.sweep_on_subset = true;
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GaussNewtonOptions g;

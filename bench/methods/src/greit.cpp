@@ -1,4 +1,5 @@
-// GREIT: a linear map trained on point targets; its lambda by validation CC.
+// GREIT: a linear map trained on small targets; its lambda from {1e-5, 1e-4, ..., 1} by validation
+// CC.
 #include "eitbench/solvers/greit.h"
 
 #include "method_specs.h"
@@ -8,7 +9,6 @@ namespace eitbench::methods {
 MethodSpec greit() {
   MethodSpec spec;
   spec.name = "greit";
-  spec.tuning = "lambda from {1e-5, 1e-4, ..., 1} by validation CC";
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GreitOptions g;
     if (o.choose == "fixed") g.lambda = o.lambda;

@@ -1,4 +1,5 @@
-// The learned reconstructor ("dnn"): trained by training_run.h, not tuned on validation frames.
+// The learned reconstructor ("dnn"): trained by training_run.h, which keeps the epoch with the
+// lowest validation MSE; nothing is tuned on validation frames afterwards.
 #include "eitbench/learned.h"
 #include "method_specs.h"
 
@@ -33,7 +34,6 @@ std::unique_ptr<Reconstructor> make_learned_reconstructor(LearnedModel model) {
 MethodSpec methods::learned() {
   MethodSpec spec;
   spec.name = "dnn";
-  spec.tuning = "trained (eitbench train): the epoch with the lowest validation MSE";
   return spec;  // no make: it needs a model file
 }
 

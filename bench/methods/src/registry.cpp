@@ -21,6 +21,13 @@ const std::vector<std::string>& method_names() {
   return names;
 }
 
+std::vector<std::string> model_based_method_names() {
+  std::vector<std::string> out;
+  for (const auto& m : method_registry())
+    if (m.make) out.push_back(m.name);
+  return out;
+}
+
 const MethodSpec& find_method(const std::string& name) {
   for (const auto& m : method_registry())
     if (m.name == name) return m;

@@ -6,10 +6,12 @@
 namespace eitbench::methods {
 namespace {
 
-MethodSpec tikhonov_with(const std::string& prior, const std::string& tuning) {
+// The three share TikhonovOptions' lambda grid (41 values, trace(A P A^T)/m x 10^[-8, 2]), chosen
+// by GCV, the L-curve or validation CC: identity prior, NOSER (R^T R = diag(A^T A)^0.5), and the
+// Laplacian on pixels or elements.
+MethodSpec tikhonov_with(const std::string& prior) {
   MethodSpec spec;
   spec.name = prior;
-  spec.tuning = tuning;
   spec.make = [prior](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     TikhonovOptions t;
     t.prior = parse_prior(prior);
@@ -21,22 +23,16 @@ MethodSpec tikhonov_with(const std::string& prior, const std::string& tuning) {
   return spec;
 }
 
-// The three share the lambda grid of TikhonovOptions (41 values, trace scale x 10^[-8, 2]).
-constexpr const char* kGrid = "lambda from 41 log-spaced values, trace(A P A^T)/m x 10^[-8, 2]";
-
 }  // namespace
 
 MethodSpec tikhonov() {
-  return tikhonov_with(
-      "tikhonov", std::string("identity prior; ") + kGrid + ", by GCV, L-curve or validation CC");
+  return tikhonov_with("tikhonov");
 }
 MethodSpec noser() {
-  return tikhonov_with("noser", std::string("NOSER prior diag(J^T J); ") + kGrid +
-                                    ", by GCV, L-curve or validation CC");
+  return tikhonov_with("noser");
 }
 MethodSpec laplace() {
-  return tikhonov_with("laplace", std::string("Laplacian prior (pixels or elements); ") + kGrid +
-                                      ", by GCV, L-curve or validation CC");
+  return tikhonov_with("laplace");
 }
 
 }  // namespace eitbench::methods

@@ -26,15 +26,6 @@ std::vector<double> snrs_of(const std::vector<ResultRow>& rows) {
   return out;
 }
 
-// Methods in the order the run produced them.
-std::vector<std::pair<std::string, std::string>> methods_of(const std::vector<ResultRow>& rows) {
-  std::vector<std::pair<std::string, std::string>> out;
-  for (const auto& r : rows)
-    if (std::find(out.begin(), out.end(), std::make_pair(r.method, r.augment)) == out.end())
-      out.emplace_back(r.method, r.augment);
-  return out;
-}
-
 const ResultRow* find(const std::vector<ResultRow>& rows, const std::string& method,
                       const std::string& augment, double snr) {
   for (const auto& r : rows)
@@ -239,7 +230,7 @@ void write_efficiency(std::ostream& o, const RunResults& r) {
 void write_report(const std::string& path, const RunResults& r) {
   std::ostringstream o;
   const auto snrs = snrs_of(r.rows);
-  const auto methods = methods_of(r.rows);
+  const auto methods = methods_in_order(r.rows);
   write_header(o, r);
   write_quality(o, r, methods, snrs);
   write_augmentation_gain(o, r, methods, snrs);
@@ -265,7 +256,7 @@ std::string summary_table(const RunResults& r) {
   out += fmt::format("{:>9}", "RE " + snr_label(snrs.front()));
   if (two_re) out += fmt::format("{:>9}", "RE " + snr_label(snrs.back()));
   out += fmt::format("{:>12}{:>10}\n", "ms/frame", "setup s");
-  for (const auto& [m, a] : methods_of(r.rows)) {
+  for (const auto& [m, a] : methods_in_order(r.rows)) {
     out += fmt::format("{:<18}", a == "-" ? m : m + " " + a);
     for (double s : snrs) {
       const ResultRow* x = find(r.rows, m, a, s);

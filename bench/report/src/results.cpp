@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -34,6 +35,15 @@ double snr_from(const json& j) {
 
 std::string snr_label(double snr_db) {
   return std::isfinite(snr_db) ? fmt::format("{:g}", snr_db) : "inf";
+}
+
+std::vector<std::pair<std::string, std::string>> methods_in_order(
+    const std::vector<ResultRow>& rows) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& r : rows)
+    if (std::find(out.begin(), out.end(), std::make_pair(r.method, r.augment)) == out.end())
+      out.emplace_back(r.method, r.augment);
+  return out;
 }
 
 json to_json(const ResultRow& x) {

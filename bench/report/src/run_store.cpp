@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <filesystem>
+#include <stdexcept>
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/numpy.h"
@@ -20,13 +21,8 @@ namespace {
 std::vector<std::string> figure_labels(const RunResults& results) {
   std::vector<std::string> labels;
   if (!results.rows.empty() && results.rows.front().frames > 0) labels.push_back("truth");
-  std::vector<std::pair<std::string, std::string>> seen;
-  for (const auto& r : results.rows) {
-    const auto key = std::make_pair(r.method, r.augment);
-    if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
-    seen.push_back(key);
-    labels.push_back(r.augment == "-" ? r.method : r.method + " " + r.augment);
-  }
+  for (const auto& [method, augment] : methods_in_order(results.rows))
+    labels.push_back(augment == "-" ? method : method + " " + augment);
   return labels;
 }
 
@@ -62,6 +58,14 @@ void draw_reconstructions(const std::string& path, const RunResults& results,
 void write_run_store(const std::string& folder, const RunResults& results,
                      const std::vector<ImageRow>& figure, int image_size) {
   write_results_json((fs::path(folder) / "results.json").string(), results);
+  // The file keeps images only: their labels are results.json's, and must be the figure's.
+  const std::vector<std::string> labels = figure_labels(results);
+  if (labels.size() != figure.size())
+    throw std::logic_error("write_run_store: the figure's rows do not follow results.json's");
+  for (std::size_t r = 0; r < figure.size(); ++r)
+    if (figure[r].label != labels[r])
+      throw std::logic_error("write_run_store: figure row '" + figure[r].label + "' where '" +
+                             labels[r] + "' belongs");
   const std::size_t samples = figure.empty() ? 0 : figure.front().images.size();
   const std::size_t pixels = static_cast<std::size_t>(image_size) * image_size;
   std::vector<float> values;

@@ -52,7 +52,7 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   c["reconstruction_mesh"] =
       fmt::format("disk L={} {} ({} triangles)", data.data.electrodes, to_string(config.mesh),
                   reconstruction.mesh.num_triangles());
-  c["background"] = fmt::format("{:g}", (data.own_training ? data.data : data.source).background);
+  c["background"] = fmt::format("{:g}", data.sensor().background);
   if (!data.own_training) c["calibration"] = describe(data.calibration);
   std::string snrs;
   for (double v : data.snrs) snrs += (snrs.empty() ? "" : " ") + snr_label(v);

@@ -14,13 +14,17 @@ namespace eitbench::run {
 namespace fs = std::filesystem;
 namespace {
 
+std::string model_path(const Context& context, const std::string& augment) {
+  return (context.out / "models" / ("dnn_" + augment + ".pt")).string();
+}
+
 // The model in <out>/models/dnn_<augment>.pt: read back when resuming, trained otherwise (from its
 // checkpoint when one is left). The summary's history and best epoch are filled in.
 LearnedModel trained_model(const Context& context, const std::string& augment,
                            const LearnedSetup& setup, const Dataset& source,
                            TrainingSummary& summary) {
   const RunConfig& config = context.config;
-  const std::string path = (context.out / "models" / ("dnn_" + augment + ".pt")).string();
+  const std::string path = model_path(context, augment);
   if (config.resume && fs::exists(path)) {
     LearnedModel model = read_model_file(path);
     const nlohmann::json t = nlohmann::json::parse(model.info().training);
@@ -76,7 +80,7 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
   summary.samples_per_second = summary.seconds > 0 ? summary.samples / summary.seconds : 0;
   if (!summary.history.empty()) summary.steps = summary.history.back().steps;
   if (model.info().electrodes != data.data.electrodes)
-    throw InputError((context.out / "models" / ("dnn_" + augment + ".pt")).string(), "electrodes",
+    throw InputError(model_path(context, augment), "electrodes",
                      "the model does not fit the data's sensor");
   out.parameters = model.parameters();
   const auto method = make_learned_reconstructor(model);

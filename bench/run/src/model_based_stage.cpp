@@ -25,8 +25,7 @@ std::string quality(const ResultRow& row) {
 }
 
 Reconstruction set_up_reconstruction(const Context& context, const RunData& data) {
-  // The methods are set up for the sensor of the data that tune and train them.
-  const Dataset& sensor = data.own_training ? data.data : data.source;
+  const Dataset& sensor = data.sensor();
   const auto t0 = std::chrono::steady_clock::now();
   DiskMeshOptions disk;
   disk.electrodes = sensor.electrodes;

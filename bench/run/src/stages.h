@@ -46,6 +46,8 @@ struct RunData {
   ReferenceCalibration calibration;  // of the test frames, when !own_training
   std::vector<double> snrs;          // the SNRs evaluated (the data's own for measured frames)
   std::string data_path;             // where the evaluated data came from
+  // The sensor the methods are set up for: that of the data that tune and train them.
+  const Dataset& sensor() const { return own_training ? data : source; }
 };
 RunData load_data(const Context& context);
 std::string describe(const ReferenceCalibration& calibration);

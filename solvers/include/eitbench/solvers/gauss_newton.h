@@ -49,8 +49,7 @@ class GaussNewton : public Reconstructor {
   void set_lambda(double relative, const std::string& how);
 
  private:
-  std::shared_ptr<const LinearProblem> owner_;
-  const LinearProblem& problem_;  // *owner_
+  std::shared_ptr<const LinearProblem> problem_;  // never null
   GaussNewtonOptions options_;
   Eigen::VectorXd reference_;  // v(sigma_0), reduced
   Eigen::VectorXd weight_;     // W (diagonal)

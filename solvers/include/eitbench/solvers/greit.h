@@ -40,8 +40,7 @@ class Greit : public Reconstructor {
   void set_lambda(double relative, const std::string& how);
 
  private:
-  std::shared_ptr<const LinearProblem> owner_;
-  const LinearProblem& problem_;  // *owner_
+  std::shared_ptr<const LinearProblem> problem_;  // never null
   GreitOptions options_;
   Eigen::MatrixXd DYt_, YYt_, N_;  // the training products, kept to change lambda
   double lambda_;

@@ -37,8 +37,8 @@ struct LinearProblem {
 };
 
 // `problem` itself, for a solver to keep; std::invalid_argument naming `who` when it is null.
-std::shared_ptr<const LinearProblem> required(std::shared_ptr<const LinearProblem> problem,
-                                              const char* who);
+std::shared_ptr<const LinearProblem> require_problem(std::shared_ptr<const LinearProblem> problem,
+                                                     const char* who);
 
 // Builds A for a mesh, a background conductivity and a pixel grid.
 LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, double background,

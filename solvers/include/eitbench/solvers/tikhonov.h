@@ -68,8 +68,7 @@ class Tikhonov : public Reconstructor {
   std::vector<double> gcv_curve(const SampleMatrix& frames) const;
 
  private:
-  std::shared_ptr<const LinearProblem> owner_;
-  const LinearProblem& problem_;  // *owner_
+  std::shared_ptr<const LinearProblem> problem_;  // never null
   TikhonovOptions options_;
   Eigen::MatrixXd C_;  // P A^T U (n x m)
   Eigen::MatrixXd U_;  // eigenvectors of G

@@ -48,8 +48,7 @@ class TotalVariation : public Reconstructor {
 
  private:
   std::unique_ptr<Impl> impl_;
-  std::shared_ptr<const LinearProblem> owner_;
-  const LinearProblem& problem_;  // *owner_
+  std::shared_ptr<const LinearProblem> problem_;  // never null
   TotalVariationOptions options_;
   double alpha_;
   std::string how_ = "default";

@@ -1,6 +1,7 @@
 #pragma once
 // The benchmark's reconstructors by their command-line names: for each, how it is built on the
-// linear problem and how its hyperparameter is tuned. One file a method in bench/methods/src/; a
+// linear problem and how the benchmark tunes it (each method's file says how it chooses its
+// hyperparameter; the candidates live in the solver). One file a method in bench/methods/src/; a
 // new method is that file and one line in registry.cpp.
 #include <functional>
 #include <memory>
@@ -22,8 +23,7 @@ struct MethodOptions {
 };
 
 struct MethodSpec {
-  std::string name;    // on the command line, in results.json and the report
-  std::string tuning;  // its hyperparameter, the candidates and how one is chosen, for people
+  std::string name;  // on the command line, in results.json and the report
   // The benchmark tunes it on at most RunConfig::sweep_frames validation frames instead of all:
   // the iterative methods, whose sweep costs a solve per frame and candidate.
   bool sweep_on_subset = false;
@@ -36,6 +36,8 @@ struct MethodSpec {
 // Every method, in the order the benchmark runs and reports them.
 const std::vector<MethodSpec>& method_registry();
 const std::vector<std::string>& method_names();  // tikhonov noser laplace tv gn greit dnn
+// Those built on the linear problem (every method but the trained one): the benchmark's --methods.
+std::vector<std::string> model_based_method_names();
 // The spec of `name`; InputError naming --method for an unknown one.
 const MethodSpec& find_method(const std::string& name);
 // find_method(name).make; InputError naming --model for dnn (it needs a trained model).

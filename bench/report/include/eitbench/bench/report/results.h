@@ -60,5 +60,8 @@ RunResults read_results_json(const std::string& path);
 RunResults parse_results_json(const std::string& text, const std::string& source);
 void write_results_csv(const std::string& path, const std::vector<ResultRow>& rows);
 std::string snr_label(double snr_db);  // "inf" or "40"
+// The (method, augment) pairs of `rows` in the order the run produced them, each once.
+std::vector<std::pair<std::string, std::string>> methods_in_order(
+    const std::vector<ResultRow>& rows);
 
 }  // namespace eitbench
