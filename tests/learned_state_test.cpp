@@ -22,7 +22,7 @@ TEST(LearnedState, MakingAModelLeavesTheGlobalGeneratorAlone) {
   o.batch_size = 16;
   Trainer trainer(test_network(), o, labelled_frames(tiny(), Split::train),
                   labelled_frames(tiny(), Split::validation), sensor_of(tiny()));
-  trainer.run_epoch();
+  trainer.run_round();
   torch::manual_seed(123);
   const torch::Tensor expected = torch::rand({8});
   torch::manual_seed(123);

@@ -22,13 +22,38 @@ double mse(const SampleMatrix& a, const SampleMatrix& b) {
 }
 
 TEST(Network, FlopsCountMultiplyAddsOfEveryLayer) {
-  NetworkOptions n;  // the default small network, by hand
+  NetworkOptions n;  // the default small network, by hand: pixel shuffle, 8 -> 16 -> 32 -> 64
   const double linear = 104.0 * 256 + 256.0 * 32 * 64;
-  const double conv =
-      9.0 * (32 * 16 * 16 * 16 + 16 * 8 * 32 * 32 + 8 * 4 * 64 * 64) + 9.0 * 4 * 64 * 64;
-  EXPECT_DOUBLE_EQ(forward_flops(n), 2 * (linear + conv));
+  // Each convolution runs at half its output size to 4x the channels: 9 c (4 c') (side / 2)^2.
+  const double shuffle = 9.0 * (32 * 16 * 16 * 16 + 16 * 8 * 32 * 32 + 8 * 1 * 64 * 64);
+  EXPECT_DOUBLE_EQ(forward_flops(n), 2 * (linear + shuffle));
   n.image_size = 32;  // 8 * 2^3 != 32
   EXPECT_THROW(check_network_options(n, "test"), InputError);
+  NetworkOptions nearest;  // upsample, then convolve at full size; a last convolution to 1 channel
+  nearest.upsampling = Upsampling::nearest;
+  nearest.decoder_channels = {16, 8, 4};
+  const double conv =
+      9.0 * (32 * 16 * 16 * 16 + 16 * 8 * 32 * 32 + 8 * 4 * 64 * 64) + 9.0 * 4 * 64 * 64;
+  EXPECT_DOUBLE_EQ(forward_flops(nearest), 2 * (linear + conv));
+  EXPECT_NO_THROW(check_network_options(nearest, "test"));
+  nearest.decoder_channels = {16, 8};  // two stages: 8 * 2^2 != 64
+  EXPECT_THROW(check_network_options(nearest, "test"), InputError);
+}
+
+// Both decoders draw n x n images; a model file from before the choice existed (no "upsampling"
+// in its network description) is the nearest-upsampling network it was trained as.
+TEST(Network, BothDecodersAndOldModelFiles) {
+  NetworkOptions nearest = test_network();
+  nearest.upsampling = Upsampling::nearest;
+  nearest.decoder_channels = {8, 4, 4};
+  const SampleMatrix frames = labelled_frames(tiny(), Split::validation).frames.topRows(3);
+  for (const NetworkOptions& n : {test_network(), nearest}) {
+    const LearnedModel model(n, 16, 1);
+    EXPECT_EQ(model.reconstruct(frames).cols(), 64 * 64);
+    const LearnedModel back = LearnedModel::from_bytes(model.to_bytes(), "memory");
+    EXPECT_EQ(back.info().network.upsampling, n.upsampling);
+    EXPECT_EQ(back.reconstruct(frames), model.reconstruct(frames));
+  }
 }
 
 TEST(Trainer, SmallModelOverfits64Samples) {
@@ -40,15 +65,20 @@ TEST(Trainer, SmallModelOverfits64Samples) {
   TrainingOptions o;
   o.batch_size = 20;
   o.learning_rate = 3e-3;
-  o.epochs = 60;
+  // Memorising needs no annealing: a constant rate fits these 60 samples in the fewest steps
+  // (600; the pixel-shuffle decoder of this thin test network needs more of them than the
+  // nearest-upsampling one did, 180).
+  o.schedule.kind = ScheduleKind::constant;
+  o.epochs = 200;
+  o.validate_every = 60 * 10;  // every 10 epochs
   Trainer trainer(n, o, train, train, sensor_of(data));
   const double before = mse(trainer.best_model().reconstruct(train.frames), train.labels);
-  while (!trainer.done()) trainer.run_epoch();
+  while (!trainer.done()) trainer.run_round();
   const double after = mse(trainer.best_model().reconstruct(train.frames), train.labels);
   std::printf("overfitting 60 samples: MSE %.4g -> %.4g (%.0fx)\n", before, after, before / after);
   EXPECT_LT(after, before / 10);
   // The validation loss the trainer records is the model's MSE on those frames.
-  EXPECT_NEAR(trainer.history()[trainer.best_epoch() - 1].validation_loss, after, 1e-6 * after);
+  EXPECT_NEAR(trainer.history()[trainer.best_round() - 1].validation_loss, after, 1e-6 * after);
 }
 
 TEST(Trainer, SaveAndLoadGiveIdenticalOutputs) {
@@ -58,7 +88,7 @@ TEST(Trainer, SaveAndLoadGiveIdenticalOutputs) {
   o.batch_size = 16;
   Trainer trainer(test_network(), o, labelled_frames(data, Split::train),
                   labelled_frames(data, Split::validation), sensor_of(data));
-  while (!trainer.done()) trainer.run_epoch();
+  while (!trainer.done()) trainer.run_round();
   const LearnedModel model = trainer.best_model();
   const LearnedModel loaded = LearnedModel::from_bytes(model.to_bytes(), "memory");
   const SampleMatrix frames = labelled_frames(data, Split::test).frames;
@@ -88,22 +118,24 @@ TEST(Trainer, ResumedRunMatchesUninterruptedRun) {
   o.augment = AugmentGroup::dihedral;
   o.steps = 10;  // 4 steps an epoch: epochs 1, 2 and half of 3
   o.batch_size = 16;
+  o.validate_every = 48;  // 3 steps a round: rounds straddle epochs
   Trainer whole(test_network(), o, train, validation, sensor_of(data));
-  while (!whole.done()) whole.run_epoch();
-  ASSERT_EQ(whole.history().size(), 3u);
+  while (!whole.done()) whole.run_round();
+  ASSERT_EQ(whole.history().size(), 4u);
   EXPECT_EQ(whole.history().back().steps, 10);
+  EXPECT_EQ(whole.history().back().epoch, 3);
 
   std::string checkpoint;
   {
     Trainer first(test_network(), o, train, validation, sensor_of(data));
-    first.run_epoch();
+    first.run_round();
     checkpoint = first.checkpoint();
-  }  // "killed" after epoch 1
+  }  // "killed" after round 1, in the middle of epoch 1
   auto resumed = Trainer::resume(checkpoint, "checkpoint", train, validation, sensor_of(data));
-  while (!resumed->done()) resumed->run_epoch();
-  ASSERT_EQ(resumed->history().size(), 3u);
-  for (int e = 0; e < 3; ++e) {
-    EXPECT_EQ(resumed->history()[e].train_loss, whole.history()[e].train_loss) << "epoch " << e;
+  while (!resumed->done()) resumed->run_round();
+  ASSERT_EQ(resumed->history().size(), 4u);
+  for (int e = 0; e < 4; ++e) {
+    EXPECT_EQ(resumed->history()[e].train_loss, whole.history()[e].train_loss) << "round " << e;
     EXPECT_EQ(resumed->history()[e].validation_loss, whole.history()[e].validation_loss);
   }
   const SampleMatrix frames = validation.frames;
@@ -218,7 +250,7 @@ TEST(Trainer, SameSeedSameModel) {
   auto run = [&] {
     Trainer t(test_network(), o, labelled_frames(data, Split::train),
               labelled_frames(data, Split::validation), sensor_of(data));
-    while (!t.done()) t.run_epoch();
+    while (!t.done()) t.run_round();
     return t.best_model().reconstruct(labelled_frames(data, Split::test).frames);
   };
   EXPECT_EQ(run(), run());

@@ -86,12 +86,22 @@ TEST_F(RunCli, TinyPresetWritesEveryOutput) {
   const RunResults r = read_results_json((dir / "results.json").string());
   EXPECT_EQ(static_cast<int>(r.rows.size()), rows);
   EXPECT_EQ(r.training.size(), 4u);
-  for (const auto& t : r.training) EXPECT_EQ(t.history.size(), 3u) << t.augment;
+  for (const auto& t : r.training) {
+    EXPECT_EQ(t.history.size(), 3u) << t.augment;
+    // 3 epochs are far below the patience of 10 rounds: the budget ends every run.
+    EXPECT_FALSE(t.converged) << t.augment;
+    EXPECT_GT(t.fraction_of_gemm_peak, 0) << t.augment;
+    EXPECT_LT(t.fraction_of_gemm_peak, 1) << t.augment;
+  }
   EXPECT_EQ(r.efficiency.size(), 3u * 2 * 2);
   EXPECT_EQ(r.configuration.at("preset"), "tiny");
   EXPECT_FALSE(r.machine.at("cpu").empty());
   EXPECT_NE(r.program.find("eitbench"), std::string::npos);
   EXPECT_NE(r.recommendation.find("Pick"), std::string::npos);
+  // ... and says that the learned models it ranks did not converge.
+  EXPECT_NE(r.recommendation.find("Not converged:** dnn (none), dnn (rotations)"),
+            std::string::npos)
+      << r.recommendation;
   // The model-based methods beat chance on the tiny test split (CC > 0.5 noise-free).
   for (const auto& row : r.rows)
     if (row.augment == "-" && std::isinf(row.snr_db)) {
@@ -101,9 +111,9 @@ TEST_F(RunCli, TinyPresetWritesEveryOutput) {
   std::ifstream report(dir / "report.md");
   const std::string text((std::istreambuf_iterator<char>(report)),
                          std::istreambuf_iterator<char>());
-  for (const char* section :
-       {"Which reconstructor to pick", "Table I", "relative improvement", "## Runtime",
-        "## Training", "## Data efficiency", "reconstructions.png", "## Configuration"})
+  for (const char* section : {"Which reconstructor to pick", "Table I", "relative improvement",
+                              "## Runtime", "## Training", "**no** (budget)", "## Data efficiency",
+                              "reconstructions.png", "## Configuration"})
     EXPECT_NE(text.find(section), std::string::npos) << section;
 }
 
@@ -277,8 +287,9 @@ TEST(Results, JsonRoundTrip) {
   b.method = "dnn", b.augment = "d16", b.snr_db = 40, b.cc = NAN, b.frames = 0;
   r.rows = {a, b};
   TrainingSummary t;
-  t.augment = "d16", t.best_epoch = 1, t.steps = 4;
-  t.history.push_back({1, 4, 64, 0.5, 0.25, 1.0, 64.0});
+  t.augment = "d16", t.best_round = 1, t.best_epoch = 1, t.steps = 4, t.converged = true;
+  t.fraction_of_gemm_peak = 0.375;
+  t.history.push_back({1, 1, 4, 64, 0.5, 0.25, 1e-3, 1.0, 64.0});
   r.training = {t};
   r.efficiency = {{"none", "steps", 15, 6, 2, 0.01, 0.5, 0.9}};
   r.recommendation = "Pick tv";
@@ -298,6 +309,9 @@ TEST(Results, JsonRoundTrip) {
   EXPECT_EQ(back.rows[1].augment, "d16");
   ASSERT_EQ(back.training.size(), 1u);
   EXPECT_EQ(back.training[0].history[0].validation_loss, 0.25);
+  EXPECT_EQ(back.training[0].history[0].learning_rate, 1e-3);
+  EXPECT_TRUE(back.training[0].converged);
+  EXPECT_EQ(back.training[0].fraction_of_gemm_peak, 0.375);
   ASSERT_EQ(back.efficiency.size(), 1u);
   EXPECT_EQ(back.efficiency[0].test_mse, 0.01);
   EXPECT_EQ(back.recommendation, r.recommendation);

@@ -15,7 +15,8 @@
 namespace eitbench {
 namespace {
 
-const std::string kTrain = " --epochs 2 --batch 16 --quiet";
+// Two epochs of the tiny set's 60 samples (4 steps each), a validation after each.
+const std::string kTrain = " --epochs 2 --batch 16 --validate-every 64 --quiet";
 
 class TrainCli : public Cli {
  protected:
@@ -43,7 +44,8 @@ TEST_F(TrainCli, TrainsAndReconstructs) {
   std::string header, line;
   std::getline(csv, header);
   EXPECT_EQ(header,
-            "run,epoch,steps,samples,train_loss,validation_loss,seconds,samples_per_second");
+            "run,round,epoch,steps,samples,train_loss,validation_loss,learning_rate,seconds,"
+            "samples_per_second");
   int rows = 0;
   while (std::getline(csv, line)) {
     ++rows;
@@ -63,7 +65,8 @@ TEST_F(TrainCli, TrainsAndReconstructs) {
 
 TEST_F(TrainCli, KilledRunResumesToTheUninterruptedResult) {
   const std::string args =
-      "train --data " + data() + " --augment rotations --epochs 30 --batch 8 " + "--quiet --out ";
+      "train --data " + data() + " --augment rotations --epochs 30 --batch 8 " +
+      "--validate-every 64 --patience 0 --quiet --out ";  // a round an epoch, all 30 of them
   ASSERT_EQ(run(args + path("whole.pt")).exit_code, 0);
 
   // The same run in the background, killed with SIGKILL after its second checkpoint.
@@ -84,13 +87,13 @@ TEST_F(TrainCli, KilledRunResumesToTheUninterruptedResult) {
   const LearnedModel a = read_model_file(path("whole.pt")), b = read_model_file(path("cut.pt"));
   const SampleMatrix frames = read_dataset(data()).differences;
   EXPECT_EQ(a.reconstruct(frames), b.reconstruct(frames));
-  // The same losses epoch by epoch (the CSV's columns up to validation_loss; times differ).
+  // The same losses round by round (the CSV's columns up to validation_loss; times differ).
   auto losses = [&](const std::string& csv_path) {
     std::ifstream in(csv_path);
     std::vector<std::string> rows;
     for (std::string line; std::getline(in, line);) {
       std::size_t comma = 0;
-      for (int k = 0; k < 6; ++k) comma = line.find(',', comma + 1);
+      for (int k = 0; k < 7; ++k) comma = line.find(',', comma + 1);
       rows.push_back(line.substr(0, comma));
     }
     return rows;

@@ -17,9 +17,17 @@ namespace eitbench::cli {
 
 namespace {
 
+// The command line's defaults: early stopping on (the library's default is off).
+TrainingOptions default_options() {
+  TrainingOptions o;
+  o.patience = 10;
+  return o;
+}
+
 struct Args {
-  std::string data, augment = "none", model = "small", device = "cpu", out;
-  TrainingOptions options;
+  std::string data, augment = "none", model = "small", device = "cpu", out, schedule = "cosine",
+                    decoder = "pixel_shuffle";
+  TrainingOptions options = default_options();
   int threads = 2, train_size = 0;
   double dropout = -1;
   bool resume = false, quiet = false;
@@ -35,7 +43,7 @@ void add_options(CLI::App* cmd, Args* args) {
       ->capture_default_str()
       ->check(CLI::IsMember({"none", "rotations", "d16", "dihedral", "paper", "mirror"}));
   auto* epochs = cmd->add_option("--epochs", args->options.epochs,
-                                 "budget in epochs (default: 20 small, 300 paper)")
+                                 "budget in epochs, an upper bound (default: 100 small, 300 paper)")
                      ->check(CLI::Range(1, 1000000));
   auto* steps = cmd->add_option("--steps", args->options.steps, "budget in optimiser steps")
                     ->check(CLI::Range(1LL, 1LL << 40));
@@ -56,14 +64,37 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--batch", args->options.batch_size, "batch size (default: 128 small, 512 paper)")
       ->check(CLI::Range(2, 1 << 20));
   cmd->add_option("--lr", args->options.learning_rate,
-                  "Adam's learning rate (default: 1e-3 small, 1e-4 paper)")
+                  "Adam's peak learning rate (default: 3e-3 small, 1e-4 paper)")
       ->check(kPositive);
+  cmd->add_option("--schedule", args->schedule,
+                  "cosine (linear warm-up, then a half cosine to 1 % of the peak at the budget's "
+                  "end) | constant")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"cosine", "constant"}));
+  cmd->add_option("--warmup", args->options.schedule.warmup_fraction,
+                  "warm-up, as a fraction of the budget's steps")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--validate-every", args->options.validate_every,
+                  "training samples between two validations (and checkpoints)")
+      ->capture_default_str()
+      ->check(CLI::Range(1LL, 1LL << 40));
+  cmd->add_option("--decoder", args->decoder,
+                  "pixel_shuffle (each convolution at half its output size: fast) | nearest "
+                  "(upsample, then convolve; the decoder of models made before pixel_shuffle)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"pixel_shuffle", "nearest"}));
   cmd->add_option("--dropout", args->dropout, "dropout after the encoder's hidden layers")
       ->check(CLI::Range(0.0, 0.95));
   cmd->add_option("--patience", args->options.patience,
-                  "stop after N epochs without a better validation loss (0: never)")
+                  "stop after N validations without a validation loss --min-improvement below "
+                  "the last improvement (0: train to the budget)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1000000));
+  cmd->add_option("--min-improvement", args->options.min_improvement,
+                  "the relative drop of the validation loss that counts as an improvement")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.5));
   cmd->add_flag("--expanded", args->options.expanded,
                 "materialise every sample under every group element (an epoch sees all |G| N) "
                 "instead of one random element per sample and epoch");
@@ -84,22 +115,24 @@ TrainingOptions training_options(Args& args, const CLI::App& cmd, ModelSize size
   TrainingOptions o = args.options;
   o.augment = parse_group(args.augment, "--augment");
   o.device = resolve_device(args.device);
+  o.schedule.kind = parse_schedule(args.schedule);
   if (!cmd.count("--batch")) o.batch_size = size == ModelSize::paper ? 512 : 128;
-  if (!cmd.count("--lr")) o.learning_rate = size == ModelSize::paper ? 1e-4 : 1e-3;
+  if (!cmd.count("--lr")) o.learning_rate = size == ModelSize::paper ? 1e-4 : 3e-3;
   if (!cmd.count("--epochs") && !cmd.count("--steps"))
-    o.epochs = size == ModelSize::paper ? 300 : 20;
+    o.epochs = size == ModelSize::paper ? 300 : 100;
   return o;
 }
 
 void print_result(const Args& args, const TrainingResult& r) {
-  const EpochRecord& best = r.history[r.best_epoch > 0 ? r.best_epoch - 1 : 0];
+  const TrainingRecord& best = r.history[r.best_round > 0 ? r.best_round - 1 : 0];
   double samples = 0, seconds = 0;
   for (const auto& e : r.history) samples += e.samples_per_second * e.seconds, seconds += e.seconds;
   fmt::print(
-      "{} epochs, {} steps ({} an epoch); best epoch {}: validation MSE {:.5g}; "
+      "{} rounds, {} steps ({} an epoch), {}; best round {} (epoch {}): validation MSE {:.5g}; "
       "{:.0f} samples/s\n",
-      r.history.size(), r.history.back().steps, r.steps_per_epoch, r.best_epoch,
-      best.validation_loss, seconds > 0 ? samples / seconds : 0.0);
+      r.history.size(), r.history.back().steps, r.steps_per_epoch,
+      r.converged ? "converged (stopped early)" : "NOT converged: the budget ran out first",
+      r.best_round, r.best_epoch, best.validation_loss, seconds > 0 ? samples / seconds : 0.0);
   fmt::print("wrote {} ({} parameters), {} and {}\n", args.out, r.model.parameters(),
              loss_curve_path(args.out, "csv"), loss_curve_path(args.out, "png"));
 }
@@ -129,6 +162,11 @@ std::function<void()> add_train_command(CLI::App& app) {
         NetworkOptions::preset(size, static_cast<int>(data.differences.cols()), data.image_size);
     network.radius = data.radius;
     if (args->dropout >= 0) network.dropout = args->dropout;
+    if (parse_upsampling(args->decoder, "--decoder") == Upsampling::nearest) {
+      // The same widths, with the decoder's last stage at full size (a channel per stage more).
+      network.upsampling = Upsampling::nearest;
+      network.decoder_channels.push_back(std::max(1, network.decoder_channels.back() / 2));
+    }
 
     const long long train_count = train.frames.rows();
     if (!args->quiet)

@@ -27,15 +27,26 @@ NetworkImpl::NetworkImpl(const NetworkOptions& o) : options(o) {
 
   nn::Sequential dec;
   int channels = o.latent_channels;
+  const bool shuffle = o.upsampling == Upsampling::pixel_shuffle;
   for (int c : o.decoder_channels) {
-    dec->push_back(nn::Upsample(
-        nn::UpsampleOptions().scale_factor(std::vector<double>{2, 2}).mode(torch::kNearest)));
-    dec->push_back(nn::Conv2d(nn::Conv2dOptions(channels, c, 3).padding(1).bias(false)));
+    if (shuffle) {
+      dec->push_back(nn::Conv2d(nn::Conv2dOptions(channels, 4 * c, 3).padding(1).bias(false)));
+      dec->push_back(nn::PixelShuffle(2));
+    } else {
+      dec->push_back(nn::Upsample(
+          nn::UpsampleOptions().scale_factor(std::vector<double>{2, 2}).mode(torch::kNearest)));
+      dec->push_back(nn::Conv2d(nn::Conv2dOptions(channels, c, 3).padding(1).bias(false)));
+    }
     dec->push_back(nn::BatchNorm2d(c));
     dec->push_back(nn::ReLU());
     channels = c;
   }
-  dec->push_back(nn::Conv2d(nn::Conv2dOptions(channels, 1, 3).padding(1)));
+  if (shuffle) {
+    dec->push_back(nn::Conv2d(nn::Conv2dOptions(channels, 4, 3).padding(1)));
+    dec->push_back(nn::PixelShuffle(2));
+  } else {
+    dec->push_back(nn::Conv2d(nn::Conv2dOptions(channels, 1, 3).padding(1)));
+  }
   decoder = register_module("decoder", dec);
 
   mean = register_buffer("input_mean", torch::zeros({o.inputs}));
@@ -84,10 +95,15 @@ std::string first_line(const c10::Error& error) {
 }
 
 std::string network_to_json(const NetworkOptions& o) {
-  nlohmann::json j = {{"inputs", o.inputs},           {"image_size", o.image_size},
-                      {"hidden", o.hidden},           {"latent_channels", o.latent_channels},
-                      {"latent_size", o.latent_size}, {"decoder_channels", o.decoder_channels},
-                      {"dropout", o.dropout},         {"radius", o.radius}};
+  nlohmann::json j = {{"inputs", o.inputs},
+                      {"image_size", o.image_size},
+                      {"hidden", o.hidden},
+                      {"latent_channels", o.latent_channels},
+                      {"latent_size", o.latent_size},
+                      {"decoder_channels", o.decoder_channels},
+                      {"dropout", o.dropout},
+                      {"radius", o.radius},
+                      {"upsampling", to_string(o.upsampling)}};
   return j.dump();
 }
 
@@ -103,6 +119,8 @@ NetworkOptions network_from_json(const std::string& text, const std::string& sou
     o.decoder_channels = j.at("decoder_channels").get<std::vector<int>>();
     o.dropout = j.at("dropout").get<double>();
     o.radius = j.at("radius").get<double>();
+    // Models written before the field existed have the nearest-upsampling decoder.
+    o.upsampling = parse_upsampling(j.value("upsampling", std::string("nearest")), source);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, "network", std::string("not a network description: ") + e.what());
   }

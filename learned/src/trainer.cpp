@@ -2,157 +2,26 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstring>
-#include <limits>
-#include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/random.h"
-#include "network.h"
+#include "trainer_impl.h"
 
 namespace eitbench {
-namespace {
 
-constexpr const char* kCheckpointFormat = "eitbench-checkpoint-1";
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-// A hash of everything a set's samples depend on: frames and labels, and the circles and
-// background that re-rasterise the labels of augmented samples. A checkpoint only resumes on the
-// data it was made with.
-std::uint64_t fingerprint(const LabelledFrames& set) {
-  std::uint64_t h = mix64(static_cast<std::uint64_t>(set.frames.rows()) * 31 +
-                          static_cast<std::uint64_t>(set.frames.cols()));
-  auto add = [&](const SampleMatrix& m) {
-    for (Eigen::Index k = 0; k < m.size(); ++k) {
-      std::uint64_t bits;
-      std::memcpy(&bits, m.data() + k, sizeof bits);
-      h = mix64(h ^ bits);
-    }
-  };
-  auto add_number = [&](double v) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    h = mix64(h ^ bits);
-  };
-  add(set.frames);
-  add(set.labels);
-  add_number(set.background);
-  add_number(static_cast<double>(set.circles.size()));
-  for (const auto& sample : set.circles) {
-    add_number(static_cast<double>(sample.size()));
-    for (const Circle& c : sample)
-      add_number(c.x), add_number(c.y), add_number(c.r), add_number(c.conductivity);
-  }
-  return h;
+void Trainer::Impl::check_options() const {
+  if (options.batch_size < 2) throw InputError("--batch", "", "must be at least 2");
+  if (!(options.learning_rate > 0) || !std::isfinite(options.learning_rate))
+    throw InputError("--lr", "", "must be positive");
+  if (options.epochs < 0 || options.steps < 0 || options.patience < 0)
+    throw InputError("budget", "", "epochs, steps and patience must not be negative");
+  if (options.epochs > 0 && options.steps > 0)
+    throw InputError("budget", "", "give epochs or steps, not both");
+  if (options.validate_every < 1)
+    throw InputError("--validate-every", "", "must be at least one sample");
+  if (!(options.min_improvement >= 0 && options.min_improvement < 1))
+    throw InputError("--min-improvement", "", "must lie in [0, 1)");
 }
-
-// The order of epoch `epoch`'s samples: Fisher-Yates on the (seed, epoch) stream.
-std::vector<long long> permutation(long long n, std::uint64_t seed, int epoch) {
-  std::vector<long long> order(static_cast<std::size_t>(n));
-  for (long long i = 0; i < n; ++i) order[i] = i;
-  RandomStream random(seed, 0x0b5e55edULL + static_cast<std::uint64_t>(epoch));
-  for (long long i = n - 1; i > 0; --i)
-    std::swap(order[i], order[random.next() % static_cast<std::uint64_t>(i + 1)]);
-  return order;
-}
-
-nlohmann::json options_to_json(const TrainingOptions& o) {
-  return {{"augment", to_string(o.augment)},
-          {"expanded", o.expanded},
-          {"epochs", o.epochs},
-          {"steps", o.steps},
-          {"batch_size", o.batch_size},
-          {"learning_rate", o.learning_rate},
-          {"patience", o.patience},
-          {"seed", o.seed},
-          {"device", o.device}};
-}
-
-TrainingOptions options_from_json(const nlohmann::json& j) {
-  TrainingOptions o;
-  o.augment = parse_group(j.at("augment").get<std::string>(), "checkpoint");
-  o.expanded = j.at("expanded").get<bool>();
-  o.epochs = j.at("epochs").get<int>();
-  o.steps = j.at("steps").get<long long>();
-  o.batch_size = j.at("batch_size").get<int>();
-  o.learning_rate = j.at("learning_rate").get<double>();
-  o.patience = j.at("patience").get<int>();
-  o.seed = j.at("seed").get<std::uint64_t>();
-  o.device = j.at("device").get<std::string>();
-  return o;
-}
-
-nlohmann::json finite_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
-}
-double number_or_infinity(const nlohmann::json& j) {
-  return j.is_null() ? kInfinity : j.get<double>();
-}
-
-}  // namespace
-
-std::string history_to_json(const std::vector<EpochRecord>& history) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const auto& r : history)
-    out.push_back({{"epoch", r.epoch},
-                   {"steps", r.steps},
-                   {"samples", r.samples},
-                   {"train_loss", finite_or_null(r.train_loss)},
-                   {"validation_loss", finite_or_null(r.validation_loss)},
-                   {"seconds", r.seconds},
-                   {"samples_per_second", r.samples_per_second}});
-  return out.dump();
-}
-
-std::vector<EpochRecord> history_from_json(const std::string& text, const std::string& source) {
-  std::vector<EpochRecord> out;
-  try {
-    for (const auto& e : nlohmann::json::parse(text)) {
-      EpochRecord r;
-      r.epoch = e.at("epoch").get<int>();
-      r.steps = e.at("steps").get<long long>();
-      r.samples = e.at("samples").get<long long>();
-      r.train_loss = number_or_infinity(e.at("train_loss"));
-      r.validation_loss = number_or_infinity(e.at("validation_loss"));
-      r.seconds = e.at("seconds").get<double>();
-      r.samples_per_second = e.at("samples_per_second").get<double>();
-      out.push_back(r);
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(source, "history", std::string("unreadable: ") + e.what());
-  }
-  return out;
-}
-
-struct Trainer::Impl {
-  NetworkOptions network;
-  TrainingOptions options;
-  AugmentSetup setup;
-  LabelledFrames train;
-  LabelledFrames expanded;  // the |G| N samples, when options.expanded
-  std::unique_ptr<OnTheFlyAugmenter> augmenter;
-  SampleMatrix validation_frames, validation_labels;
-  std::uint64_t train_print = 0, validation_print = 0;
-  torch::Device device = torch::kCPU;
-  Network net{nullptr}, best{nullptr};
-  std::unique_ptr<torch::optim::Adam> adam;
-  Eigen::VectorXd mean, std;
-  long long train_size = 0, steps_per_epoch = 0, total_steps = 0;
-  int total_epochs = 0;
-  std::vector<EpochRecord> history;
-  int epochs_done = 0, best_epoch = 0;
-  long long steps_done = 0, samples_done = 0;
-  double best_loss = kInfinity;
-  bool stopped_early = false;
-
-  Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledFrames train_set,
-       const LabelledFrames& validation, const AugmentSetup& sensor);
-  void input_statistics();
-  void make_batch(int epoch, const std::vector<long long>& order, long long index,
-                  SampleMatrix& frames, SampleMatrix& labels) const;
-  double validate();
-};
 
 Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledFrames train_set,
                     const LabelledFrames& validation, const AugmentSetup& sensor)
@@ -177,13 +46,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
     throw InputError("network", "inputs",
                      "the network takes " + std::to_string(network.inputs) +
                          " values, frames have " + std::to_string(train.frames.cols()));
-  if (options.batch_size < 2) throw InputError("--batch", "", "must be at least 2");
-  if (!(options.learning_rate > 0) || !std::isfinite(options.learning_rate))
-    throw InputError("--lr", "", "must be positive");
-  if (options.epochs < 0 || options.steps < 0 || options.patience < 0)
-    throw InputError("budget", "", "epochs, steps and patience must not be negative");
-  if (options.epochs > 0 && options.steps > 0)
-    throw InputError("budget", "", "give epochs or steps, not both");
+  check_options();
   device = torch::Device(resolve_device(options.device, "--device"));
 
   // Validation frames as they are (no augmentation); labels from the circles when not stored.
@@ -206,6 +69,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
   if (train_size < 2) throw InputError("train", "split", "training needs at least 2 samples");
   const long long b = options.batch_size;
   steps_per_epoch = std::max(1LL, train_size / b + (train_size % b >= 2 ? 1 : 0));
+  steps_per_round = (options.validate_every + b - 1) / b;
   if (options.steps > 0) {
     total_steps = options.steps;
     total_epochs = static_cast<int>((total_steps + steps_per_epoch - 1) / steps_per_epoch);
@@ -213,6 +77,8 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
     total_epochs = options.epochs > 0 ? options.epochs : 20;
     total_steps = total_epochs * steps_per_epoch;
   }
+  schedule = std::make_unique<LearningRateSchedule>(options.learning_rate, total_steps,
+                                                    options.schedule, "--schedule");
 
   input_statistics();
   torch::manual_seed(options.seed);
@@ -288,6 +154,23 @@ double Trainer::Impl::validate() {
   return total / (double(rows) * double(validation_labels.cols()));
 }
 
+// Keeps the best model, and stops after `patience` rounds without a real improvement: a loss that
+// creeps down by less than min_improvement a round is a plateau, not progress worth its time.
+void Trainer::Impl::record_validation(const TrainingRecord& r) {
+  if (r.validation_loss < best_loss) {
+    best_loss = r.validation_loss;
+    best_round = r.round;
+    copy_state(net, best);
+  }
+  if (r.validation_loss < reference_loss * (1 - options.min_improvement) ||
+      reference_loss == kNoLoss) {
+    reference_loss = r.validation_loss;
+    improved_round = r.round;
+  } else if (options.patience > 0 && r.round - improved_round >= options.patience) {
+    stopped_early = true;
+  }
+}
+
 Trainer::Trainer(const NetworkOptions& network, const TrainingOptions& options,
                  LabelledFrames train, const LabelledFrames& validation, const AugmentSetup& sensor)
     : impl_(std::make_unique<Impl>(network, options, std::move(train), validation, sensor)) {}
@@ -298,23 +181,34 @@ Trainer::~Trainer() = default;
 bool Trainer::done() const {
   return impl_->stopped_early || impl_->steps_done >= impl_->total_steps;
 }
+bool Trainer::converged() const {
+  return impl_->stopped_early;
+}
 
-EpochRecord Trainer::run_epoch(const StepCallback& on_step) {
+TrainingRecord Trainer::run_round(const StepCallback& on_step) {
   Impl& m = *impl_;
-  if (done()) throw std::logic_error("Trainer::run_epoch: the budget is spent");
-  const int epoch = m.epochs_done + 1;
-  const long long steps = std::min(m.steps_per_epoch, m.total_steps - m.steps_done);
-  const auto order = permutation(m.train_size, m.options.seed, epoch);
-  // Dropout's random numbers: a function of (seed, epoch), so a resumed run draws the same.
-  torch::manual_seed(mix64(m.options.seed ^ mix64(static_cast<std::uint64_t>(epoch))));
+  if (done()) throw std::logic_error("Trainer::run_round: the budget is spent");
+  const int round = m.rounds_done + 1;
+  const long long steps = std::min(m.steps_per_round, m.total_steps - m.steps_done);
+  // Dropout's random numbers: a function of (seed, round), so a resumed run draws the same.
+  torch::manual_seed(mix64(m.options.seed ^ mix64(static_cast<std::uint64_t>(round))));
   m.net->train();
   SampleMatrix frames, labels;
-  double loss_sum = 0;
+  std::vector<long long> order;
+  int epoch = 0;  // of `order`
+  double loss_sum = 0, rate = 0;
   long long samples = 0;
   const auto start = std::chrono::steady_clock::now();
   for (long long s = 0; s < steps; ++s) {
-    m.make_batch(epoch, order, s, frames, labels);
+    const long long step = m.steps_done + s;
+    const int step_epoch = static_cast<int>(step / m.steps_per_epoch) + 1;
+    if (step_epoch != epoch)
+      epoch = step_epoch, order = permutation(m.train_size, m.options.seed, epoch);
+    m.make_batch(epoch, order, step % m.steps_per_epoch, frames, labels);
     const auto x = to_tensor(frames, m.device), y = to_tensor(labels, m.device);
+    rate = m.schedule->rate(step);
+    for (auto& group : m.adam->param_groups())
+      static_cast<torch::optim::AdamOptions&>(group.options()).lr(rate);
     m.adam->zero_grad();
     const auto loss = torch::mse_loss(m.net->forward(x), y);
     loss.backward();
@@ -324,36 +218,37 @@ EpochRecord Trainer::run_epoch(const StepCallback& on_step) {
     samples += frames.rows();
     if (on_step) on_step(s + 1, steps, value);
   }
-  EpochRecord r;
+  TrainingRecord r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r.epoch = epoch;
-  m.epochs_done = epoch;
+  r.round = m.rounds_done = round;
   m.steps_done += steps;
   m.samples_done += samples;
+  r.epoch = static_cast<int>((m.steps_done + m.steps_per_epoch - 1) / m.steps_per_epoch);
   r.steps = m.steps_done;
   r.samples = m.samples_done;
   r.train_loss = loss_sum / double(steps);
+  r.learning_rate = rate;
   r.samples_per_second = r.seconds > 0 ? samples / r.seconds : 0;
   r.validation_loss = m.validate();
-  if (r.validation_loss < m.best_loss) {
-    m.best_loss = r.validation_loss;
-    m.best_epoch = epoch;
-    copy_state(m.net, m.best);
-  } else if (m.options.patience > 0 && epoch - m.best_epoch >= m.options.patience) {
-    m.stopped_early = true;
-  }
+  m.record_validation(r);
   m.history.push_back(r);
   return r;
 }
 
-const std::vector<EpochRecord>& Trainer::history() const {
+const std::vector<TrainingRecord>& Trainer::history() const {
   return impl_->history;
 }
+int Trainer::best_round() const {
+  return impl_->best_round;
+}
 int Trainer::best_epoch() const {
-  return impl_->best_epoch;
+  return impl_->best_round > 0 ? impl_->history[impl_->best_round - 1].epoch : 0;
 }
 long long Trainer::steps_per_epoch() const {
   return impl_->steps_per_epoch;
+}
+long long Trainer::steps_per_round() const {
+  return impl_->steps_per_round;
 }
 long long Trainer::total_steps() const {
   return impl_->total_steps;
@@ -361,8 +256,14 @@ long long Trainer::total_steps() const {
 int Trainer::total_epochs() const {
   return impl_->total_epochs;
 }
+long long Trainer::samples_per_epoch() const {
+  return impl_->train_size;
+}
 const TrainingOptions& Trainer::options() const {
   return impl_->options;
+}
+const LearningRateSchedule& Trainer::schedule() const {
+  return *impl_->schedule;
 }
 Eigen::VectorXd Trainer::input_mean() const {
   return impl_->mean;
@@ -381,110 +282,25 @@ void Trainer::batch(int epoch, long long index, SampleMatrix& frames, SampleMatr
 LearnedModel Trainer::best_model() const {
   const Impl& m = *impl_;
   LearnedModel model(m.network, m.setup.electrodes, m.options.seed);
-  copy_state(m.best_epoch > 0 ? m.best : m.net, model.impl().net);
+  copy_state(m.best_round > 0 ? m.best : m.net, model.impl().net);
   ModelInfo& info = model.info();
   info.augment = to_string(m.options.augment);
   info.training = nlohmann::json{{"options", options_to_json(m.options)},
                                  {"train_samples", m.train.frames.rows()},
                                  {"samples_per_epoch", m.train_size},
                                  {"steps_per_epoch", m.steps_per_epoch},
-                                 {"epochs", m.epochs_done},
+                                 {"budget_steps", m.total_steps},
+                                 {"rounds", m.rounds_done},
                                  {"steps", m.steps_done},
                                  {"samples", m.samples_done},
-                                 {"best_epoch", m.best_epoch},
+                                 {"best_round", m.best_round},
+                                 {"best_epoch", best_epoch()},
                                  {"best_validation_loss", finite_or_null(m.best_loss)},
                                  {"stopped_early", m.stopped_early},
+                                 {"converged", m.stopped_early},
                                  {"history", nlohmann::json::parse(history_to_json(m.history))}}
                       .dump();
   return model;
-}
-
-std::string Trainer::checkpoint() const {
-  const Impl& m = *impl_;
-  const nlohmann::json state = {{"network", nlohmann::json::parse(network_to_json(m.network))},
-                                {"options", options_to_json(m.options)},
-                                {"train_fingerprint", m.train_print},
-                                {"validation_fingerprint", m.validation_print},
-                                {"epochs_done", m.epochs_done},
-                                {"steps_done", m.steps_done},
-                                {"samples_done", m.samples_done},
-                                {"best_epoch", m.best_epoch},
-                                {"best_loss", finite_or_null(m.best_loss)},
-                                {"stopped_early", m.stopped_early},
-                                {"history", nlohmann::json::parse(history_to_json(m.history))}};
-  torch::serialize::OutputArchive archive, net, best, adam;
-  archive.write("format", c10::IValue(std::string(kCheckpointFormat)));
-  archive.write("state", c10::IValue(state.dump()));
-  m.net->save(net);
-  m.best->save(best);
-  m.adam->save(adam);
-  archive.write("net", net);
-  archive.write("best", best);
-  archive.write("optimizer", adam);
-  std::ostringstream out;
-  archive.save_to(out);
-  return out.str();
-}
-
-std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::string& source,
-                                         LabelledFrames train, const LabelledFrames& validation,
-                                         const AugmentSetup& sensor) {
-  torch::serialize::InputArchive archive, net, best, adam;
-  c10::IValue format, state_text;
-  try {
-    std::istringstream in(bytes);
-    archive.load_from(in, torch::kCPU);
-    if (!archive.try_read("format", format) || !format.isString() ||
-        format.toStringRef() != kCheckpointFormat)
-      throw InputError(source, "format", "not an eitbench training checkpoint");
-    archive.read("state", state_text);
-    archive.read("net", net);
-    archive.read("best", best);
-    archive.read("optimizer", adam);
-  } catch (const c10::Error& e) {
-    throw InputError(source, "", "not a readable checkpoint (" + first_line(e) + ")");
-  }
-  std::unique_ptr<Impl> m;
-  nlohmann::json state;
-  try {
-    state = nlohmann::json::parse(state_text.toStringRef());
-    m = std::make_unique<Impl>(network_from_json(state.at("network").dump(), source),
-                               options_from_json(state.at("options")), std::move(train), validation,
-                               sensor);
-    if (state.at("train_fingerprint").get<std::uint64_t>() != m->train_print ||
-        state.at("validation_fingerprint").get<std::uint64_t>() != m->validation_print)
-      throw InputError(source, "data",
-                       "the checkpoint was made on other data (training or validation set "
-                       "differs): start a new run without --resume");
-    m->epochs_done = state.at("epochs_done").get<int>();
-    m->steps_done = state.at("steps_done").get<long long>();
-    m->samples_done = state.at("samples_done").get<long long>();
-    m->best_epoch = state.at("best_epoch").get<int>();
-    m->best_loss = number_or_infinity(state.at("best_loss"));
-    m->stopped_early = state.at("stopped_early").get<bool>();
-    m->history = history_from_json(state.at("history").dump(), source);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(source, "state", std::string("unreadable: ") + e.what());
-  }
-  try {
-    m->net->load(net);
-    m->best->load(best);
-    m->net->to(m->device);
-    m->best->to(m->device);
-    m->adam->load(adam);
-    // The archive was read onto the CPU, and Adam's load keeps its state tensors where the archive
-    // put them: move them to the device the parameters are on (a CUDA resume would otherwise mix
-    // devices at the first step).
-    for (auto& [key, state] : m->adam->state()) {
-      auto& s = static_cast<torch::optim::AdamParamState&>(*state);
-      s.exp_avg(s.exp_avg().to(m->device));
-      s.exp_avg_sq(s.exp_avg_sq().to(m->device));
-      if (s.max_exp_avg_sq().defined()) s.max_exp_avg_sq(s.max_exp_avg_sq().to(m->device));
-    }
-  } catch (const c10::Error& e) {
-    throw InputError(source, "weights", first_line(e));
-  }
-  return std::unique_ptr<Trainer>(new Trainer(std::move(m)));
 }
 
 }  // namespace eitbench

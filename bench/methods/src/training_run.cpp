@@ -45,32 +45,38 @@ TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptio
   const long long done_before = trainer->history().empty() ? 0 : trainer->history().back().steps;
   Progress progress(run.label, static_cast<int>(total), run.quiet);
   if (resumed)
-    progress.note(fmt::format("{}: resuming after epoch {} ({} of {} steps)", run.label,
+    progress.note(fmt::format("{}: resuming after round {} ({} of at most {} steps)", run.label,
                               trainer->history().size(), done_before, total));
   const auto t0 = std::chrono::steady_clock::now();
   long long steps = done_before;
   while (!trainer->done()) {
-    const int epoch = static_cast<int>(trainer->history().size()) + 1;
     double loss_sum = 0;
     long long count = 0;
-    const EpochRecord r = trainer->run_epoch([&](long long, long long, double loss) {
+    const TrainingRecord r = trainer->run_round([&](long long, long long, double loss) {
       loss_sum += loss, ++count, ++steps;
+      const long long epoch = (steps + trainer->steps_per_epoch() - 1) / trainer->steps_per_epoch();
       progress.update(static_cast<int>(steps),
-                      fmt::format("epoch {}/{}, loss {:.4g}", epoch, trainer->total_epochs(),
-                                  loss_sum / count));
+                      fmt::format("epoch {}, loss {:.4g}", epoch, loss_sum / count));
     });
     write_bytes_atomically(checkpoint, trainer->checkpoint());
-    progress.note(
-        fmt::format("{} epoch {:3d}/{}: train {:.5g}, validation {:.5g}{}, {:.0f} samples/s",
-                    run.label, r.epoch, trainer->total_epochs(), r.train_loss, r.validation_loss,
-                    trainer->best_epoch() == r.epoch ? " (best)" : "", r.samples_per_second));
+    progress.note(fmt::format(
+        "{} round {:3d} (epoch {}, {} steps): train {:.5g}, validation {:.5g}{}, lr {:.3g}, "
+        "{:.0f} samples/s",
+        run.label, r.round, r.epoch, r.steps, r.train_loss, r.validation_loss,
+        trainer->best_round() == r.round ? " (best)" : "", r.learning_rate, r.samples_per_second));
   }
+  if (trainer->converged())
+    progress.note(fmt::format("{}: stopped early, no improvement in {} rounds; best round {}",
+                              run.label, trainer->options().patience, trainer->best_round()));
   TrainingResult result{
       trainer->best_model(),
       trainer->history(),
+      trainer->best_round(),
       trainer->best_epoch(),
+      trainer->converged(),
       trainer->total_steps(),
       trainer->steps_per_epoch(),
+      trainer->samples_per_epoch(),
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
       resumed};
   write_model_file(run.out, result.model);

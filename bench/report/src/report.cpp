@@ -47,6 +47,26 @@ std::string dB(double snr) {
 
 }  // namespace
 
+namespace {
+
+// " Not converged: ..." for the learned models the budget stopped, or nothing.
+std::string unconverged_note(const std::vector<TrainingSummary>& training) {
+  std::string names;
+  for (const auto& t : training)
+    if (!t.converged) names += (names.empty() ? "" : ", ") + ("dnn (" + t.augment + ")");
+  if (names.empty()) return "";
+  return " **Not converged:** " + names +
+         " ran out of training budget while validation was still improving, so this ranking "
+         "may understate them (raise the budget: `--epochs`).";
+}
+
+}  // namespace
+
+std::string recommend(const std::vector<ResultRow>& rows,
+                      const std::vector<TrainingSummary>& training) {
+  return recommend(rows) + unconverged_note(training);
+}
+
 std::string recommend(const std::vector<ResultRow>& rows) {
   const auto snrs = snrs_of(rows);
   if (snrs.empty()) return "No results.";
@@ -189,17 +209,21 @@ void write_runtime(std::ostream& o, const RunResults& r, const Methods& methods,
 
 void write_training(std::ostream& o, const RunResults& r) {
   if (r.training.empty()) return;
-  o << "\n## Training\n\n| augment | epochs | steps | best epoch | best validation MSE | "
-       "samples/s | time (s) |\n|---|---|---|---|---|---|---|\n";
+  o << "\n## Training\n\nEach learned model trains until its validation MSE stops improving "
+       "(early stopping; converged) or its step budget runs out (not converged), and keeps its "
+       "best validation round.\n\n| augment | converged | steps | samples seen | best epoch | "
+       "best validation MSE | samples/s | of GEMM peak | time (s) |\n"
+       "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& t : r.training) {
-    const double best = t.best_epoch > 0 && t.best_epoch <= static_cast<int>(t.history.size())
-                            ? t.history[t.best_epoch - 1].validation_loss
+    const double best = t.best_round > 0 && t.best_round <= static_cast<int>(t.history.size())
+                            ? t.history[t.best_round - 1].validation_loss
                             : NAN;
-    o << fmt::format("| {} | {} | {} | {} | {:.4g} | {:.0f} | {:.1f} |\n", t.augment,
-                     t.history.size(), t.steps, t.best_epoch, best, t.samples_per_second,
+    o << fmt::format("| {} | {} | {} | {} | {} | {:.4g} | {:.0f} | {:.0f} % | {:.1f} |\n",
+                     t.augment, t.converged ? "yes" : "**no** (budget)", t.steps, t.samples,
+                     t.best_epoch, best, t.samples_per_second, 100 * t.fraction_of_gemm_peak,
                      t.seconds);
   }
-  o << "\n![Training (light) and validation MSE by epoch](loss_curves.png)\n";
+  o << "\n![Training (light) and validation MSE against samples seen](loss_curves.png)\n";
 }
 
 void write_efficiency(std::ostream& o, const RunResults& r) {

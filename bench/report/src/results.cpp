@@ -101,17 +101,43 @@ EfficiencyPoint efficiency_point_from_json(const json& e) {
   return p;
 }
 
+json to_json(const TrainingSummary& t) {
+  return {{"augment", t.augment},
+          {"converged", t.converged},
+          {"best_round", t.best_round},
+          {"best_epoch", t.best_epoch},
+          {"steps", t.steps},
+          {"samples_seen", t.samples},
+          {"seconds", t.seconds},
+          {"training_samples_per_second", t.samples_per_second},
+          {"fraction_of_gemm_peak", t.fraction_of_gemm_peak},
+          {"history", json::parse(history_to_json(t.history))}};
+}
+
+// Files written before early stopping had "samples" and "samples_per_second" and no convergence
+// flag: read as unconverged.
+TrainingSummary training_summary_from_json(const json& t, const std::string& source) {
+  TrainingSummary s;
+  s.augment = t.at("augment").get<std::string>();
+  s.converged = t.value("converged", false);
+  s.best_epoch = t.at("best_epoch").get<int>();
+  s.best_round = t.value("best_round", s.best_epoch);
+  s.steps = t.at("steps").get<long long>();
+  s.samples = t.contains("samples_seen") ? t.at("samples_seen").get<long long>()
+                                         : t.at("samples").get<long long>();
+  s.seconds = t.at("seconds").get<double>();
+  s.samples_per_second = t.contains("training_samples_per_second")
+                             ? t.at("training_samples_per_second").get<double>()
+                             : t.at("samples_per_second").get<double>();
+  s.fraction_of_gemm_peak = t.value("fraction_of_gemm_peak", 0.0);
+  s.history = history_from_json(t.at("history").dump(), source);
+  return s;
+}
+
 void write_results_json(const std::string& path, const RunResults& r) {
   json rows = json::array(), training = json::array(), efficiency = json::array();
   for (const auto& x : r.rows) rows.push_back(to_json(x));
-  for (const auto& t : r.training)
-    training.push_back({{"augment", t.augment},
-                        {"best_epoch", t.best_epoch},
-                        {"steps", t.steps},
-                        {"samples", t.samples},
-                        {"seconds", t.seconds},
-                        {"samples_per_second", t.samples_per_second},
-                        {"history", json::parse(history_to_json(t.history))}});
+  for (const auto& t : r.training) training.push_back(to_json(t));
   for (const auto& e : r.efficiency) efficiency.push_back(to_json(e));
   const json doc = {{"format", "eitbench-results-1"},
                     {"program", r.program},
@@ -145,17 +171,8 @@ RunResults parse_results_json(const std::string& text, const std::string& path) 
     field = "results";
     for (const auto& x : doc.at("results")) r.rows.push_back(result_row_from_json(x));
     field = "training";
-    for (const auto& t : doc.at("training")) {
-      TrainingSummary s;
-      s.augment = t.at("augment").get<std::string>();
-      s.best_epoch = t.at("best_epoch").get<int>();
-      s.steps = t.at("steps").get<long long>();
-      s.samples = t.at("samples").get<long long>();
-      s.seconds = t.at("seconds").get<double>();
-      s.samples_per_second = t.at("samples_per_second").get<double>();
-      s.history = history_from_json(t.at("history").dump(), path);
-      r.training.push_back(s);
-    }
+    for (const auto& t : doc.at("training"))
+      r.training.push_back(training_summary_from_json(t, path));
     field = "data_efficiency";
     for (const auto& e : doc.at("data_efficiency"))
       r.efficiency.push_back(efficiency_point_from_json(e));

@@ -95,7 +95,7 @@ RunResults draw_run_report(const std::string& folder, bool quiet) {
   else if (!quiet)
     fmt::print("{}: not found; reconstructions.png is left as it is\n", images.string());
   write_results_csv((dir / "results.csv").string(), results.rows);
-  std::vector<std::pair<std::string, std::vector<EpochRecord>>> curves;
+  std::vector<std::pair<std::string, std::vector<TrainingRecord>>> curves;
   for (const auto& t : results.training) curves.emplace_back(t.augment, t.history);
   write_loss_curves((dir / "loss_curves.csv").string(), (dir / "loss_curves.png").string(), curves);
   if (!results.efficiency.empty())

@@ -59,9 +59,14 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   c["snrs_db"] = snrs;
   c["model"] = fmt::format("{} ({} parameters, {:.1f} MFLOP a frame)", config.model, parameters,
                            forward_flops(learned.network) / 1e6);
-  c["training"] =
-      fmt::format("{} epochs, batch {}, Adam lr {:g}, on-the-fly augmentation, device {}",
-                  config.epochs, config.batch, config.learning_rate, learned.training.device);
+  c["training"] = fmt::format(
+      "at most {} epochs, batch {}, Adam peak lr {:g} ({} schedule), validation every {} samples, "
+      "early stopping after {} without a {:g} improvement, on-the-fly augmentation, device {}",
+      config.epochs, config.batch, config.learning_rate, config.schedule, config.validate_every,
+      config.patience, config.min_improvement, learned.training.device);
+  if (learned.gemm_flops > 0)
+    c["gemm_peak"] = fmt::format("{:.0f} GFLOP/s (float32 2048 x 2048 matrix product, {} threads)",
+                                 learned.gemm_flops / 1e9, config.threads);
   c["efficiency"] =
       fmt::format("sizes up to {}, {} steps or {} epochs",
                   config.efficiency_sizes.empty() ? 0 : config.efficiency_sizes.back(),
@@ -114,7 +119,7 @@ RunResults run_benchmark(const RunConfig& config) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   results.machine = describe_machine();
   results.configuration = describe_run(config, data, reconstruction, learned, parameters, total_s);
-  results.recommendation = recommend(results.rows);
+  results.recommendation = recommend(results.rows, results.training);
   write_run_store(out.string(), results, figure, reconstruction.grid.size());
   return draw_run_report(out.string());
 }

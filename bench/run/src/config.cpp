@@ -16,6 +16,7 @@ RunConfig RunConfig::for_preset(const std::string& preset) {
   if (preset == "tiny") {                           // the test suite's: every code path in seconds
     c.mesh = c.simulation = MeshDensity::coarse;
     c.epochs = 3, c.batch = 16;
+    c.validate_every = 64;  // a round an epoch of the 60 training samples
     c.efficiency_sizes = {15, 30, 60};
     c.sweep_frames = 3, c.timed_frames = 3, c.figure_samples = 4;
   } else if (preset == "quick") {  // under 15 minutes on 2 cores

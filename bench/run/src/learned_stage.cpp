@@ -18,20 +18,39 @@ std::string model_path(const Context& context, const std::string& augment) {
   return (context.out / "models" / ("dnn_" + augment + ".pt")).string();
 }
 
+// How the model was trained, from the record its file keeps: history, best round, convergence, and
+// the throughput against the machine's GEMM peak.
+TrainingSummary training_summary(const LearnedModel& model, const std::string& path,
+                                 const LearnedSetup& setup) {
+  TrainingSummary s;
+  s.augment = model.info().augment;
+  try {
+    const nlohmann::json t = nlohmann::json::parse(model.info().training);
+    s.history = history_from_json(t.at("history").dump(), path);
+    s.best_round = t.at("best_round").get<int>();
+    s.best_epoch = t.at("best_epoch").get<int>();
+    s.converged = t.at("converged").get<bool>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, "training", std::string("not this eitbench's record: ") + e.what());
+  }
+  for (const auto& e : s.history) s.seconds += e.seconds;
+  if (!s.history.empty()) s.steps = s.history.back().steps, s.samples = s.history.back().samples;
+  s.samples_per_second = s.seconds > 0 ? double(s.samples) / s.seconds : 0;
+  if (setup.gemm_flops > 0)
+    s.fraction_of_gemm_peak =
+        3 * forward_flops(model.info().network) * s.samples_per_second / setup.gemm_flops;
+  return s;
+}
+
 // The model in <out>/models/dnn_<augment>.pt: read back when resuming, trained otherwise (from its
-// checkpoint when one is left). The summary's history and best epoch are filled in.
+// checkpoint when one is left).
 LearnedModel trained_model(const Context& context, const std::string& augment,
-                           const LearnedSetup& setup, const Dataset& source,
-                           TrainingSummary& summary) {
+                           const LearnedSetup& setup, const Dataset& source) {
   const RunConfig& config = context.config;
   const std::string path = model_path(context, augment);
   if (config.resume && fs::exists(path)) {
-    LearnedModel model = read_model_file(path);
-    const nlohmann::json t = nlohmann::json::parse(model.info().training);
-    summary.history = history_from_json(t.at("history").dump(), path);
-    summary.best_epoch = t.at("best_epoch").get<int>();
     context.say(fmt::format("dnn {}: resumed from {}", augment, path));
-    return model;
+    return read_model_file(path);
   }
   TrainingOptions o = setup.training;
   o.augment = parse_group(augment, "augment");
@@ -42,13 +61,13 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
   run.quiet = config.quiet;
   run.label = "dnn " + augment;
   run.curves = false;
-  context.say(fmt::format("dnn {}: training the {} model, {} epochs of {} samples", augment,
-                          config.model, config.epochs, source.indices(Split::train).size()));
+  context.say(fmt::format(
+      "dnn {}: training the {} model on {} samples until validation stops improving (at most {} "
+      "epochs)",
+      augment, config.model, source.indices(Split::train).size(), config.epochs));
   TrainingResult r =
       train_and_save(setup.network, o, labelled_frames(source, Split::train),
                      labelled_frames(source, Split::validation), sensor_of(source), run);
-  summary.history = r.history;
-  summary.best_epoch = r.best_epoch;
   return std::move(r.model);
 }
 
@@ -62,8 +81,16 @@ LearnedSetup learned_setup(const RunConfig& config, const Dataset& source) {
   s.network.radius = source.radius;
   s.training.batch_size = config.batch;
   s.training.learning_rate = config.learning_rate;
+  s.training.schedule.kind = parse_schedule(config.schedule, "schedule");
+  s.training.validate_every = config.validate_every;
+  s.training.patience = config.patience;
+  s.training.min_improvement = config.min_improvement;
   s.training.seed = config.seed;
   s.training.device = resolve_device(config.device, "--device");
+  if (s.training.device == "cpu") {
+    const int n = 2048;
+    s.gemm_flops = 2.0 * n * n * n / time_matmul(n, 3);
+  }
   return s;
 }
 
@@ -72,13 +99,9 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
                            const Reconstruction& reconstruction, const NoisyFrames& noisy) {
   const RunConfig& config = context.config;
   LearnedResults out;
-  TrainingSummary& summary = out.training;
-  summary.augment = augment;
-  const LearnedModel model = trained_model(context, augment, setup, data.source, summary);
-  for (const auto& e : summary.history)
-    summary.seconds += e.seconds, summary.samples += e.samples_per_second * e.seconds;
-  summary.samples_per_second = summary.seconds > 0 ? summary.samples / summary.seconds : 0;
-  if (!summary.history.empty()) summary.steps = summary.history.back().steps;
+  const LearnedModel model = trained_model(context, augment, setup, data.source);
+  out.training = training_summary(model, model_path(context, augment), setup);
+  const TrainingSummary& summary = out.training;
   if (model.info().electrodes != data.data.electrodes)
     throw InputError(model_path(context, augment), "electrodes",
                      "the model does not fit the data's sensor");

@@ -88,6 +88,7 @@ struct LearnedResults {
 struct LearnedSetup {
   NetworkOptions network;
   TrainingOptions training;
+  double gemm_flops = 0;  // float32 matrix-product FLOP/s of this machine (CPU; 0: not measured)
 };
 LearnedSetup learned_setup(const RunConfig& config, const Dataset& source);
 LearnedResults run_learned(const Context& context, const std::string& augment,

@@ -39,7 +39,7 @@ bool from_main_run(const RunResults& main_runs, EfficiencyPoint& p) {
     if (row.method == "dnn" && row.augment == p.augment && std::isinf(row.snr_db)) {
       for (const auto& t : main_runs.training)
         if (t.augment == p.augment)
-          p.steps = t.steps, p.epochs = static_cast<int>(t.history.size());
+          p.steps = t.steps, p.epochs = t.history.empty() ? 0 : t.history.back().epoch;
       p.test_mse = row.mse, p.cc = row.cc, p.re = row.re;
       return true;
     }
@@ -69,7 +69,7 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
   const ResultRow row =
       evaluate_row(*method, data.test.frames, data.test.labels, reconstruction.grid, 0);
   p.steps = r.history.back().steps;
-  p.epochs = static_cast<int>(r.history.size());
+  p.epochs = r.history.back().epoch;
   p.test_mse = row.mse, p.cc = row.cc, p.re = row.re;
   context.say(
       fmt::format("data efficiency: {} at equal {}, n={}: {} steps, test MSE {:.4g}, CC {:.3f}",

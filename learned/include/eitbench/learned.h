@@ -5,4 +5,5 @@
 #include "eitbench/learned/learned_model.h"
 #include "eitbench/learned/network_options.h"
 #include "eitbench/learned/runtime.h"
+#include "eitbench/learned/schedule.h"
 #include "eitbench/learned/trainer.h"

@@ -1,9 +1,15 @@
 #pragma once
 // The network's shape. Encoder: fully connected layers (Linear, BatchNorm, ReLU, dropout) from the
-// frame to a C x s x s latent. Decoder: one stage per entry of decoder_channels (nearest 2x
-// upsampling, 3x3 convolution, BatchNorm, ReLU), then a 3x3 convolution to one channel, masked to
-// the disk. Upsampling + convolution instead of ConvTranspose2d: the latter has no oneDNN kernel in
-// Debian's LibTorch 1.13 and trained 2-10x slower per FLOP here (BUILD-NOTES).
+// frame to a C x s x s latent. Decoder, in one of two forms:
+//  - pixel_shuffle (sub-pixel convolution): one stage per entry c of decoder_channels (3x3
+//    convolution to 4c channels at the current size, pixel shuffle to c channels at twice the size,
+//    BatchNorm, ReLU), then an output stage (3x3 convolution to 4 channels, pixel shuffle to the
+//    image). Every convolution runs at half the size it produces: 2.7x the training throughput of
+//    `nearest` on 2 cores (oneDNN's backward pass is slow on few channels at large sizes).
+//  - nearest: one stage per entry (nearest 2x upsampling, 3x3 convolution, BatchNorm, ReLU), then a
+//    3x3 convolution to one channel at full size; the form of models made before pixel_shuffle.
+// Either is masked to the disk. Neither uses ConvTranspose2d: it has no oneDNN kernel in Debian's
+// LibTorch 1.13 and trained 2-10x slower per FLOP here.
 #include <string>
 #include <vector>
 
@@ -16,18 +22,26 @@ enum class ModelSize {
 ModelSize parse_model_size(const std::string& name, const std::string& source = "--model");
 std::string to_string(ModelSize size);
 
+enum class Upsampling { pixel_shuffle, nearest };
+Upsampling parse_upsampling(const std::string& name, const std::string& source);
+std::string to_string(Upsampling upsampling);
+
 struct NetworkOptions {
-  int inputs = 104;                             // frame length: L(L-3)/2, the reduced layout
-  int image_size = 64;                          // output n x n = latent_size * 2^stages
-  std::vector<int> hidden{256};                 // encoder widths before the latent
-  int latent_channels = 32;                     // C
-  int latent_size = 8;                          // s
-  std::vector<int> decoder_channels{16, 8, 4};  // one upsampling stage each
-  double dropout = 0.1;                         // after every hidden encoder layer
-  double radius = 1.0;                          // the image spans [-R, R]^2; the disk mask
+  int inputs = 104;                          // frame length: L(L-3)/2, the reduced layout
+  int image_size = 64;                       // output n x n = latent_size * 2^upsampling_stages()
+  std::vector<int> hidden{256};              // encoder widths before the latent
+  int latent_channels = 32;                  // C
+  int latent_size = 8;                       // s
+  std::vector<int> decoder_channels{16, 8};  // one upsampling stage each
+  Upsampling upsampling = Upsampling::pixel_shuffle;
+  double dropout = 0.1;  // after every hidden encoder layer
+  double radius = 1.0;   // the image spans [-R, R]^2; the disk mask
 
   // The widths of `size` for frames of `inputs` values and n x n images (n = 8 * 2^k).
   static NetworkOptions preset(ModelSize size, int inputs, int image_size);
+  // 2x stages from the latent to the image: one per decoder channel, plus the output stage of
+  // pixel_shuffle.
+  int upsampling_stages() const;
 };
 
 // InputError(source, field, ...) when the shape is impossible (e.g. n != s * 2^stages).

@@ -1,8 +1,9 @@
 #pragma once
-// Training the learned reconstructor: MSE loss, Adam, validation every epoch, the best model kept,
-// a budget in epochs or optimiser steps, optional early stopping, and checkpoints that resume to
-// exactly where an uninterrupted run would have gone (the batch order, the augmentation and
-// dropout's random numbers are functions of (seed, epoch), not of a running state).
+// Training the learned reconstructor: MSE loss, Adam under a learning-rate schedule, validation at
+// a fixed interval of samples seen (a "round"), the best model kept, early stopping when the
+// validation loss stops improving (the budget is only an upper bound), and checkpoints that resume
+// to exactly where an uninterrupted run would have gone (the batch order and the augmentation are
+// functions of (seed, epoch), dropout's random numbers of (seed, round), not of a running state).
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
@@ -12,6 +13,7 @@
 
 #include "eitbench/augment/augmented_set.h"
 #include "eitbench/learned/learned_model.h"
+#include "eitbench/learned/schedule.h"
 
 namespace eitbench {
 
@@ -20,32 +22,43 @@ struct TrainingOptions {
   // Materialise the |G| N augmented samples (an epoch sees each sample under every element)
   // instead of drawing one element per sample and epoch on the fly (an epoch is N samples).
   bool expanded = false;
-  int epochs = 0;               // the budget: epochs, or
+  int epochs = 0;               // the budget, an upper bound: epochs, or
   long long steps = 0;          // optimiser steps; neither given: 20 epochs
   int batch_size = 128;         // the paper: 512
-  double learning_rate = 1e-3;  // the paper: 1e-4
-  int patience = 0;  // stop after this many epochs without a better validation loss; 0: never
+  double learning_rate = 3e-3;  // the schedule's peak (the paper: 1e-4, constant)
+  ScheduleOptions schedule;     // warm-up and cosine over the budget
+  // Training samples between two validations (rounded up to whole steps): validation and the
+  // checkpoint cost the same whatever the epoch's size.
+  long long validate_every = 16384;
+  // Early stopping: stop after `patience` validations without a validation loss min_improvement
+  // (relative) below the last one that counted as an improvement; 0: train to the budget. The
+  // model kept is the best validation loss of the run either way.
+  int patience = 0;
+  double min_improvement = 1e-3;
   std::uint64_t seed = 1;
   std::string device = "cpu";  // cpu | cuda (see resolve_device)
 };
 
-struct EpochRecord {
-  int epoch = 0;               // 1-based
+// One round: the steps since the previous validation, then a validation.
+struct TrainingRecord {
+  int round = 0;               // 1-based
+  int epoch = 0;               // the epoch the round ended in (1-based)
   long long steps = 0;         // optimiser steps so far
   long long samples = 0;       // training samples seen so far
-  double train_loss = 0;       // mean batch MSE over the epoch (training mode: dropout on)
+  double train_loss = 0;       // mean batch MSE over the round (training mode: dropout on)
   double validation_loss = 0;  // MSE over the validation set (evaluation mode)
-  double seconds = 0;          // this epoch's training time (without validation)
+  double learning_rate = 0;    // at the round's last step
+  double seconds = 0;          // this round's training time (without validation)
   double samples_per_second = 0;
 };
 
-// The history as JSON text (an array of epochs, the fields above by name; non-finite losses as
+// The history as JSON text (an array of rounds, the fields above by name; non-finite losses as
 // null), and back: how the model file, the checkpoint and bench/'s results.json store it.
 // history_from_json throws InputError(source, "history") on anything else.
-std::string history_to_json(const std::vector<EpochRecord>& history);
-std::vector<EpochRecord> history_from_json(const std::string& text, const std::string& source);
+std::string history_to_json(const std::vector<TrainingRecord>& history);
+std::vector<TrainingRecord> history_from_json(const std::string& text, const std::string& source);
 
-// Called after each optimiser step: (step within the epoch, steps in the epoch, batch loss).
+// Called after each optimiser step: (step within the round, steps in the round, batch loss).
 using StepCallback = std::function<void(long long, long long, double)>;
 
 class Trainer {
@@ -63,20 +76,25 @@ class Trainer {
                                          const AugmentSetup& sensor);
   ~Trainer();
 
-  bool done() const;  // the budget is spent or early stopping triggered
-  // Trains one epoch (or what the step budget leaves of it), then validates; the best model so far
-  // is kept by validation loss.
-  EpochRecord run_epoch(const StepCallback& on_step = {});
-  const std::vector<EpochRecord>& history() const;
-  int best_epoch() const;
+  bool done() const;       // the budget is spent or early stopping triggered
+  bool converged() const;  // stopped by early stopping, not by the budget
+  // Trains one round (validate_every samples, or what the budget leaves), then validates; the
+  // best model so far is kept by validation loss.
+  TrainingRecord run_round(const StepCallback& on_step = {});
+  const std::vector<TrainingRecord>& history() const;
+  int best_round() const;  // 0 before the first round
+  int best_epoch() const;  // the epoch the best round ended in
   long long steps_per_epoch() const;
+  long long steps_per_round() const;
   long long total_steps() const;  // the budget in steps (epochs x steps per epoch, or --steps)
   int total_epochs() const;       // the epochs the budget needs
+  long long samples_per_epoch() const;
   const TrainingOptions& options() const;
+  const LearningRateSchedule& schedule() const;
 
   // Everything needed to resume, as bytes (bench/ writes them to disk atomically).
   std::string checkpoint() const;
-  // The best model by validation loss (the current one before any epoch), with ModelInfo filled.
+  // The best model by validation loss (the current one before any round), with ModelInfo filled.
   LearnedModel best_model() const;
   // The input normalisation: mean and standard deviation of the augmented training set.
   Eigen::VectorXd input_mean() const;
@@ -84,8 +102,9 @@ class Trainer {
   // Batch `index` of `epoch` (1-based) as the network receives it, before normalisation.
   void batch(int epoch, long long index, SampleMatrix& frames, SampleMatrix& labels) const;
 
+  struct Impl;  // defined in learned/src (LibTorch)
+
  private:
-  struct Impl;
   explicit Trainer(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

@@ -1,6 +1,6 @@
 #pragma once
 // One training run as the command line and the benchmark run do it: progress on the terminal, a
-// checkpoint after every epoch (atomic), resumable after a kill, and at the end the model file and
+// checkpoint after every round (atomic), resumable after a kill, and at the end the model file and
 // its loss curves (CSV and PNG).
 #include <string>
 #include <vector>
@@ -19,10 +19,11 @@ struct TrainingRun {
 };
 
 struct TrainingResult {
-  LearnedModel model;  // the best by validation loss
-  std::vector<EpochRecord> history;
-  int best_epoch = 0;
-  long long total_steps = 0, steps_per_epoch = 0;
+  LearnedModel model;                   // the best by validation loss
+  std::vector<TrainingRecord> history;  // one entry a round (validation)
+  int best_round = 0, best_epoch = 0;
+  bool converged = false;  // stopped by early stopping, not by the budget
+  long long total_steps = 0, steps_per_epoch = 0, samples_per_epoch = 0;
   double seconds = 0;  // training and validation, this session
   bool resumed = false;
 };

@@ -1,5 +1,6 @@
 #pragma once
-// Training curves: training and validation MSE by epoch for one run or several.
+// Training curves: training and validation MSE against training samples seen (the paper's Fig. 6)
+// for one run or several.
 #include <string>
 #include <utility>
 #include <vector>
@@ -9,7 +10,8 @@
 namespace eitbench {
 
 // The loss curves of one run or several (label each), as CSV rows and a PNG.
-void write_loss_curves(const std::string& csv_path, const std::string& png_path,
-                       const std::vector<std::pair<std::string, std::vector<EpochRecord>>>& runs);
+void write_loss_curves(
+    const std::string& csv_path, const std::string& png_path,
+    const std::vector<std::pair<std::string, std::vector<TrainingRecord>>>& runs);
 
 }  // namespace eitbench

@@ -10,8 +10,11 @@
 namespace eitbench {
 
 // Which method to use and why: the best CC at 40 dB (or the data's SNR), and the fastest method
-// within 0.02 of it.
+// within 0.02 of it. Learned models whose training the budget ended before early stopping did are
+// named as not converged: their figures may understate them.
 std::string recommend(const std::vector<ResultRow>& rows);
+std::string recommend(const std::vector<ResultRow>& rows,
+                      const std::vector<TrainingSummary>& training);
 void write_report(const std::string& path, const RunResults& results);
 void draw_efficiency_png(const std::vector<EfficiencyPoint>& points, const std::string& path);
 std::string summary_table(const RunResults& results);

@@ -23,11 +23,16 @@ struct ResultRow {
 
 struct TrainingSummary {
   std::string augment;
-  std::vector<EpochRecord> history;
-  int best_epoch = 0;
-  long long steps = 0, samples = 0;
+  std::vector<TrainingRecord> history;  // one entry a validation
+  int best_round = 0, best_epoch = 0;
+  bool converged = false;            // stopped by early stopping; false: the budget ran out first
+  long long steps = 0, samples = 0;  // optimiser steps and training samples seen
   double seconds = 0, samples_per_second = 0;
+  // Training FLOP/s (3 forward passes a sample) over the machine's float32 GEMM peak.
+  double fraction_of_gemm_peak = 0;
 };
+nlohmann::json to_json(const TrainingSummary& summary);
+TrainingSummary training_summary_from_json(const nlohmann::json& j, const std::string& source);
 
 struct EfficiencyPoint {
   std::string augment;  // none | d16

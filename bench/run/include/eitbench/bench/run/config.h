@@ -27,8 +27,12 @@ struct RunConfig {
   std::string model = "small";
   std::string device = "cpu";
   int threads = 2;
-  int epochs = 25, batch = 128;
-  double learning_rate = 1e-3;
+  int epochs = 25, batch = 128;  // epochs: the training budget, an upper bound
+  double learning_rate = 3e-3;   // the schedule's peak
+  std::string schedule = "cosine";
+  long long validate_every = 16384;   // training samples between validations
+  int patience = 10;                  // validations without improvement before stopping
+  double min_improvement = 1e-3;      // relative: what counts as an improvement
   std::vector<int> efficiency_sizes;  // training-set sizes of the data-efficiency sweep
   int efficiency_epochs = 0;          // the equal-epoch budget (0: `epochs`)
   long long efficiency_steps = 0;     // the equal-step budget (0: the main runs' steps)

@@ -1,0 +1,48 @@
+#include "eitbench/learned/schedule.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+
+ScheduleKind parse_schedule(const std::string& name, const std::string& source) {
+  if (name == "cosine") return ScheduleKind::cosine;
+  if (name == "constant") return ScheduleKind::constant;
+  throw InputError(source, "", "unknown schedule '" + name + "' (cosine or constant)");
+}
+
+std::string to_string(ScheduleKind kind) {
+  return kind == ScheduleKind::cosine ? "cosine" : "constant";
+}
+
+LearningRateSchedule::LearningRateSchedule(double peak, long long total_steps,
+                                           const ScheduleOptions& options,
+                                           const std::string& source)
+    : peak_(peak), total_(total_steps), options_(options) {
+  if (!(peak > 0) || !std::isfinite(peak))
+    throw InputError(source, "learning_rate", "must be positive and finite");
+  if (total_steps < 1) throw InputError(source, "steps", "the budget must be at least one step");
+  auto fraction = [&](double v, const char* field) {
+    if (!(v >= 0 && v <= 1)) throw InputError(source, field, "must lie in [0, 1]");
+  };
+  fraction(options.warmup_fraction, "warmup_fraction");
+  fraction(options.final_fraction, "final_fraction");
+  warmup_ = options.kind == ScheduleKind::cosine
+                ? static_cast<long long>(std::llround(options.warmup_fraction * double(total_)))
+                : 0;
+  warmup_ = std::min(warmup_, total_ - 1);
+}
+
+double LearningRateSchedule::rate(long long step) const {
+  if (options_.kind == ScheduleKind::constant) return peak_;
+  step = std::clamp(step, 0LL, total_ - 1);
+  if (step < warmup_) return peak_ * double(step + 1) / double(warmup_ + 1);
+  const long long span = total_ - 1 - warmup_;  // cosine steps after the peak
+  const double t = span > 0 ? double(step - warmup_) / double(span) : 1.0;
+  const double floor = options_.final_fraction * peak_;
+  return floor + (peak_ - floor) * 0.5 * (1 + std::cos(M_PI * t));
+}
+
+}  // namespace eitbench
