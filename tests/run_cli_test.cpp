@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <set>
+#include <sstream>
 
 #include "cli_fixture.h"
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/report/efficiency.h"
 #include "eitbench/bench/report/results.h"
 #include "eitbench/jacobian/error.h"
 
@@ -50,9 +52,9 @@ std::vector<std::string> csv_line(const std::string& line) {
 
 TEST_F(RunCli, TinyPresetWritesEveryOutput) {
   const fs::path dir = run_folder();
-  for (const char* name :
-       {"results.json", "reconstructions.npy", "results.csv", "report.md", "reconstructions.png",
-        "loss_curves.png", "loss_curves.csv", "data_efficiency.png", "data.h5"})
+  for (const char* name : {"results.json", "reconstructions.npy", "results.csv", "report.md",
+                           "reconstructions.png", "loss_curves.png", "loss_curves.csv",
+                           "data_efficiency.png", "data_efficiency_re.png", "data.h5"})
     EXPECT_TRUE(fs::exists(dir / name)) << name;
 
   // results.csv: tidy, one row per method x augmentation x SNR, the columns issue 7 names.
@@ -93,7 +95,15 @@ TEST_F(RunCli, TinyPresetWritesEveryOutput) {
     EXPECT_GT(t.fraction_of_gemm_peak, 0) << t.augment;
     EXPECT_LT(t.fraction_of_gemm_peak, 1) << t.augment;
   }
-  EXPECT_EQ(r.efficiency.size(), 3u * 2 * 2);
+  // Per size: none and d16 to convergence, d16 at none's steps.
+  ASSERT_EQ(r.efficiency.size(), 3u * 3);
+  for (std::size_t k = 0; k < r.efficiency.size(); k += 3) {
+    EXPECT_EQ(r.efficiency[k].augment + " " + r.efficiency[k].budget, "none converged");
+    EXPECT_EQ(r.efficiency[k + 1].augment + " " + r.efficiency[k + 1].budget, "d16 converged");
+    EXPECT_EQ(r.efficiency[k + 2].budget, "equal_steps");
+    EXPECT_EQ(r.efficiency[k + 2].steps, r.efficiency[k].steps) << "equal compute";
+    EXPECT_GT(r.efficiency[k].samples_seen, 0);
+  }
   EXPECT_EQ(r.configuration.at("preset"), "tiny");
   EXPECT_FALSE(r.machine.at("cpu").empty());
   EXPECT_NE(r.program.find("eitbench"), std::string::npos);
@@ -291,7 +301,7 @@ TEST(Results, JsonRoundTrip) {
   t.fraction_of_gemm_peak = 0.375;
   t.history.push_back({1, 1, 4, 64, 0.5, 0.25, 1e-3, 1.0, 64.0});
   r.training = {t};
-  r.efficiency = {{"none", "steps", 15, 6, 2, 0.01, 0.5, 0.9}};
+  r.efficiency = {{"none", "converged", 15, 6, 2, 0.01, 0.5, 0.9, true, 90, 2, 1e3, 0.25}};
   r.recommendation = "Pick tv";
   const std::string path = (fs::temp_directory_path() / "eitbench_results_roundtrip.json").string();
   write_results_json(path, r);
@@ -314,6 +324,9 @@ TEST(Results, JsonRoundTrip) {
   EXPECT_EQ(back.training[0].fraction_of_gemm_peak, 0.375);
   ASSERT_EQ(back.efficiency.size(), 1u);
   EXPECT_EQ(back.efficiency[0].test_mse, 0.01);
+  EXPECT_TRUE(back.efficiency[0].converged);
+  EXPECT_EQ(back.efficiency[0].samples_seen, 90);
+  EXPECT_EQ(back.efficiency[0].fraction_of_gemm_peak, 0.25);
   EXPECT_EQ(back.recommendation, r.recommendation);
 }
 
@@ -351,6 +364,39 @@ TEST_F(RunCli, CompareFlagsRegressionsAndPassesAnIdenticalRun) {
   const Result broken = run("compare " + results + " " + path("bad.json"));
   EXPECT_EQ(broken.exit_code, 2) << broken.output;
   EXPECT_NE(broken.output.find("bad.json"), std::string::npos) << broken.output;
+}
+
+}  // namespace
+}  // namespace eitbench
+
+namespace eitbench {
+namespace {
+
+// The sweep's headline: the fewest frames at which D16 reaches the CC that no augmentation reaches
+// with the most; the equal-compute line does not count.
+TEST(Efficiency, HeadlineNamesTheFewestFramesThatMatchTheLargestPlainSet) {
+  auto point = [](const char* augment, const char* budget, int n, double cc) {
+    EfficiencyPoint p;
+    p.augment = augment, p.budget = budget, p.train_size = n, p.cc = cc, p.converged = true;
+    return p;
+  };
+  std::vector<EfficiencyPoint> points = {
+      point("none", "converged", 100, 0.60),  point("d16", "converged", 100, 0.70),
+      point("d16", "equal_steps", 100, 0.95), point("none", "converged", 400, 0.75),
+      point("d16", "converged", 400, 0.80),   point("none", "converged", 1600, 0.78),
+      point("d16", "converged", 1600, 0.85)};
+  const std::string text = efficiency_headline(points);
+  EXPECT_NE(text.find("D16 on 400 frames reaches the CC that no augmentation reaches on 1600"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("4x fewer"), std::string::npos) << text;
+  points[4].cc = 0.77;  // now only the whole set matches
+  EXPECT_NE(efficiency_headline(points).find("D16 on 1600 frames"), std::string::npos);
+  points[6].cc = 0.7;
+  EXPECT_NE(efficiency_headline(points).find("does not reach"), std::string::npos);
+  std::ostringstream section;
+  write_efficiency_section(section, points);
+  EXPECT_NE(section.str().find("| 400 | 0.750 / 0.000 ("), std::string::npos) << section.str();
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/report/efficiency.h"
 #include "eitbench/bench/report/figures.h"
 
 namespace eitbench {
@@ -108,27 +109,6 @@ std::string recommend(const std::vector<ResultRow>& rows) {
   return text;
 }
 
-void draw_efficiency_png(const std::vector<EfficiencyPoint>& points, const std::string& path) {
-  LinePlot plot;
-  plot.title = "test MSE against training-set size";
-  plot.x_label = "training samples";
-  plot.y_label = "test MSE";
-  plot.log_x = plot.log_y = true;
-  const std::map<std::string, std::array<int, 3>> colours = {{"none steps", {200, 90, 20}},
-                                                             {"d16 steps", {40, 160, 40}},
-                                                             {"none epochs", {230, 170, 120}},
-                                                             {"d16 epochs", {130, 210, 130}}};
-  for (const auto& [key, colour] : colours) {
-    PlotSeries s;
-    s.label = key.substr(0, key.find(' ')) + ", equal " + key.substr(key.find(' ') + 1);
-    s.colour = colour;
-    for (const auto& p : points)
-      if (p.augment + " " + p.budget == key) s.x.push_back(p.train_size), s.y.push_back(p.test_mse);
-    if (!s.x.empty()) plot.series.push_back(s);
-  }
-  draw_plot_png(plot, path);
-}
-
 namespace {
 
 using Methods = std::vector<std::pair<std::string, std::string>>;
@@ -226,29 +206,6 @@ void write_training(std::ostream& o, const RunResults& r) {
   o << "\n![Training (light) and validation MSE against samples seen](loss_curves.png)\n";
 }
 
-void write_efficiency(std::ostream& o, const RunResults& r) {
-  if (r.efficiency.empty()) return;
-  o << "\n## Data efficiency (the paper's Fig. 8)\n\nTest MSE (noise-free) against the number "
-       "of training samples, at an equal step budget (every size trains the same optimiser "
-       "steps) and an equal epoch budget (every size makes the same passes; augmentation draws "
-       "one group element per sample and pass).\n\n| training samples | none, steps | d16, "
-       "steps | none, epochs | d16, epochs |\n|---|---|---|---|---|\n";
-  std::set<int> sizes;
-  for (const auto& p : r.efficiency) sizes.insert(p.train_size);
-  for (int n : sizes) {
-    o << "| " << n << " |";
-    for (const std::string key : {"none steps", "d16 steps", "none epochs", "d16 epochs"}) {
-      std::string cell = "—";
-      for (const auto& p : r.efficiency)
-        if (p.train_size == n && p.augment + " " + p.budget == key)
-          cell = fmt::format("{:.4g} ({} steps)", p.test_mse, p.steps);
-      o << " " << cell << " |";
-    }
-    o << "\n";
-  }
-  o << "\n![Test MSE against training-set size](data_efficiency.png)\n";
-}
-
 }  // namespace
 
 void write_report(const std::string& path, const RunResults& r) {
@@ -260,7 +217,7 @@ void write_report(const std::string& path, const RunResults& r) {
   write_augmentation_gain(o, r, methods, snrs);
   write_runtime(o, r, methods, snrs);
   write_training(o, r);
-  write_efficiency(o, r);
+  write_efficiency_section(o, r.efficiency);
   o << "\n## Reconstructions\n\n![The first test samples: truth, then each "
        "method](reconstructions.png)\n";
   o << "\n## Configuration\n\n| | |\n|---|---|\n";

@@ -83,9 +83,19 @@ ResultRow result_row_from_json(const json& x) {
 }
 
 json to_json(const EfficiencyPoint& e) {
-  return {{"augment", e.augment}, {"budget", e.budget}, {"train_size", e.train_size},
-          {"steps", e.steps},     {"epochs", e.epochs}, {"test_mse", number(e.test_mse)},
-          {"cc", number(e.cc)},   {"re", number(e.re)}};
+  return {{"augment", e.augment},
+          {"budget", e.budget},
+          {"train_size", e.train_size},
+          {"steps", e.steps},
+          {"epochs", e.epochs},
+          {"test_mse", number(e.test_mse)},
+          {"cc", number(e.cc)},
+          {"re", number(e.re)},
+          {"converged", e.converged},
+          {"samples_seen", e.samples_seen},
+          {"best_epoch", e.best_epoch},
+          {"training_samples_per_second", e.training_samples_per_second},
+          {"fraction_of_gemm_peak", e.fraction_of_gemm_peak}};
 }
 
 EfficiencyPoint efficiency_point_from_json(const json& e) {
@@ -98,6 +108,12 @@ EfficiencyPoint efficiency_point_from_json(const json& e) {
   p.test_mse = number(e.at("test_mse"));
   p.cc = number(e.at("cc"));
   p.re = number(e.at("re"));
+  // Points written before the sweep trained to convergence lack these.
+  p.converged = e.value("converged", false);
+  p.samples_seen = e.value("samples_seen", 0LL);
+  p.best_epoch = e.value("best_epoch", 0);
+  p.training_samples_per_second = e.value("training_samples_per_second", 0.0);
+  p.fraction_of_gemm_peak = e.value("fraction_of_gemm_peak", 0.0);
   return p;
 }
 

@@ -7,6 +7,7 @@
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/numpy.h"
+#include "eitbench/bench/report/efficiency.h"
 #include "eitbench/bench/report/loss_curves.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/jacobian/error.h"
@@ -98,8 +99,7 @@ RunResults draw_run_report(const std::string& folder, bool quiet) {
   std::vector<std::pair<std::string, std::vector<TrainingRecord>>> curves;
   for (const auto& t : results.training) curves.emplace_back(t.augment, t.history);
   write_loss_curves((dir / "loss_curves.csv").string(), (dir / "loss_curves.png").string(), curves);
-  if (!results.efficiency.empty())
-    draw_efficiency_png(results.efficiency, (dir / "data_efficiency.png").string());
+  if (!results.efficiency.empty()) draw_efficiency_figures(results.efficiency, dir.string());
   write_report((dir / "report.md").string(), results);
   return results;
 }

@@ -67,10 +67,10 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   if (learned.gemm_flops > 0)
     c["gemm_peak"] = fmt::format("{:.0f} GFLOP/s (float32 2048 x 2048 matrix product, {} threads)",
                                  learned.gemm_flops / 1e9, config.threads);
-  c["efficiency"] =
-      fmt::format("sizes up to {}, {} steps or {} epochs",
-                  config.efficiency_sizes.empty() ? 0 : config.efficiency_sizes.back(),
-                  config.efficiency_steps, config.efficiency_epochs);
+  if (!config.efficiency_sizes.empty())
+    c["efficiency"] = fmt::format(
+        "sizes {} to {}: none and d16 to convergence, d16 at none's steps (equal compute)",
+        config.efficiency_sizes.front(), config.efficiency_sizes.back());
   c["hyperparameters"] =
       fmt::format("validation CC at each SNR ({} validation frames; tv and gn sweep {})",
                   data.validation.frames.rows(), config.sweep_frames);

@@ -12,8 +12,7 @@ RunConfig RunConfig::for_preset(const std::string& preset) {
   c.snrs = {INFINITY, 50, 40, 30};
   c.methods = {"tikhonov", "noser", "laplace", "greit", "gn", "tv"};
   c.augments = {"none", "rotations", "d16", "paper"};
-  c.efficiency_epochs = 0, c.efficiency_steps = 0;  // the main runs' budgets
-  if (preset == "tiny") {                           // the test suite's: every code path in seconds
+  if (preset == "tiny") {  // the test suite's: every code path in seconds
     c.mesh = c.simulation = MeshDensity::coarse;
     c.epochs = 3, c.batch = 16;
     c.validate_every = 64;  // a round an epoch of the 60 training samples

@@ -18,8 +18,8 @@ std::string model_path(const Context& context, const std::string& augment) {
   return (context.out / "models" / ("dnn_" + augment + ".pt")).string();
 }
 
-// How the model was trained, from the record its file keeps: history, best round, convergence, and
-// the throughput against the machine's GEMM peak.
+}  // namespace
+
 TrainingSummary training_summary(const LearnedModel& model, const std::string& path,
                                  const LearnedSetup& setup) {
   TrainingSummary s;
@@ -41,6 +41,8 @@ TrainingSummary training_summary(const LearnedModel& model, const std::string& p
         3 * forward_flops(model.info().network) * s.samples_per_second / setup.gemm_flops;
   return s;
 }
+
+namespace {
 
 // The model in <out>/models/dnn_<augment>.pt: read back when resuming, trained otherwise (from its
 // checkpoint when one is left).

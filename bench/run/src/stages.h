@@ -91,6 +91,10 @@ struct LearnedSetup {
   double gemm_flops = 0;  // float32 matrix-product FLOP/s of this machine (CPU; 0: not measured)
 };
 LearnedSetup learned_setup(const RunConfig& config, const Dataset& source);
+// How a model was trained, from the record its file keeps (path names it in errors): history,
+// best round, convergence, throughput and its fraction of the GEMM peak.
+TrainingSummary training_summary(const LearnedModel& model, const std::string& path,
+                                 const LearnedSetup& setup);
 LearnedResults run_learned(const Context& context, const std::string& augment,
                            const LearnedSetup& setup, const RunData& data,
                            const Reconstruction& reconstruction, const NoisyFrames& noisy);

@@ -1,7 +1,9 @@
-// Stage 5: data efficiency (the paper's Fig. 8): test scores against the training-set size, at
-// equal optimiser steps and at equal epochs. By default both budgets are the main runs' (their
-// epochs; their steps on the whole training set), so at the whole set the sweep's models are the
-// main runs' models, and those are reused.
+// Stage 5: data efficiency, the paper's protocol (its Fig. 8). At each training-set size n, no
+// augmentation trains on the first n frames and D16 on the same n frames under the 32 elements of
+// the group, both to convergence (early stopping; the main runs' step budget as the bound), so D16
+// sees its 32-fold set. A third model, D16 with exactly the optimiser steps no augmentation needed
+// at that n, separates what the data give from what the extra compute gives. At the whole
+// training set the converged models are the main runs', and those are reused.
 #include <fmt/core.h>
 
 #include <cmath>
@@ -15,47 +17,39 @@ namespace eitbench::run {
 namespace fs = std::filesystem;
 namespace {
 
-// The steps and epochs of each budget.
-struct SweepBudgets {
-  long long main_steps = 0;  // the main runs' steps on the whole training set
-  long long steps = 0;
-  int epochs = 0;
-};
-
-SweepBudgets budgets(const RunConfig& config, int train_count) {
-  const long long per_epoch =
-      train_count / config.batch + (train_count % config.batch >= 2 ? 1 : 0);
-  SweepBudgets b;
-  b.main_steps = config.epochs * per_epoch;
-  b.epochs = config.efficiency_epochs > 0 ? config.efficiency_epochs : config.epochs;
-  b.steps = config.efficiency_steps > 0 ? config.efficiency_steps
-                                        : config.epochs * std::max(1LL, per_epoch);
-  return b;
+void copy_training(const TrainingSummary& t, long long samples_per_epoch, EfficiencyPoint& p) {
+  p.steps = t.steps;
+  p.samples_seen = t.samples;
+  p.epochs = static_cast<int>((t.samples + samples_per_epoch - 1) / samples_per_epoch);
+  p.converged = t.converged;
+  p.best_epoch = t.best_epoch;
+  p.training_samples_per_second = t.samples_per_second;
+  p.fraction_of_gemm_peak = t.fraction_of_gemm_peak;
 }
 
-// The main run's figures for p, when the sweep point is the main run (the whole set, its budget).
+// The main run's figures for p, when p is a converged model on the whole training set.
 bool from_main_run(const RunResults& main_runs, EfficiencyPoint& p) {
   for (const auto& row : main_runs.rows)
-    if (row.method == "dnn" && row.augment == p.augment && std::isinf(row.snr_db)) {
+    if (row.method == "dnn" && row.augment == p.augment && std::isinf(row.snr_db))
       for (const auto& t : main_runs.training)
-        if (t.augment == p.augment)
-          p.steps = t.steps, p.epochs = t.history.empty() ? 0 : t.history.back().epoch;
-      p.test_mse = row.mse, p.cc = row.cc, p.re = row.re;
-      return true;
-    }
+        if (t.augment == p.augment) {
+          copy_training(t, p.train_size, p);
+          p.test_mse = row.mse, p.cc = row.cc, p.re = row.re;
+          return true;
+        }
   return false;
 }
 
-// Trains one sweep model on the first p.train_size training samples and scores it (noise-free).
+// Trains one sweep model on the first p.train_size training frames for at most `steps` optimiser
+// steps (with early stopping when p.budget is "converged") and scores it, noise-free.
 void train_point(const Context& context, const LearnedSetup& setup, const RunData& data,
-                 const Reconstruction& reconstruction, const SweepBudgets& b,
-                 const std::string& name, EfficiencyPoint& p) {
+                 const Reconstruction& reconstruction, long long steps, const std::string& name,
+                 EfficiencyPoint& p) {
   TrainingOptions o = setup.training;
   o.augment = parse_group(p.augment, "augment");
-  if (p.budget == "steps")
-    o.steps = b.steps;
-  else
-    o.epochs = b.epochs;
+  o.epochs = 0;
+  o.steps = steps;
+  if (p.budget == "equal_steps") o.patience = 0;  // exactly those steps (the best round kept)
   TrainingRun run;
   run.out = (context.out / "models" / (name + ".pt")).string();
   run.resume = context.config.resume && fs::exists(checkpoint_path(run.out));
@@ -65,15 +59,14 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
   TrainingResult r =
       train_and_save(setup.network, o, labelled_frames(data.source, Split::train, p.train_size),
                      labelled_frames(data.source, Split::validation), sensor_of(data.source), run);
+  copy_training(training_summary(r.model, run.out, setup), p.train_size, p);
   const auto method = make_learned_reconstructor(r.model);
   const ResultRow row =
       evaluate_row(*method, data.test.frames, data.test.labels, reconstruction.grid, 0);
-  p.steps = r.history.back().steps;
-  p.epochs = r.history.back().epoch;
   p.test_mse = row.mse, p.cc = row.cc, p.re = row.re;
-  context.say(
-      fmt::format("data efficiency: {} at equal {}, n={}: {} steps, test MSE {:.4g}, CC {:.3f}",
-                  p.augment, p.budget, p.train_size, p.steps, p.test_mse, p.cc));
+  context.say(fmt::format("data efficiency: {} {}, n={}: {} steps{}, test CC {:.3f}, RE {:.3f}",
+                          p.augment, p.budget, p.train_size, p.steps,
+                          p.converged ? " (converged)" : "", p.cc, p.re));
 }
 
 }  // namespace
@@ -85,27 +78,28 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
   if (!data.labelled) return points;
   const RunConfig& config = context.config;
   const int train_count = static_cast<int>(data.source.indices(Split::train).size());
-  const SweepBudgets b = budgets(config, train_count);
-  for (const std::string augment : {"none", "d16"})
-    for (const std::string budget : {"steps", "epochs"})
-      for (int n : config.efficiency_sizes) {
-        if (n > train_count) continue;
-        EfficiencyPoint p;
-        p.augment = augment, p.budget = budget, p.train_size = n;
-        const bool main_budget =
-            budget == "steps" ? b.steps == b.main_steps : b.epochs == config.epochs;
-        if (n == train_count && main_budget && from_main_run(main_runs, p)) {
-          points.push_back(p);
-          continue;
-        }
-        const std::string name = fmt::format("efficiency_{}_{}_{}", augment, budget, n);
-        if (!context.cache.find(
-                name, [&](const nlohmann::json& j) { p = efficiency_point_from_json(j); })) {
-          train_point(context, setup, data, reconstruction, b, name, p);
-          context.cache.save(name, to_json(p));
-        }
-        points.push_back(p);
-      }
+  const long long per_epoch =
+      std::max(1, train_count / config.batch + (train_count % config.batch >= 2 ? 1 : 0));
+  const long long main_steps = config.epochs * per_epoch;
+  auto point = [&](const std::string& augment, const std::string& budget, int n, long long steps) {
+    EfficiencyPoint p;
+    p.augment = augment, p.budget = budget, p.train_size = n;
+    if (n == train_count && budget == "converged" && from_main_run(main_runs, p)) return p;
+    const std::string name = fmt::format("efficiency_{}_{}_{}", augment, budget, n);
+    if (!context.cache.find(name,
+                            [&](const nlohmann::json& j) { p = efficiency_point_from_json(j); })) {
+      train_point(context, setup, data, reconstruction, steps, name, p);
+      context.cache.save(name, to_json(p));
+    }
+    return p;
+  };
+  for (int n : config.efficiency_sizes) {
+    if (n > train_count) continue;
+    const EfficiencyPoint none = point("none", "converged", n, main_steps);
+    points.push_back(none);
+    points.push_back(point("d16", "converged", n, main_steps));
+    points.push_back(point("d16", "equal_steps", n, std::max(1LL, none.steps)));
+  }
   return points;
 }
 

@@ -16,7 +16,6 @@ std::string recommend(const std::vector<ResultRow>& rows);
 std::string recommend(const std::vector<ResultRow>& rows,
                       const std::vector<TrainingSummary>& training);
 void write_report(const std::string& path, const RunResults& results);
-void draw_efficiency_png(const std::vector<EfficiencyPoint>& points, const std::string& path);
 std::string summary_table(const RunResults& results);
 
 }  // namespace eitbench

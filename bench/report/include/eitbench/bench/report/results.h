@@ -34,13 +34,21 @@ struct TrainingSummary {
 nlohmann::json to_json(const TrainingSummary& summary);
 TrainingSummary training_summary_from_json(const nlohmann::json& j, const std::string& source);
 
+// One model of the data-efficiency sweep (the paper's Fig. 8): trained on the first train_size
+// training frames, scored on the test split (noise-free).
 struct EfficiencyPoint {
   std::string augment;  // none | d16
-  std::string budget;   // steps (the same optimiser steps at every size) | epochs (the same passes)
+  // converged: early stopping, up to the main runs' step budget; equal_steps: d16 with exactly the
+  // optimiser steps that no augmentation needed to converge at the same size (equal compute).
+  std::string budget;
   int train_size = 0;
   long long steps = 0;
-  int epochs = 0;
+  int epochs = 0;  // epochs (passes over train_size samples) trained
   double test_mse = 0, cc = 0, re = 0;
+  bool converged = false;
+  long long samples_seen = 0;
+  int best_epoch = 0;
+  double training_samples_per_second = 0, fraction_of_gemm_peak = 0;
 };
 
 struct RunResults {

@@ -34,8 +34,6 @@ struct RunConfig {
   int patience = 10;                  // validations without improvement before stopping
   double min_improvement = 1e-3;      // relative: what counts as an improvement
   std::vector<int> efficiency_sizes;  // training-set sizes of the data-efficiency sweep
-  int efficiency_epochs = 0;          // the equal-epoch budget (0: `epochs`)
-  long long efficiency_steps = 0;     // the equal-step budget (0: the main runs' steps)
   int sweep_frames = 12;  // validation frames for the iterative methods' hyperparameter sweep
   int timed_frames = 32;  // test frames reconstructed one at a time for the latency figures
   int figure_samples = 8;
