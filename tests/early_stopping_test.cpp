@@ -18,6 +18,7 @@ using testing::tiny;
 TEST(Schedule, WarmUpThenHalfCosineToTheFloor) {
   ScheduleOptions o;
   o.warmup_fraction = 0.1;
+  o.decay_fraction = 1;  // the cosine over the whole budget
   o.final_fraction = 0.01;
   const double peak = 2e-3;
   const long long total = 1001;
@@ -35,6 +36,16 @@ TEST(Schedule, WarmUpThenHalfCosineToTheFloor) {
   EXPECT_NEAR(s.rate(100 + 225), floor + (peak - floor) * (1 + std::cos(M_PI / 4)) / 2, 1e-15);
   EXPECT_EQ(s.rate(5 * total), s.rate(total - 1));  // past the budget: the last rate
 
+  // The cosine over 60 % of the budget, then the floor.
+  o.decay_fraction = 0.6;
+  const LearningRateSchedule d(peak, total, o);
+  ASSERT_EQ(d.decay_steps(), 601);
+  EXPECT_NEAR(d.rate(100 + 250), floor + (peak - floor) * (1 + std::cos(M_PI * 250 / 501)) / 2,
+              1e-15);  // the cosine spans the 501 steps from the peak to the floor
+  for (long long k = 101; k < 601; ++k) EXPECT_LT(d.rate(k), d.rate(k - 1));
+  EXPECT_NEAR(d.rate(600), floor, 2e-3 * floor);  // continuous into the floor
+  for (long long k = 601; k < total; ++k) EXPECT_EQ(d.rate(k), floor);
+
   o.kind = ScheduleKind::constant;
   const LearningRateSchedule c(peak, total, o);
   for (long long k : {0LL, 50LL, 500LL, total - 1}) EXPECT_EQ(c.rate(k), peak);
@@ -43,6 +54,9 @@ TEST(Schedule, WarmUpThenHalfCosineToTheFloor) {
   EXPECT_THROW(LearningRateSchedule(peak, 0, {}), InputError);
   ScheduleOptions bad;
   bad.warmup_fraction = 1.5;
+  EXPECT_THROW(LearningRateSchedule(peak, total, bad), InputError);
+  bad.warmup_fraction = 0.5;
+  bad.decay_fraction = 0.4;  // the warm-up would outlast the decay
   EXPECT_THROW(LearningRateSchedule(peak, total, bad), InputError);
   EXPECT_THROW(parse_schedule("linear"), InputError);
 }

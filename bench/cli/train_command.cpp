@@ -20,7 +20,8 @@ namespace {
 // The command line's defaults: early stopping on (the library's default is off).
 TrainingOptions default_options() {
   TrainingOptions o;
-  o.patience = 10;
+  o.patience = 5;
+  o.min_improvement = 5e-3;
   return o;
 }
 
@@ -64,15 +65,20 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--batch", args->options.batch_size, "batch size (default: 128 small, 512 paper)")
       ->check(CLI::Range(2, 1 << 20));
   cmd->add_option("--lr", args->options.learning_rate,
-                  "Adam's peak learning rate (default: 3e-3 small, 1e-4 paper)")
+                  "Adam's peak learning rate (default: 1e-2 small, 1e-4 paper)")
       ->check(kPositive);
   cmd->add_option("--schedule", args->schedule,
-                  "cosine (linear warm-up, then a half cosine to 1 % of the peak at the budget's "
-                  "end) | constant")
+                  "cosine (linear warm-up, a half cosine down to 1 % of the peak at --decay of "
+                  "the budget, then 1 %) | constant")
       ->capture_default_str()
       ->check(CLI::IsMember({"cosine", "constant"}));
   cmd->add_option("--warmup", args->options.schedule.warmup_fraction,
                   "warm-up, as a fraction of the budget's steps")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--decay", args->options.schedule.decay_fraction,
+                  "where the cosine reaches its floor, as a fraction of the budget's steps (the "
+                  "rest is left for early stopping to find the end)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--validate-every", args->options.validate_every,
@@ -117,7 +123,7 @@ TrainingOptions training_options(Args& args, const CLI::App& cmd, ModelSize size
   o.device = resolve_device(args.device);
   o.schedule.kind = parse_schedule(args.schedule);
   if (!cmd.count("--batch")) o.batch_size = size == ModelSize::paper ? 512 : 128;
-  if (!cmd.count("--lr")) o.learning_rate = size == ModelSize::paper ? 1e-4 : 3e-3;
+  if (!cmd.count("--lr")) o.learning_rate = size == ModelSize::paper ? 1e-4 : 1e-2;
   if (!cmd.count("--epochs") && !cmd.count("--steps"))
     o.epochs = size == ModelSize::paper ? 300 : 100;
   return o;

@@ -28,20 +28,25 @@ LearningRateSchedule::LearningRateSchedule(double peak, long long total_steps,
     if (!(v >= 0 && v <= 1)) throw InputError(source, field, "must lie in [0, 1]");
   };
   fraction(options.warmup_fraction, "warmup_fraction");
+  fraction(options.decay_fraction, "decay_fraction");
   fraction(options.final_fraction, "final_fraction");
-  warmup_ = options.kind == ScheduleKind::cosine
-                ? static_cast<long long>(std::llround(options.warmup_fraction * double(total_)))
-                : 0;
-  warmup_ = std::min(warmup_, total_ - 1);
+  if (options.warmup_fraction > options.decay_fraction)
+    throw InputError(source, "warmup_fraction", "the warm-up must end before the decay does");
+  auto steps = [&](double f) {
+    return std::min(static_cast<long long>(std::llround(f * double(total_))), total_ - 1);
+  };
+  const bool cosine = options.kind == ScheduleKind::cosine;
+  warmup_ = cosine ? steps(options.warmup_fraction) : 0;
+  decay_ = cosine ? std::max(warmup_, steps(options.decay_fraction)) : total_;
 }
 
 double LearningRateSchedule::rate(long long step) const {
   if (options_.kind == ScheduleKind::constant) return peak_;
   step = std::clamp(step, 0LL, total_ - 1);
   if (step < warmup_) return peak_ * double(step + 1) / double(warmup_ + 1);
-  const long long span = total_ - 1 - warmup_;  // cosine steps after the peak
-  const double t = span > 0 ? double(step - warmup_) / double(span) : 1.0;
   const double floor = options_.final_fraction * peak_;
+  if (step >= decay_) return floor;
+  const double t = double(step - warmup_) / double(decay_ - warmup_);  // [0, 1) over the cosine
   return floor + (peak_ - floor) * 0.5 * (1 + std::cos(M_PI * t));
 }
 

@@ -57,6 +57,7 @@ nlohmann::json options_to_json(const TrainingOptions& o) {
           {"learning_rate", o.learning_rate},
           {"schedule", to_string(o.schedule.kind)},
           {"warmup_fraction", o.schedule.warmup_fraction},
+          {"decay_fraction", o.schedule.decay_fraction},
           {"final_fraction", o.schedule.final_fraction},
           {"validate_every", o.validate_every},
           {"patience", o.patience},
@@ -75,6 +76,7 @@ TrainingOptions options_from_json(const nlohmann::json& j) {
   o.learning_rate = j.at("learning_rate").get<double>();
   o.schedule.kind = parse_schedule(j.at("schedule").get<std::string>(), "checkpoint");
   o.schedule.warmup_fraction = j.at("warmup_fraction").get<double>();
+  o.schedule.decay_fraction = j.at("decay_fraction").get<double>();
   o.schedule.final_fraction = j.at("final_fraction").get<double>();
   o.validate_every = j.at("validate_every").get<long long>();
   o.patience = j.at("patience").get<int>();

@@ -25,7 +25,7 @@ struct TrainingOptions {
   int epochs = 0;               // the budget, an upper bound: epochs, or
   long long steps = 0;          // optimiser steps; neither given: 20 epochs
   int batch_size = 128;         // the paper: 512
-  double learning_rate = 3e-3;  // the schedule's peak (the paper: 1e-4, constant)
+  double learning_rate = 1e-2;  // the schedule's peak (the paper: 1e-4, constant)
   ScheduleOptions schedule;     // warm-up and cosine over the budget
   // Training samples between two validations (rounded up to whole steps): validation and the
   // checkpoint cost the same whatever the epoch's size.
@@ -34,7 +34,7 @@ struct TrainingOptions {
   // (relative) below the last one that counted as an improvement; 0: train to the budget. The
   // model kept is the best validation loss of the run either way.
   int patience = 0;
-  double min_improvement = 1e-3;
+  double min_improvement = 5e-3;
   std::uint64_t seed = 1;
   std::string device = "cpu";  // cpu | cuda (see resolve_device)
 };
