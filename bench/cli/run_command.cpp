@@ -20,7 +20,8 @@ std::function<void()> add_run_command(CLI::App& app) {
   struct Args {
     std::string preset = "quick", data, reference, out, device;
     std::uint64_t seed = 1;
-    int threads = 2, electrodes = 16, epochs = 0;
+    int threads = 2, electrodes = 16, epochs = 0, patience = -1;
+    double learning_rate = 0;
     std::vector<std::string> methods, augments;
     bool resume = false, quiet = false;
   };
@@ -51,11 +52,22 @@ std::function<void()> add_run_command(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::IsMember(model_based_method_names()));
   cmd->add_option("--augment", args->augments,
-                  "augmentations of the learned reconstructor (default: none,rotations,d16,paper)")
+                  "augmentations of the learned reconstructor (default: the preset's; quick: "
+                  "none,d16,paper, the others none,rotations,d16,paper)")
       ->delimiter(',')
       ->check(CLI::IsMember({"none", "rotations", "d16", "paper", "mirror"}));
-  cmd->add_option("--epochs", args->epochs, "training epochs (default: the preset's)")
+  cmd->add_option("--epochs", args->epochs,
+                  "each learned model's training budget in epochs, an upper bound: training stops "
+                  "earlier when validation stops improving (default: the preset's)")
       ->check(CLI::Range(1, 100000));
+  cmd->add_option("--lr", args->learning_rate,
+                  "the learning rate schedule's peak (default: the preset's, 1e-2 for the small "
+                  "model)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--patience", args->patience,
+                  "validations without a 0.5 % improvement before training stops (default 5; 0: "
+                  "train to the budget)")
+      ->check(CLI::Range(0, 100000));
   cmd->add_option("--device", args->device, "auto | cpu | cuda (default: the preset's)")
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
   cmd->add_option("--threads", args->threads, "LibTorch threads")
@@ -75,6 +87,8 @@ std::function<void()> add_run_command(CLI::App& app) {
     if (!args->methods.empty()) c.methods = args->methods;
     if (!args->augments.empty()) c.augments = args->augments;
     if (args->epochs > 0) c.epochs = args->epochs;
+    if (args->learning_rate > 0) c.learning_rate = args->learning_rate;
+    if (args->patience >= 0) c.patience = args->patience;
     if (!args->device.empty()) c.device = args->device;
     if (!args->data.empty() && !args->reference.empty() && args->data == args->reference)
       throw InputError("--reference", "", "is the same file as --data");

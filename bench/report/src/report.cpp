@@ -56,9 +56,11 @@ std::string unconverged_note(const std::vector<TrainingSummary>& training) {
   for (const auto& t : training)
     if (!t.converged) names += (names.empty() ? "" : ", ") + ("dnn (" + t.augment + ")");
   if (names.empty()) return "";
-  return " **Not converged:** " + names +
-         " ran out of training budget while validation was still improving, so this ranking "
-         "may understate them (raise the budget: `--epochs`).";
+  const bool one = names.find(',') == std::string::npos;
+  return " **Not converged:** " + names + (one ? " ran" : " each ran") +
+         " out of training budget while validation was still improving, so this ranking may "
+         "understate " +
+         (one ? "it" : "them") + " (raise the budget: `--epochs`).";
 }
 
 }  // namespace

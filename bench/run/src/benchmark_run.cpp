@@ -89,6 +89,13 @@ RunResults run_benchmark(const RunConfig& config) {
   const fs::path out = output_folder(config);
   const Context context{config, out, StageCache(out / "stages", config.resume)};
   set_torch_threads(config.threads);
+  // The float32 GEMM peak that training throughput is compared with, measured first: after the
+  // model-based stage (TBB and CHOLMOD's threads) the same product ran at half the speed.
+  double gemm_flops = 0;
+  if (resolve_device(config.device, "--device") == "cpu") {
+    const int n = 2048;
+    gemm_flops = 2.0 * n * n * n / time_matmul(n, 3);
+  }
 
   const RunData data = load_data(context);
   const Reconstruction reconstruction = set_up_reconstruction(context, data);
@@ -104,7 +111,8 @@ RunResults run_benchmark(const RunConfig& config) {
     results.rows.insert(results.rows.end(), m.rows.begin(), m.rows.end());
     figure.push_back({name, m.images});
   }
-  const LearnedSetup learned = learned_setup(config, data.source);
+  LearnedSetup learned = learned_setup(config, data.source);
+  learned.gemm_flops = gemm_flops;
   long long parameters = 0;
   for (const std::string& augment : config.augments) {
     LearnedResults l = run_learned(context, augment, learned, data, reconstruction, noisy);

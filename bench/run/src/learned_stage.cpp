@@ -89,10 +89,6 @@ LearnedSetup learned_setup(const RunConfig& config, const Dataset& source) {
   s.training.min_improvement = config.min_improvement;
   s.training.seed = config.seed;
   s.training.device = resolve_device(config.device, "--device");
-  if (s.training.device == "cpu") {
-    const int n = 2048;
-    s.gemm_flops = 2.0 * n * n * n / time_matmul(n, 3);
-  }
   return s;
 }
 
