@@ -51,7 +51,7 @@ void BM_TrainingThroughput(benchmark::State& state) {
   const NetworkOptions network = NetworkOptions::preset(size, 104, 64);
   TrainingOptions options;
   options.augment = AugmentGroup::dihedral;
-  options.batch_size = size == ModelSize::paper ? 512 : 128;
+  options.batch_size = static_cast<int>(state.range(1));
   options.epochs = 1000000;
   const int samples = 8 * options.batch_size;  // 8 steps an epoch, and a round
   options.validate_every = samples;
@@ -80,9 +80,12 @@ BENCHMARK(BM_MatmulPeak)
     ->Arg(4096)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+// One training step's throughput: {model (0 small, 1 paper), batch}.
 BENCHMARK(BM_TrainingThroughput)
-    ->Arg(0)
-    ->Arg(1)
+    ->Args({0, 128})
+    ->Args({0, 512})
+    ->Args({1, 128})
+    ->Args({1, 512})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);
