@@ -21,7 +21,6 @@ namespace {
 TrainingOptions default_options() {
   TrainingOptions o;
   o.patience = 5;
-  o.min_improvement = 5e-3;
   return o;
 }
 

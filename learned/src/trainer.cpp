@@ -68,7 +68,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
   }
   if (train_size < 2) throw InputError("train", "split", "training needs at least 2 samples");
   const long long b = options.batch_size;
-  steps_per_epoch = std::max(1LL, train_size / b + (train_size % b >= 2 ? 1 : 0));
+  steps_per_epoch = eitbench::steps_per_epoch(train_size, options.batch_size);
   steps_per_round = (options.validate_every + b - 1) / b;
   if (options.steps > 0) {
     total_steps = options.steps;
@@ -162,13 +162,18 @@ void Trainer::Impl::record_validation(const TrainingRecord& r) {
     best_round = r.round;
     copy_state(net, best);
   }
-  if (r.validation_loss < reference_loss * (1 - options.min_improvement) ||
-      reference_loss == kNoLoss) {
+  // The first finite loss always counts (reference_loss starts at infinity); a NaN never does.
+  if (r.validation_loss < reference_loss * (1 - options.min_improvement)) {
     reference_loss = r.validation_loss;
     improved_round = r.round;
   } else if (options.patience > 0 && r.round - improved_round >= options.patience) {
     stopped_early = true;
   }
+}
+
+long long steps_per_epoch(long long samples, int batch_size) {
+  const long long b = batch_size;
+  return std::max(1LL, samples / b + (samples % b >= 2 ? 1 : 0));
 }
 
 Trainer::Trainer(const NetworkOptions& network, const TrainingOptions& options,

@@ -48,6 +48,12 @@ void draw_metric(const std::vector<EfficiencyPoint>& points, bool cc, const std:
   draw_plot_png(plot, path);
 }
 
+std::set<int> sizes_of(const std::vector<EfficiencyPoint>& points) {
+  std::set<int> sizes;
+  for (const auto& p : points) sizes.insert(p.train_size);
+  return sizes;
+}
+
 std::string cell(const EfficiencyPoint* p) {
   if (!p) return "—";
   return fmt::format("{:.3f} / {:.3f} ({} steps{})", p->cc, p->re, p->steps,
@@ -57,8 +63,7 @@ std::string cell(const EfficiencyPoint* p) {
 }  // namespace
 
 std::string efficiency_headline(const std::vector<EfficiencyPoint>& points) {
-  std::set<int> sizes;
-  for (const auto& p : points) sizes.insert(p.train_size);
+  const std::set<int> sizes = sizes_of(points);
   if (sizes.empty()) return "";
   const int largest = *sizes.rbegin();
   const EfficiencyPoint* target = find(points, "none", "converged", largest);
@@ -87,9 +92,7 @@ void write_efficiency_section(std::ostream& o, const std::vector<EfficiencyPoint
        "model trains D16 for exactly the optimiser steps no augmentation needed (equal "
        "compute), to show how much of the gain is data and how much is compute. Test CC / RE, "
        "noise-free.\n\n| training frames | none | d16 | d16, none's steps |\n|---|---|---|---|\n";
-  std::set<int> sizes;
-  for (const auto& p : points) sizes.insert(p.train_size);
-  for (int n : sizes)
+  for (int n : sizes_of(points))
     o << fmt::format("| {} | {} | {} | {} |\n", n, cell(find(points, "none", "converged", n)),
                      cell(find(points, "d16", "converged", n)),
                      cell(find(points, "d16", "equal_steps", n)));

@@ -53,10 +53,11 @@ namespace {
 // " Not converged: ..." for the learned models the budget stopped, or nothing.
 std::string unconverged_note(const std::vector<TrainingSummary>& training) {
   std::string names;
+  int count = 0;
   for (const auto& t : training)
-    if (!t.converged) names += (names.empty() ? "" : ", ") + ("dnn (" + t.augment + ")");
-  if (names.empty()) return "";
-  const bool one = names.find(',') == std::string::npos;
+    if (!t.converged) names += (count++ ? ", " : "") + ("dnn (" + t.augment + ")");
+  if (count == 0) return "";
+  const bool one = count == 1;
   return " **Not converged:** " + names + (one ? " ran" : " each ran") +
          " out of training budget while validation was still improving, so this ranking may "
          "understate " +

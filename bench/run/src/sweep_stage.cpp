@@ -78,9 +78,7 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
   if (!data.labelled) return points;
   const RunConfig& config = context.config;
   const int train_count = static_cast<int>(data.source.indices(Split::train).size());
-  const long long per_epoch =
-      std::max(1, train_count / config.batch + (train_count % config.batch >= 2 ? 1 : 0));
-  const long long main_steps = config.epochs * per_epoch;
+  const long long main_steps = config.epochs * steps_per_epoch(train_count, config.batch);
   auto point = [&](const std::string& augment, const std::string& budget, int n, long long steps) {
     EfficiencyPoint p;
     p.augment = augment, p.budget = budget, p.train_size = n;

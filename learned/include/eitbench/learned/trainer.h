@@ -58,6 +58,10 @@ struct TrainingRecord {
 std::string history_to_json(const std::vector<TrainingRecord>& history);
 std::vector<TrainingRecord> history_from_json(const std::string& text, const std::string& source);
 
+// Optimiser steps in an epoch of `samples` samples: full batches, plus the remainder as one more
+// batch when it holds at least 2 samples (BatchNorm needs 2).
+long long steps_per_epoch(long long samples, int batch_size);
+
 // Called after each optimiser step: (step within the round, steps in the round, batch loss).
 using StepCallback = std::function<void(long long, long long, double)>;
 
