@@ -2,7 +2,9 @@
 // equals the transformed frame. Plus the group laws, the impedance map, the paper's variants,
 // label transforms and data-set augmentation.
 #include <gtest/gtest.h>
+
 #include <tbb/global_control.h>
+#include <opencv2/imgproc.hpp>
 
 #include <random>
 #include <set>
@@ -256,6 +258,60 @@ TEST(Paper, AlgorithmTwoIsNoPhysicalMirror) {
       for (int k = 0; k < L - 3; ++k)
         EXPECT_EQ(map(d, k), full(d, ((2 * d - (d + 2 + k)) % L + L) % L));
   }
+}
+
+// The augmentation as tables: every element's action on frames is an index gather, made once by
+// running the paper's Algorithms on a frame of indices; it must equal the Algorithms run on real
+// frames, exactly, for every element and layout.
+TEST(Tables, PaperGathersEqualTheAlgorithmsForEveryElement) {
+  const FrameSymmetry sym(16);
+  const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
+  const Eigen::VectorXd v =
+      ForwardModel(mesh).frame(testing::random_conductivity(mesh.num_triangles(), 6));
+  for (auto layout : {FrameLayout::rotating, FrameLayout::ascending, FrameLayout::reduced}) {
+    const Eigen::VectorXd frame =
+        layout == FrameLayout::reduced ? sym.protocol().reduce(v, MeasurementOrder::rotating)
+        : layout == FrameLayout::ascending
+            ? sym.protocol().reorder(v, MeasurementOrder::rotating, MeasurementOrder::ascending)
+            : v;
+    for (const GroupElement& g : group_elements(AugmentGroup::paper, 16))
+      EXPECT_EQ(sym.apply_paper(g, frame, layout),
+                paper_algorithm(g, frame, sym.protocol(), layout))
+          << g.to_string() << " layout " << static_cast<int>(layout);
+  }
+}
+
+// Labels as tables: each element's bilinear stencil against OpenCV's remap through the same
+// sampling points, an implementation that shares nothing with it. OpenCV quantises bilinear
+// weights to 1/32 of a pixel in each direction, so the two agree to 1/32 of the image's range.
+TEST(Tables, LabelStencilsEqualBilinearRemapForEveryElement) {
+  const PixelGrid grid(64, 1.0);
+  const int n = grid.size();
+  const std::vector<Circle> touch{{0.42, 0.13, 0.21, 0.01}, {-0.25, -0.4, 0.12, 0.03}};
+  const Eigen::VectorXd image = circles_image(grid, touch, 0.05);
+  const ImageSymmetry images(16, grid);
+  double worst = 0;
+  for (const GroupElement& g : group_elements(AugmentGroup::dihedral, 16)) {
+    cv::Mat mx(n, n, CV_32F), my(n, n, CV_32F);
+    const GroupElement inv = inverse(g, 16);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const Eigen::Vector2d source = transform_point(grid.center(i, j), inv, 16);
+        mx.at<float>(i, j) = static_cast<float>((source.x() + 1) / grid.pixel_width() - 0.5);
+        my.at<float>(i, j) = static_cast<float>((1 - source.y()) / grid.pixel_width() - 0.5);
+      }
+    const cv::Mat in(n, n, CV_64F, const_cast<double*>(image.data()));
+    Eigen::VectorXd reference(image.size());
+    cv::Mat out(n, n, CV_64F, reference.data());
+    cv::remap(in, out, mx, my, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0.0);
+    for (int p = 0; p < grid.num_pixels(); ++p)
+      if (!grid.mask()[p]) reference[p] = 0;
+    const double gap = (images.apply(g, image) - reference).cwiseAbs().maxCoeff();
+    worst = std::max(worst, gap);
+    EXPECT_LE(gap, image.maxCoeff() / 32) << g.to_string();
+  }
+  std::printf("label stencil against OpenCV remap: largest difference %.4f of %.4f\n", worst,
+              image.maxCoeff());
 }
 
 TEST(Augment, AGenericTouchHas32DistinctFrames) {

@@ -20,6 +20,16 @@ int layout_index(FrameLayout layout) {
   return static_cast<int>(layout);
 }
 
+// out[i] = frame[table[i]].
+Eigen::VectorXd gather(const std::vector<int>& table, const Eigen::VectorXd& frame) {
+  if (frame.size() != static_cast<Eigen::Index>(table.size()))
+    throw std::invalid_argument("FrameSymmetry: frame of " + std::to_string(frame.size()) +
+                                " values, expected " + std::to_string(table.size()));
+  Eigen::VectorXd out(frame.size());
+  for (std::size_t i = 0; i < table.size(); ++i) out[i] = frame[table[i]];
+  return out;
+}
+
 }  // namespace
 
 std::string GroupElement::to_string() const {
@@ -127,6 +137,14 @@ FrameSymmetry::FrameSymmetry(int L) : protocol_(L) {
         for (const auto& [d, m] : p.pairs(order)) perm.push_back(p.index(map(d), map(m), order));
       }
     }
+    // The paper's Algorithms move whole values too: run them once on the frame of indices.
+    const Eigen::Index size = static_cast<Eigen::Index>(table[0].size());
+    const Eigen::VectorXd indices = Eigen::VectorXd::LinSpaced(size, 0, double(size - 1));
+    auto& paper = paper_permutations_[layout_index(layout)];
+    for (int index = 0; index < 2 * L; ++index) {
+      const Eigen::VectorXd moved = paper_algorithm({index % L, index >= L}, indices, p, layout);
+      paper.emplace_back(moved.begin(), moved.end());  // exact: small integers in doubles
+    }
   }
 }
 
@@ -137,23 +155,27 @@ const std::vector<int>& FrameSymmetry::permutation(const GroupElement& g,
 
 Eigen::VectorXd FrameSymmetry::apply(const GroupElement& g, const Eigen::VectorXd& frame,
                                      FrameLayout layout) const {
-  const auto& perm = permutation(g, layout);
-  if (frame.size() != static_cast<Eigen::Index>(perm.size()))
-    throw std::invalid_argument("FrameSymmetry: frame of " + std::to_string(frame.size()) +
-                                " values, expected " + std::to_string(perm.size()));
-  Eigen::VectorXd out(frame.size());
-  for (std::size_t i = 0; i < perm.size(); ++i) out[i] = frame[perm[i]];
-  return out;
+  return gather(permutation(g, layout), frame);
+}
+
+Eigen::VectorXd paper_algorithm(const GroupElement& g, const Eigen::VectorXd& frame,
+                                const Protocol& protocol, FrameLayout layout) {
+  const int L = protocol.electrodes();
+  Eigen::MatrixXd map = impedance_map(frame, protocol, layout);
+  if (g.mirror) map = map.rowwise().reverse().eval();  // Algorithm 2: reverse each row's columns
+  Eigen::MatrixXd shifted(map.rows(), map.cols());     // Algorithm 1: row d <- row d + s
+  for (int d = 0; d < L; ++d) shifted.row(d) = map.row(wrap(d + g.rotation, L));
+  return frame_from_map(shifted, protocol, layout);
 }
 
 Eigen::VectorXd FrameSymmetry::apply_paper(const GroupElement& g, const Eigen::VectorXd& frame,
                                            FrameLayout layout) const {
-  const int L = electrodes();
-  Eigen::MatrixXd map = impedance_map(frame, protocol_, layout);
-  if (g.mirror) map = map.rowwise().reverse().eval();  // Algorithm 2: reverse each row's columns
-  Eigen::MatrixXd shifted(map.rows(), map.cols());     // Algorithm 1: row d <- row d + s
-  for (int d = 0; d < L; ++d) shifted.row(d) = map.row(wrap(d + g.rotation, L));
-  return frame_from_map(shifted, protocol_, layout);
+  return gather(paper_permutation(g, layout), frame);
+}
+
+const std::vector<int>& FrameSymmetry::paper_permutation(const GroupElement& g,
+                                                         FrameLayout layout) const {
+  return paper_permutations_[layout_index(layout)][element_index(g, electrodes())];
 }
 
 Eigen::VectorXd FrameSymmetry::apply(AugmentGroup group, const GroupElement& g,

@@ -291,6 +291,11 @@ void print_summary(const Args* args, const Selection& s, const Evaluation& resul
                summary.mean.cc, summary.std.cc, summary.mean.re, summary.std.re, summary.mean.ssim,
                summary.mean.mse,
                std::isfinite(args->snr) ? fmt::format(" at {} dB", args->snr) : "");
+  if (s.data.has_labels() && !result.each.empty()) {  // a mean hides one runaway frame
+    const auto worst = std::max_element(result.each.begin(), result.each.end(),
+                                        [](const auto& a, const auto& b) { return a.re < b.re; });
+    fmt::print("  worst RE {:.4f} (frame {})\n", worst->re, s.rows[worst - result.each.begin()]);
+  }
   fmt::print("wrote {}\n", args->out);
 }
 

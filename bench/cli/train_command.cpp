@@ -67,8 +67,8 @@ void add_options(CLI::App* cmd, Args* args) {
                   "Adam's peak learning rate (default: 1e-2 small, 1e-4 paper)")
       ->check(kPositive);
   cmd->add_option("--schedule", args->schedule,
-                  "cosine (linear warm-up, a half cosine down to 1 % of the peak at --decay of "
-                  "the budget, then 1 %) | constant")
+                  "cosine (linear warm-up, a half cosine down to --floor x the peak at --decay "
+                  "of the budget, then that floor) | constant")
       ->capture_default_str()
       ->check(CLI::IsMember({"cosine", "constant"}));
   cmd->add_option("--warmup", args->options.schedule.warmup_fraction,
@@ -78,6 +78,10 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--decay", args->options.schedule.decay_fraction,
                   "where the cosine reaches its floor, as a fraction of the budget's steps (the "
                   "rest is left for early stopping to find the end)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--floor", args->options.schedule.final_fraction,
+                  "the cosine's floor, as a fraction of the peak rate")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--validate-every", args->options.validate_every,

@@ -319,7 +319,9 @@ std::unique_ptr<Workspace> ForwardModel::Impl::solve(const Eigen::VectorXd& sigm
   cholmod_factorize(&A, w->factor, w->common.get());
   if (w->common.get()->status != CHOLMOD_OK) {
     // The workspace may hold a failed factor: drop it rather than pool it.
-    throw std::runtime_error("CHOLMOD: the CEM system is not positive definite");
+    if (w->common.get()->status == CHOLMOD_NOT_POSDEF)
+      throw NumericalError("CHOLMOD: the CEM system is not positive definite");
+    throw std::runtime_error("CHOLMOD: factorisation failed (out of memory?)");
   }
   cholmod_dense B{};
   B.nrow = static_cast<size_t>(m.dofs);

@@ -5,43 +5,108 @@
 #include <cstdio>
 
 #include "eitbench/jacobian/error.h"
+#include "line_search.h"
 
 namespace eitbench {
 namespace {
 
-// Log-conductivity bound: sigma / sigma_0 within [1e-4, 1e4], far beyond any touch.
-constexpr double kMaxLog = 9.21;
-
 struct State {
-  Eigen::VectorXd v;  // reduced frame of sigma(theta)
-  Eigen::MatrixXd J;  // d v / d theta (m x n)
+  Eigen::VectorXd x;  // relative conductivities sigma_pix / sigma_0 - 1
+  Eigen::VectorXd v;  // reduced frame of sigma(x)
+  Eigen::MatrixXd J;  // d v / d x (m x n), when asked for
+  double phi = INFINITY;
 };
 
-State evaluate(const LinearProblem& p, const Eigen::VectorXd& theta, bool jacobian) {
-  const Eigen::VectorXd sigma_pix = p.background * theta.array().exp();
-  const Eigen::VectorXd sigma = p.pixel_to_element * sigma_pix;
-  const ForwardSolution s = p.model->solve(sigma);
-  State out;
-  out.v = p.model->protocol().reduce(p.model->frame(s), MeasurementOrder::rotating);
-  if (jacobian) {
-    const Eigen::MatrixXd J = p.model->jacobian(s, p.model->protocol().reduced_pairs());
-    out.J = (J * p.pixel_to_element) * sigma_pix.asDiagonal();
+State forward(const LinearProblem& p, Eigen::VectorXd x, bool jacobian) {
+  State s;
+  const Eigen::VectorXd sigma_pix = p.background * (1.0 + x.array()).matrix();
+  const ForwardSolution f = p.model->solve(p.pixel_to_element * sigma_pix);
+  s.v = p.model->protocol().reduce(p.model->frame(f), MeasurementOrder::rotating);
+  if (jacobian)
+    s.J = (p.model->jacobian(f, p.model->protocol().reduced_pairs()) * p.pixel_to_element) *
+          p.background;
+  s.x = std::move(x);
+  return s;
+}
+
+// One frame's objective: data misfit plus the weighted prior, over the box on x.
+struct Objective {
+  const LinearProblem& p;
+  Eigen::VectorXd target;  // the reduced frame to fit
+  Eigen::VectorXd prior;   // x_prior
+  const Eigen::VectorXd& weight;
+  double lambda;  // absolute: relative lambda times the scale
+  double lower, upper;
+
+  State evaluate(Eigen::VectorXd x, bool jacobian) const {
+    State s = forward(p, std::move(x), jacobian);
+    s.phi = (s.v - target).squaredNorm() +
+            lambda * (weight.array() * (s.x - prior).array().square()).sum();
+    return s;
   }
-  return out;
+  // Half the gradient of Phi: J^T r + lambda W (x - x_prior).
+  Eigen::VectorXd gradient(const State& s) const {
+    return s.J.transpose() * (s.v - target) + lambda * weight.cwiseProduct(s.x - prior);
+  }
+  // (J^T J + lambda W) delta = -g, by Woodbury in measurement space (m << n), over the free
+  // pixels only: one held at a bound by its gradient keeps delta = 0 (its (lambda W)^-1 entry is
+  // 0, an infinite weight), or the projected step need not descend (projected Newton).
+  Eigen::VectorXd direction(const State& s, const Eigen::VectorXd& g) const {
+    Eigen::VectorXd winv = weight.cwiseInverse() / lambda;  // (lambda W)^-1
+    for (Eigen::Index i = 0; i < winv.size(); ++i)
+      if ((s.x[i] <= lower && g[i] > 0) || (s.x[i] >= upper && g[i] < 0)) winv[i] = 0;
+    const Eigen::VectorXd a = winv.cwiseProduct(g);
+    const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(s.J.rows(), s.J.rows()) +
+                              s.J * winv.asDiagonal() * s.J.transpose();
+    return -(a - winv.cwiseProduct(s.J.transpose() * S.ldlt().solve(s.J * a)));
+  }
+  Eigen::VectorXd project(const Eigen::VectorXd& x) const {
+    return x.cwiseMax(lower).cwiseMin(upper);
+  }
+};
+
+std::string message(const char* format, double a, double b = 0) {
+  char buffer[160];
+  std::snprintf(buffer, sizeof buffer, format, a, b);
+  return buffer;
 }
 
 }  // namespace
 
+void GaussNewtonOptions::validate() const {
+  auto fail = [](const char* field, const std::string& why) {
+    throw InputError("GaussNewtonOptions", field, why);
+  };
+  if (!(lambda > 0) || !std::isfinite(lambda)) fail("lambda", "must be positive and finite");
+  if (max_iterations < 0) fail("max_iterations", "must not be negative");
+  if (!(tolerance >= 0)) fail("tolerance", "must not be negative");
+  if (!(residual_tolerance >= 0)) fail("residual_tolerance", "must not be negative");
+  if (!(min_ratio > 0 && min_ratio < 1)) fail("min_ratio", "must lie in (0, 1)");
+  if (!(max_ratio > 1) || !std::isfinite(max_ratio)) fail("max_ratio", "must be above 1");
+}
+
+const char* to_string(GaussNewtonTermination t) {
+  switch (t) {
+    case GaussNewtonTermination::converged:
+      return "converged";
+    case GaussNewtonTermination::no_descent:
+      return "no descent";
+    case GaussNewtonTermination::iteration_limit:
+      return "iteration limit";
+  }
+  return "?";
+}
+
 GaussNewton::GaussNewton(std::shared_ptr<const LinearProblem> shared,
                          const GaussNewtonOptions& options)
-    : problem_(require_problem(std::move(shared), "GaussNewton")), options_(options) {
+    : problem_(require_problem(std::move(shared), "GaussNewton")),
+      options_(options),
+      lambda_(options.lambda) {
+  options.validate();
   const LinearProblem& problem = *problem_;
   if (!problem.model)
     throw std::invalid_argument("GaussNewton: the linear problem has no forward model");
-  if (options.lambda < 0 || !std::isfinite(options.lambda))
-    throw InputError("--lambda", "", "must be positive");
-  if (options.lambda > 0) lambda_ = options.lambda, how_ = "fixed";
-  const State s0 = evaluate(problem, Eigen::VectorXd::Zero(problem.unknowns()), true);
+  const State s0 = forward(problem, Eigen::VectorXd::Zero(problem.unknowns()), true);
   reference_ = s0.v;
   const Eigen::VectorXd w =
       s0.J.colwise().squaredNorm().transpose().array().sqrt();  // NOSER, p = 1/2
@@ -65,74 +130,62 @@ void GaussNewton::set_lambda(double relative, const std::string& how) {
 Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report) const {
   const LinearProblem& p = *problem_;
   p.check_frame_size(frame.size());
-  const Eigen::VectorXd target = options_.absolute ? frame : Eigen::VectorXd(reference_ + frame);
-  Eigen::VectorXd theta = Eigen::VectorXd::Zero(p.unknowns());
+  Objective f{p,
+              options_.absolute ? frame : Eigen::VectorXd(reference_ + frame),
+              Eigen::VectorXd::Zero(p.unknowns()),
+              weight_,
+              lambda_ * scale_,
+              options_.min_ratio - 1,
+              options_.max_ratio - 1};
   if (options_.absolute) {  // the best homogeneous start: v scales as 1 / sigma
-    const double c = reference_.dot(target) / reference_.squaredNorm();
+    const double c = reference_.dot(f.target) / reference_.squaredNorm();
     if (!(c > 0))
       throw InputError("frame", "",
                        "does not look like an absolute frame (negative fit to the model)");
-    theta.setConstant(-std::log(c));
+    f.prior.setConstant(1.0 / c - 1.0);
+    f.prior = f.project(f.prior);
   }
-  const double lambda = lambda_ * scale_;
-  // The prior's centre: sigma_0 in difference mode, the best homogeneous fit in absolute mode.
-  const Eigen::VectorXd prior = theta;
-  auto objective = [&](const Eigen::VectorXd& v, const Eigen::VectorXd& t) {
-    return (v - target).squaredNorm() +
-           lambda * (weight_.array() * (t - prior).array().square()).sum();
-  };
-  State s = evaluate(p, theta, true);
-  double phi = objective(s.v, theta);
-  Report local;
-  local.residual.push_back((s.v - target).norm());
-  local.objective.push_back(phi);
-  const Eigen::VectorXd winv = weight_.cwiseInverse() / lambda;  // (lambda W)^-1
-  for (int it = 0; it < options_.max_iterations; ++it) {
-    // (J^T J + lambda W) delta = -(J^T r + lambda W theta), by Woodbury in measurement space.
-    const Eigen::VectorXd r = s.v - target;
-    const Eigen::VectorXd g = s.J.transpose() * r + lambda * weight_.cwiseProduct(theta - prior);
-    const Eigen::VectorXd a = winv.cwiseProduct(g);
-    const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(p.measurements(), p.measurements()) +
-                              s.J * winv.asDiagonal() * s.J.transpose();
-    const Eigen::VectorXd delta =
-        -(a - winv.cwiseProduct(s.J.transpose() * S.ldlt().solve(s.J * a)));
-    // Backtracking: halve the step until Phi decreases. The step is projected onto
-    // |theta| <= kMaxLog, and a trial the forward model cannot solve (a conductivity so extreme
-    // that the system loses definiteness in floating point) counts as no descent: a noisy frame
-    // at a small lambda once drove a step there (quick set, 30 dB).
-    double step = 1.0, next_phi = INFINITY;
-    Eigen::VectorXd next;
-    State trial;
-    for (int k = 0; k < 12; ++k, step *= 0.5) {
-      next = (theta + step * delta).cwiseMax(-kMaxLog).cwiseMin(kMaxLog);
-      try {
-        trial = evaluate(p, next, false);
-        next_phi = objective(trial.v, next);
-      } catch (const std::exception&) {
-        next_phi = INFINITY;
-      }
-      if (next_phi < phi) break;
-    }
-    ++local.iterations;
-    if (!(next_phi < phi)) {  // no descent along the Gauss-Newton direction: at a minimum
-      local.converged = true;
+  Report r;
+  State s = f.evaluate(f.prior, true);
+  r.residual.push_back((s.v - f.target).norm());
+  r.objective.push_back(s.phi);
+  r.message = message("%.0f iterations without meeting the tolerances", options_.max_iterations);
+  for (int it = 0; it < options_.max_iterations; ++it, ++r.iterations) {
+    const Eigen::VectorXd g = f.gradient(s);
+    const Eigen::VectorXd delta = f.direction(s, g);
+    // The Gauss-Newton model's own prediction of the decrease: -g^T delta (Phi = 2x the model).
+    const double predicted = -g.dot(delta) / s.phi;
+    if (!(predicted >= options_.tolerance)) {
+      r.termination = predicted >= 0 || std::isnan(predicted) ? GaussNewtonTermination::converged
+                                                              : GaussNewtonTermination::no_descent;
+      r.message = message("the model predicts a relative decrease of %.3g (tolerance %.3g)",
+                          predicted, options_.tolerance);
       break;
     }
-    const double decrease = (phi - next_phi) / phi;
-    theta = next;
-    phi = next_phi;
-    local.residual.push_back((trial.v - target).norm());  // the line search solved this theta
-    local.objective.push_back(phi);
+    auto trial = detail::armijo_backtracking(
+        s.phi, [&](double t) { return f.evaluate(f.project(s.x + t * delta), false); },
+        [&](const State& next) { return 2 * g.dot(next.x - s.x); });
+    if (!trial) {
+      r.termination = GaussNewtonTermination::no_descent;
+      r.message = message("no step along the direction lowered Phi = %.4g enough", s.phi);
+      break;
+    }
+    const double decrease = (s.phi - trial->phi) / s.phi;
+    r.residual.push_back((trial->v - f.target).norm());
+    r.objective.push_back(trial->phi);
     if (decrease < options_.tolerance ||
-        local.residual.back() < options_.residual_tolerance * target.norm()) {
-      local.converged = true;
+        r.residual.back() < options_.residual_tolerance * f.target.norm()) {
+      ++r.iterations;
+      r.termination = GaussNewtonTermination::converged;
+      r.message = message("relative decrease %.3g, relative residual %.3g", decrease,
+                          r.residual.back() / f.target.norm());
+      s = std::move(*trial);
       break;
     }
-    s = evaluate(p, theta, true);  // re-linearise only when another step follows
+    s = f.evaluate(std::move(trial->x), true);  // re-linearise only when another step follows
   }
-  if (report) *report = local;
-  // On the label scale: -dsigma / sigma_0 = 1 - sigma / sigma_0 (against sigma_0 in both modes).
-  return p.to_image((1.0 - theta.array().exp()).matrix());
+  if (report) *report = r;
+  return p.to_image(-s.x);  // on the label scale: -dsigma / sigma_0 (against sigma_0 in both modes)
 }
 
 Eigen::VectorXd GaussNewton::reconstruct(const Eigen::VectorXd& frame) const {

@@ -28,7 +28,9 @@ double Reconstructor::best_by_score(const std::vector<double>& candidates,
                                     const ScoreFn& score, Eigen::Index max_frames) const {
   if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
     throw InputError("--choose validation", "", "needs labelled validation frames");
-  const Eigen::Index step = std::max<Eigen::Index>(1, frames.rows() / max_frames);
+  // Every step-th frame, step rounded up so that at most max_frames are scored.
+  const Eigen::Index step =
+      std::max<Eigen::Index>(1, (frames.rows() + max_frames - 1) / max_frames);
   std::vector<Eigen::Index> rows;
   for (Eigen::Index i = 0; i < frames.rows(); i += step) rows.push_back(i);
   SampleMatrix some(static_cast<Eigen::Index>(rows.size()), frames.cols());

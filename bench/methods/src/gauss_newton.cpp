@@ -16,7 +16,9 @@ MethodSpec gauss_newton() {
     g.choose_by_validation = o.choose == "validation";
     g.absolute = o.absolute;
     if (o.tolerance > 0) g.tolerance = o.tolerance;
-    return std::unique_ptr<Reconstructor>(std::make_unique<GaussNewton>(std::move(problem), g));
+    auto gn = std::make_unique<GaussNewton>(std::move(problem), g);
+    if (o.choose == "fixed") gn->set_lambda(o.lambda, "fixed");
+    return std::unique_ptr<Reconstructor>(std::move(gn));
   };
   return spec;
 }

@@ -1,6 +1,6 @@
 #pragma once
 // Label images under the group: exact for touches given as circles (re-rasterise the moved
-// circles with circles_image), bilinear (OpenCV) for plain images.
+// circles with circles_image), bilinear through a per-element stencil for plain images.
 #include <Eigen/Core>
 #include <vector>
 
@@ -9,22 +9,31 @@
 
 namespace eitbench {
 
-// Moves images by group elements: out(x) = in(g^-1 x), sampled bilinearly (OpenCV remap, with the
-// sampling maps of all 2L elements computed once), then masked to the disk. Exact for the mirror
-// and for rotations by multiples of 90 degrees, which permute the square grid's pixels; otherwise
-// interpolation smooths edges: on circle touches the relative L2 error against exact
-// re-rasterisation is 8 % on average (augment_test, README "Augmentation").
+// Moves images by group elements: out(x) = in(g^-1 x), sampled bilinearly, then masked to the disk.
+// Each element's action is a precomputed table (a stencil: four source pixels and weights for every
+// output pixel), so moving an image is one gather. Exact for the mirror and for rotations by
+// multiples of 90 degrees, which permute the square grid's pixels; otherwise interpolation smooths
+// edges: on circle touches the relative L2 error against exact re-rasterisation is 8 % on average
+// (augment_test, docs/augmentation.md).
 class ImageSymmetry {
  public:
   ImageSymmetry(int electrodes, const PixelGrid& grid);
   Eigen::VectorXd apply(const GroupElement& g, const Eigen::VectorXd& image) const;
   const PixelGrid& grid() const { return grid_; }
 
+  // out[p] = sum_k weight[4p + k] image[index[4p + k]].
+  struct Stencil {
+    std::vector<int> index;
+    std::vector<double> weight;
+  };
+  const Stencil& stencil(const GroupElement& g) const;
+  static Stencil stencil(const GroupElement& g, int electrodes, const PixelGrid& grid);
+  static Eigen::VectorXd gather(const Stencil& stencil, const Eigen::VectorXd& image);
+
  private:
   int electrodes_;
   PixelGrid grid_;
-  std::vector<std::vector<float>> map_x_,
-      map_y_;  // per element: source column and row of each pixel
+  std::vector<Stencil> stencils_;  // per element index: rotations, then mirrors
 };
 
 // A sample's label under g: exact, by re-rasterising its moved circles, when `circles` is given
@@ -33,7 +42,7 @@ Eigen::VectorXd moved_label(const Eigen::VectorXd& label, const std::vector<Circ
                             double background, const GroupElement& g, int electrodes,
                             const ImageSymmetry& images);
 
-// One-off: the same as ImageSymmetry(electrodes, grid).apply(g, image), computing g's maps only.
+// One-off: the same as ImageSymmetry(electrodes, grid).apply(g, image), computing g's stencil only.
 Eigen::VectorXd transform_image(const Eigen::VectorXd& image, const GroupElement& g, int electrodes,
                                 const PixelGrid& grid);
 

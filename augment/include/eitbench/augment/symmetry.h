@@ -68,14 +68,22 @@ class FrameSymmetry {
   // mirror: row d alone equals the mirror about the gap between electrodes d and d+1, so every row
   // is mirrored about another axis, and the result breaks reciprocity. For a reduced frame the map
   // is completed by reciprocity first and read back from its upper triangle (d < m).
+  // Precomputed as index tables from paper_algorithm (below), which they equal exactly.
   Eigen::VectorXd apply_paper(const GroupElement& g, const Eigen::VectorXd& frame,
                               FrameLayout layout) const;
+  const std::vector<int>& paper_permutation(const GroupElement& g, FrameLayout layout) const;
   Eigen::VectorXd apply(AugmentGroup group, const GroupElement& g, const Eigen::VectorXd& frame,
                         FrameLayout layout) const;
 
  private:
   Protocol protocol_;
-  std::vector<std::vector<int>> permutations_[3];  // [layout][element index 2L]
+  std::vector<std::vector<int>> permutations_[3];        // [layout][element index 2L]
+  std::vector<std::vector<int>> paper_permutations_[3];  // the same for apply_paper
 };
+
+// The paper's Algorithms 1 and 2 as written, on the impedance map (slow; FrameSymmetry's tables are
+// made from it and tested against it).
+Eigen::VectorXd paper_algorithm(const GroupElement& g, const Eigen::VectorXd& frame,
+                                const Protocol& protocol, FrameLayout layout);
 
 }  // namespace eitbench

@@ -6,8 +6,10 @@
 // The convention, in every library: InputError for data and options that come from a user (a
 // file, a flag, an options struct, a frame); std::logic_error and its subclasses (such as
 // std::invalid_argument) for a programming error, a call the code around it should never make
-// (a null pointer, a size that an earlier check guaranteed); std::runtime_error for the rest
-// (a factorisation that failed, a file system error).
+// (a null pointer, a size that an earlier check guaranteed); NumericalError for a computation that
+// the numbers it was given defeat (a system that lost definiteness in floating point), which an
+// iterative solver may treat as "no descent there"; std::runtime_error for the rest (memory, the
+// file system).
 #include <stdexcept>
 #include <string>
 
@@ -35,6 +37,13 @@ class InputError : public std::runtime_error {
   std::string source_;
   std::string field_;
   std::string message_;
+};
+
+// The numbers defeated a computation (not the memory, not the input's form): for example, a
+// conductivity so extreme that the CEM matrix is no longer positive definite in floating point.
+class NumericalError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 }  // namespace eitbench

@@ -1,15 +1,21 @@
 #pragma once
-// Gauss-Newton: iterative and nonlinear. Unknowns are log-conductivities on the in-disk pixels,
-// sigma_pix = sigma_0 exp(theta) (so conductivity stays positive), and every step re-linearises
-// the forward model: J_theta = J_elem(sigma) P diag(sigma_pix). It minimises
-//   Phi(theta) = ||v(sigma(theta)) - v_target||^2 + lambda ||W^1/2 (theta - theta_prior)||^2,
-// W = NOSER's diag(J^T J)^1/2 at the start, solving each step in measurement space (Woodbury),
-// with a backtracking line search that accepts only steps that lower Phi. It stops when Phi's
-// relative decrease or the relative residual falls below its tolerance.
-//   difference mode: v_target = v(sigma_0) + dv (the frame is a difference frame)
+// Gauss-Newton: iterative and nonlinear. The unknowns are the in-disk pixels' relative
+// conductivities x = sigma_pix / sigma_0 - 1 (the label-scale image is -x), and every step
+// re-linearises the forward model: J_x = J_elem(sigma) P sigma_0. It minimises
+//   Phi(x) = ||v(sigma(x)) - v_target||^2 + lambda ||W^1/2 (x - x_prior)||^2
+// over the box min_ratio <= sigma / sigma_0 <= max_ratio, W = NOSER's diag(J^T J)^1/2 at the
+// start, solving each step in measurement space (Woodbury) and searching along the projected step
+// with backtracking until Armijo's sufficient decrease holds.
+//
+// Why the prior is on x and not on log-conductivity: a small inclusion's effect on the boundary
+// voltages saturates as its conductivity grows, so the data term goes flat along it. A prior on
+// log(sigma) then charges a spike only log^2 of its size, and the fit used spikes of a few pixels
+// at 80-180 sigma_0 to absorb the model error between the simulation and reconstruction meshes
+// (image values near -100 on noise-free quick frames). On x the charge grows with the square of
+// the image value, as in the one-step methods, and the box keeps sigma positive.
+//   difference mode: v_target = v(sigma_0) + dv (the frame is a difference frame), x_prior = 0
 //   absolute mode:   v_target = the frame itself (absolute, reduced layout), starting from and
 //                    regularised towards the best homogeneous conductivity
-// (theta_prior = 0, i.e. sigma_0, in difference mode).
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,12 +27,26 @@ namespace eitbench {
 
 struct GaussNewtonOptions {
   bool absolute = false;
-  double lambda = 0;  // relative to the mean eigenvalue of J W^-1 J^T at the start; 0: default 1e-3
+  // Relative to the mean eigenvalue of J W^-1 J^T at the start, so that one value suits meshes
+  // and protocols of any scale.
+  double lambda = 1e-3;
   int max_iterations = 20;
-  double tolerance = 1e-4;           // on Phi's relative decrease
-  double residual_tolerance = 1e-6;  // on ||r|| / ||v_target||
-  bool choose_by_validation = false;
+  double tolerance = 1e-4;           // stop when Phi's relative decrease falls below this
+  double residual_tolerance = 1e-6;  // or when ||r|| / ||v_target|| does
+  double min_ratio = 1e-4;           // the box on sigma / sigma_0, far beyond any touch
+  double max_ratio = 1e4;
+  bool choose_by_validation = false;  // lambda from {1e-5, ..., 1e-1} by the score in fit()
+
+  // Throws InputError naming the field ("GaussNewtonOptions", field) for a value out of range.
+  void validate() const;
 };
+
+enum class GaussNewtonTermination {
+  converged,        // Phi's relative decrease or the relative residual fell below tolerance
+  no_descent,       // no step along the Gauss-Newton direction decreased Phi enough
+  iteration_limit,  // max_iterations steps, each a descent, without meeting the tolerances
+};
+const char* to_string(GaussNewtonTermination t);
 
 class GaussNewton : public Reconstructor {
  public:
@@ -39,13 +59,16 @@ class GaussNewton : public Reconstructor {
   Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const override;
 
   struct Report {
-    std::vector<double>
-        residual;  // ||v(sigma_k) - v_target|| at the start and after every accepted step
-    std::vector<double> objective;  // Phi at the same points
-    int iterations = 0;
-    bool converged = false;
+    // ||v(sigma_k) - v_target|| and Phi at the start and after every accepted step.
+    std::vector<double> residual;
+    std::vector<double> objective;
+    int iterations = 0;  // steps accepted
+    GaussNewtonTermination termination = GaussNewtonTermination::iteration_limit;
+    std::string message;  // why it stopped, with the figures that decided it
+    bool converged() const { return termination == GaussNewtonTermination::converged; }
   };
   Eigen::VectorXd solve(const Eigen::VectorXd& frame, Report* report) const;
+  double lambda() const { return lambda_; }
   void set_lambda(double relative, const std::string& how);
 
  private:
@@ -54,7 +77,7 @@ class GaussNewton : public Reconstructor {
   Eigen::VectorXd reference_;  // v(sigma_0), reduced
   Eigen::VectorXd weight_;     // W (diagonal)
   double scale_ = 1;           // mean eigenvalue of J W^-1 J^T at sigma_0
-  double lambda_ = 1e-3;       // relative
+  double lambda_;              // relative
   std::string how_ = "default";
 };
 
