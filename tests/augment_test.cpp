@@ -427,9 +427,10 @@ TEST(Augment, ExpansionIsIdenticalForAnyThreadCount) {
 
 TEST(Augment, OnTheFlyIsDeterministicUniformAndConsistent) {
   const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
-  const LabelledFrames set = circle_set(mesh, 4, 2);
+  const auto shared = std::make_shared<const LabelledFrames>(circle_set(mesh, 4, 2));
+  const LabelledFrames& set = *shared;
   AugmentSetup setup;
-  const OnTheFlyAugmenter a(set, setup, 42), b(set, setup, 42), c(set, setup, 43);
+  const OnTheFlyAugmenter a(shared, setup, 42), b(shared, setup, 42), c(shared, setup, 43);
   std::map<std::string, int> counts;
   int differ = 0;
   for (int epoch = 0; epoch < 800; ++epoch)
@@ -457,9 +458,10 @@ TEST(Augment, OnTheFlyIsDeterministicUniformAndConsistent) {
               1e-12);
   }
   // Without circles, labels are moved bilinearly.
+  // The augmenter shares its set: a temporary cannot dangle.
   LabelledFrames plain = set;
   plain.circles.clear();
-  const OnTheFlyAugmenter d(plain, setup, 42);
+  const OnTheFlyAugmenter d(std::make_shared<const LabelledFrames>(std::move(plain)), setup, 42);
   d.batch({1}, 3, frames, labels);
   EXPECT_LT((labels.row(0).transpose() -
              transform_image(set.labels.row(1).transpose(), d.element(1, 3), 16, grid))

@@ -1,6 +1,7 @@
 #include "eitbench/augment/augmented_set.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 
@@ -70,15 +71,16 @@ LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup) {
   return out;
 }
 
-OnTheFlyAugmenter::OnTheFlyAugmenter(const LabelledFrames& set, const AugmentSetup& setup,
-                                     std::uint64_t seed)
-    : set_(set),
+OnTheFlyAugmenter::OnTheFlyAugmenter(std::shared_ptr<const LabelledFrames> set,
+                                     const AugmentSetup& setup, std::uint64_t seed)
+    : set_(std::move(set)),
       setup_(setup),
       seed_(seed),
       elements_(group_elements(setup.group, setup.electrodes)),
       symmetry_(setup.electrodes),
       images_(setup.electrodes, PixelGrid(setup.image_size, setup.radius)) {
-  check_labelled_frames(set, setup);
+  if (!set_) throw std::invalid_argument("OnTheFlyAugmenter: no set");
+  check_labelled_frames(*set_, setup);
 }
 
 const GroupElement& OnTheFlyAugmenter::element(int sample, int epoch) const {
@@ -89,19 +91,19 @@ const GroupElement& OnTheFlyAugmenter::element(int sample, int epoch) const {
 
 void OnTheFlyAugmenter::batch(const std::vector<int>& indices, int epoch, SampleMatrix& frames,
                               SampleMatrix& labels) const {
-  const bool labelled = set_.labels.cols() > 0 || !set_.circles.empty();
-  frames.resize(static_cast<Eigen::Index>(indices.size()), set_.frames.cols());
+  const bool labelled = set_->labels.cols() > 0 || !set_->circles.empty();
+  frames.resize(static_cast<Eigen::Index>(indices.size()), set_->frames.cols());
   labels.resize(static_cast<Eigen::Index>(indices.size()),
                 labelled ? images_.grid().num_pixels() : 0);
   for (std::size_t b = 0; b < indices.size(); ++b) {
     const int i = indices[b];
     const GroupElement& g = element(i, epoch);
-    frames.row(b) =
-        symmetry_.apply(setup_.group, g, set_.frames.row(i).transpose(), setup_.layout).transpose();
-    if (labelled && g == GroupElement{} && set_.labels.cols() > 0)
-      labels.row(b) = set_.labels.row(i);  // the identity: the stored label, no re-rasterising
+    frames.row(b) = symmetry_.apply(setup_.group, g, set_->frames.row(i).transpose(), setup_.layout)
+                        .transpose();
+    if (labelled && g == GroupElement{} && set_->labels.cols() > 0)
+      labels.row(b) = set_->labels.row(i);  // the identity: the stored label, no re-rasterising
     else if (labelled)
-      labels.row(b) = transformed_label(set_, i, g, setup_.electrodes, images_).transpose();
+      labels.row(b) = transformed_label(*set_, i, g, setup_.electrodes, images_).transpose();
   }
 }
 

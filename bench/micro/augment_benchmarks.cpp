@@ -54,9 +54,9 @@ void BM_ExpandFramesAndLabels(benchmark::State& state) {
 
 // One training batch of 512 drawn on the fly.
 void BM_OnTheFlyBatch512(benchmark::State& state) {
-  const LabelledFrames set = random_set(2048, state.range(0) == 1);
   AugmentSetup setup;
-  const OnTheFlyAugmenter augmenter(set, setup, 7);
+  const OnTheFlyAugmenter augmenter(
+      std::make_shared<const LabelledFrames>(random_set(2048, state.range(0) == 1)), setup, 7);
   std::vector<int> indices(512);
   for (int i = 0; i < 512; ++i) indices[i] = (i * 37) % 2048;
   SampleMatrix frames, labels;

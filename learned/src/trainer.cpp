@@ -25,46 +25,49 @@ void Trainer::Impl::check_options() const {
 
 Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledFrames train_set,
                     const LabelledFrames& validation, const AugmentSetup& sensor)
-    : network(n), options(o), setup(sensor), train(std::move(train_set)) {
+    : network(n),
+      options(o),
+      setup(sensor),
+      train(std::make_shared<const LabelledFrames>(std::move(train_set))) {
   check_network_options(network, "network");
   setup.group = options.augment;
   setup.layout = FrameLayout::reduced;
-  if (train.frames.rows() == 0) throw InputError("train", "split", "the training set is empty");
+  if (train->frames.rows() == 0) throw InputError("train", "split", "the training set is empty");
   if (validation.frames.rows() == 0)
     throw InputError("validation", "split", "the validation set is empty");
   auto labelled = [](const LabelledFrames& s) { return s.labels.cols() > 0 || !s.circles.empty(); };
-  if (!labelled(train)) throw InputError("train", "labels", "training needs labelled frames");
+  if (!labelled(*train)) throw InputError("train", "labels", "training needs labelled frames");
   if (!labelled(validation))
     throw InputError("validation", "labels", "validation needs labelled frames");
   if (setup.image_size != network.image_size)
     throw InputError("network", "image_size",
                      "the network draws " + std::to_string(network.image_size) +
                          " px images, the data's labels are " + std::to_string(setup.image_size));
-  check_labelled_frames(train, setup);  // frame length against the electrodes, labels' shape
+  check_labelled_frames(*train, setup);  // frame length against the electrodes, labels' shape
   check_labelled_frames(validation, setup);
-  if (train.frames.cols() != network.inputs)
+  if (train->frames.cols() != network.inputs)
     throw InputError("network", "inputs",
                      "the network takes " + std::to_string(network.inputs) +
-                         " values, frames have " + std::to_string(train.frames.cols()));
+                         " values, frames have " + std::to_string(train->frames.cols()));
   check_options();
   device = torch::Device(resolve_device(options.device, "--device"));
 
   // Validation frames as they are (no augmentation); labels from the circles when not stored.
   AugmentSetup plain = setup;
   plain.group = AugmentGroup::none;
-  const OnTheFlyAugmenter identity(validation, plain, 0);
+  const OnTheFlyAugmenter identity(std::make_shared<const LabelledFrames>(validation), plain, 0);
   std::vector<int> all(static_cast<std::size_t>(validation.frames.rows()));
   for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
   identity.batch(all, 0, validation_frames, validation_labels);
-  train_print = fingerprint(train);
+  train_print = fingerprint(*train);
   validation_print = fingerprint(validation);
 
   if (options.expanded) {
-    expanded = expand(train, setup);
+    expanded = expand(*train, setup);
     train_size = expanded.frames.rows();
   } else {
     augmenter = std::make_unique<OnTheFlyAugmenter>(train, setup, options.seed);
-    train_size = train.frames.rows();
+    train_size = train->frames.rows();
   }
   if (train_size < 2) throw InputError("train", "split", "training needs at least 2 samples");
   const long long b = options.batch_size;
@@ -102,11 +105,11 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
 void Trainer::Impl::input_statistics() {
   const FrameSymmetry symmetry(setup.electrodes);
   const auto elements = group_elements(setup.group, setup.electrodes);
-  const Eigen::Index d = train.frames.cols();
-  const double count = double(train.frames.rows()) * double(elements.size());
+  const Eigen::Index d = train->frames.cols();
+  const double count = double(train->frames.rows()) * double(elements.size());
   auto for_each = [&](const std::function<void(const Eigen::VectorXd&)>& f) {
-    for (Eigen::Index i = 0; i < train.frames.rows(); ++i) {
-      const Eigen::VectorXd frame = train.frames.row(i).transpose();
+    for (Eigen::Index i = 0; i < train->frames.rows(); ++i) {
+      const Eigen::VectorXd frame = train->frames.row(i).transpose();
       for (const GroupElement& g : elements) f(symmetry.apply(setup.group, g, frame, setup.layout));
     }
   };
@@ -291,7 +294,7 @@ LearnedModel Trainer::best_model() const {
   ModelInfo& info = model.info();
   info.augment = to_string(m.options.augment);
   info.training = nlohmann::json{{"options", options_to_json(m.options)},
-                                 {"train_samples", m.train.frames.rows()},
+                                 {"train_samples", m.train->frames.rows()},
                                  {"samples_per_epoch", m.train_size},
                                  {"steps_per_epoch", m.steps_per_epoch},
                                  {"budget_steps", m.total_steps},

@@ -19,8 +19,8 @@ struct Trainer::Impl {
   NetworkOptions network;
   TrainingOptions options;
   AugmentSetup setup;
-  LabelledFrames train;
-  LabelledFrames expanded;  // the |G| N samples, when options.expanded
+  std::shared_ptr<const LabelledFrames> train;  // the augmenter shares it
+  LabelledFrames expanded;                      // the |G| N samples, when options.expanded
   std::unique_ptr<OnTheFlyAugmenter> augmenter;
   SampleMatrix validation_frames, validation_labels;
   std::uint64_t train_print = 0, validation_print = 0;

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "eitbench/augment/label_transform.h"
@@ -37,12 +38,13 @@ void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup)
 // |G| x N rows, sample-major: row i |G| + k is sample i under group element k.
 LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup);
 
-// Keeps a reference to the set: the set must outlive the augmenter.
+// Shares the set it draws from, so a temporary passed in cannot dangle.
 class OnTheFlyAugmenter {
  public:
-  OnTheFlyAugmenter(const LabelledFrames& set, const AugmentSetup& setup, std::uint64_t seed);
+  OnTheFlyAugmenter(std::shared_ptr<const LabelledFrames> set, const AugmentSetup& setup,
+                    std::uint64_t seed);
 
-  int size() const { return static_cast<int>(set_.frames.rows()); }
+  int size() const { return static_cast<int>(set_->frames.rows()); }
   const std::vector<GroupElement>& elements() const { return elements_; }
   // The element of sample i in `epoch`: a hash of (seed, epoch, i), uniform over the group.
   const GroupElement& element(int sample, int epoch) const;
@@ -51,7 +53,7 @@ class OnTheFlyAugmenter {
              SampleMatrix& labels) const;
 
  private:
-  const LabelledFrames& set_;
+  std::shared_ptr<const LabelledFrames> set_;  // never null
   AugmentSetup setup_;
   std::uint64_t seed_;
   std::vector<GroupElement> elements_;
