@@ -468,6 +468,48 @@ TEST(GaussNewton, WildFramesGiveFiniteImagesWithinTheConductivityBound) {
   }
 }
 
+// The validation sweep scores at most max_frames frames, spread evenly: 229 frames and at most 20
+// used to score 21 (every 11th), and every candidate must see the same frames.
+class CountingMethod : public Reconstructor {
+ public:
+  std::string name() const override { return "count"; }
+  std::string settings() const override { return ""; }
+  SampleMatrix reconstruct_all(const SampleMatrix& frames) const override {
+    seen.push_back(frames.rows());
+    return frames;
+  }
+  Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const override { return frame; }
+  double sweep(const SampleMatrix& frames, const ScoreFn& score, Eigen::Index at_most) {
+    return best_by_score(
+        {1, 2, 3}, [&](double c) { candidate = c; }, frames, frames, score, at_most);
+  }
+  double candidate = 0;
+  mutable std::vector<Eigen::Index> seen;
+};
+
+TEST(Validation, ScoresAtMostTheFramesAskedFor) {
+  for (Eigen::Index rows : {1, 19, 20, 21, 40, 229}) {
+    CountingMethod m;
+    const SampleMatrix frames = SampleMatrix::Random(rows, 3);
+    // The score favours candidate 2 on every frame.
+    const double best = m.sweep(
+        frames,
+        [&](const Eigen::VectorXd&, const Eigen::VectorXd&) { return -std::abs(m.candidate - 2); },
+        20);
+    EXPECT_EQ(best, 2);
+    ASSERT_EQ(m.seen.size(), 3u);
+    for (Eigen::Index n : m.seen) {
+      EXPECT_LE(n, 20) << rows << " frames";
+      EXPECT_EQ(n, m.seen.front());
+      EXPECT_GE(n, std::min<Eigen::Index>(rows, 10)) << rows << " frames";  // not needlessly few
+    }
+  }
+  CountingMethod m;
+  const ScoreFn nan = [](const Eigen::VectorXd&, const Eigen::VectorXd&) { return NAN; };
+  EXPECT_THROW(m.sweep(SampleMatrix::Random(5, 3), nan, 20), InputError);  // nothing scored
+  EXPECT_THROW(m.sweep(SampleMatrix(0, 3), nan, 20), InputError);          // no frames
+}
+
 // Armijo backtracking on f(t) = (t - 0.3)^2 from f(0) = 0.09 with slope -0.6 t: t = 1 fails
 // sufficient decrease (0.49 > 0.09), t = 1/2 passes (0.04); an uphill search accepts nothing.
 struct Trial {
