@@ -22,17 +22,21 @@ SampleMatrix Reconstructor::reconstruct_all(const SampleMatrix& frames) const {
   return images;
 }
 
+std::vector<Eigen::Index> Reconstructor::spread_rows(Eigen::Index rows, Eigen::Index at_most) {
+  // Every step-th row, the step rounded up so that at most `at_most` are taken.
+  const Eigen::Index step = std::max<Eigen::Index>(1, (rows + at_most - 1) / at_most);
+  std::vector<Eigen::Index> out;
+  for (Eigen::Index i = 0; i < rows; i += step) out.push_back(i);
+  return out;
+}
+
 double Reconstructor::best_by_score(const std::vector<double>& candidates,
                                     const std::function<void(double)>& set,
                                     const SampleMatrix& frames, const SampleMatrix& labels,
                                     const ScoreFn& score, Eigen::Index max_frames) const {
   if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
     throw InputError("--choose validation", "", "needs labelled validation frames");
-  // Every step-th frame, step rounded up so that at most max_frames are scored.
-  const Eigen::Index step =
-      std::max<Eigen::Index>(1, (frames.rows() + max_frames - 1) / max_frames);
-  std::vector<Eigen::Index> rows;
-  for (Eigen::Index i = 0; i < frames.rows(); i += step) rows.push_back(i);
+  const std::vector<Eigen::Index> rows = spread_rows(frames.rows(), max_frames);
   SampleMatrix some(static_cast<Eigen::Index>(rows.size()), frames.cols());
   for (std::size_t k = 0; k < rows.size(); ++k) some.row(k) = frames.row(rows[k]);
   double best_score = -INFINITY, best = candidates.front();

@@ -235,10 +235,9 @@ double Tikhonov::choose_validation(const SampleMatrix& frames, const SampleMatri
                                    const ScoreFn& score) {
   if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
     throw InputError("--choose validation", "", "needs labelled validation frames and a score");
-  // At most 500 frames, evenly spread: the sweep costs frames x grid matrix products.
-  std::vector<Eigen::Index> rows;
-  const Eigen::Index step = std::max<Eigen::Index>(1, frames.rows() / 500);
-  for (Eigen::Index i = 0; i < frames.rows(); i += step) rows.push_back(i);
+  // At most 500 frames, evenly spread: the sweep costs frames x grid matrix products. The same
+  // sweep as best_by_score, on the eigenbasis, so that every lambda costs one small product.
+  const std::vector<Eigen::Index> rows = spread_rows(frames.rows(), 500);
   Eigen::MatrixXd Z(static_cast<Eigen::Index>(rows.size()), frames.cols());
   for (std::size_t k = 0; k < rows.size(); ++k) Z.row(k) = frames.row(rows[k]) * U_;
   double best_score = -INFINITY;

@@ -39,6 +39,8 @@ class Reconstructor {
                        const std::function<void(double)>& set, const SampleMatrix& frames,
                        const SampleMatrix& labels, const ScoreFn& score,
                        Eigen::Index max_frames) const;
+  // Row indices 0, k, 2k, ... with k rounded up so that at most `at_most` are taken.
+  static std::vector<Eigen::Index> spread_rows(Eigen::Index rows, Eigen::Index at_most);
 };
 
 }  // namespace eitbench
