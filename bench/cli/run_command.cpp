@@ -62,7 +62,7 @@ std::function<void()> add_run_command(CLI::App& app) {
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--lr", args->learning_rate,
                   "the learning rate schedule's peak (default: the preset's, 1e-2 for the small "
-                  "model)")
+                  "model, 1e-3 for the paper model)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--patience", args->patience,
                   "validations without a 0.5 % improvement before training stops (default 5; 0: "
