@@ -12,21 +12,26 @@ namespace {
 
 struct State {
   Eigen::VectorXd x;  // relative conductivities sigma_pix / sigma_0 - 1
+  ForwardSolution solution;
   Eigen::VectorXd v;  // reduced frame of sigma(x)
-  Eigen::MatrixXd J;  // d v / d x (m x n), when asked for
+  Eigen::MatrixXd J;  // d v / d x (m x n), once linearised
   double phi = INFINITY;
 };
 
-State forward(const LinearProblem& p, Eigen::VectorXd x, bool jacobian) {
+State forward(const LinearProblem& p, Eigen::VectorXd x) {
   State s;
   const Eigen::VectorXd sigma_pix = p.background * (1.0 + x.array()).matrix();
-  const ForwardSolution f = p.model->solve(p.pixel_to_element * sigma_pix);
-  s.v = p.model->protocol().reduce(p.model->frame(f), MeasurementOrder::rotating);
-  if (jacobian)
-    s.J = (p.model->jacobian(f, p.model->protocol().reduced_pairs()) * p.pixel_to_element) *
-          p.background;
+  s.solution = p.model->solve(p.pixel_to_element * sigma_pix);
+  s.v = p.model->protocol().reduce(p.model->frame(s.solution), MeasurementOrder::rotating);
   s.x = std::move(x);
   return s;
+}
+
+// The Jacobian at a state, from the fields its forward solve already holds (the line search
+// solved the accepted step; solving it again only to linearise would double that cost).
+void linearise(const LinearProblem& p, State& s) {
+  s.J = (p.model->jacobian(s.solution, p.model->protocol().reduced_pairs()) * p.pixel_to_element) *
+        p.background;
 }
 
 // One frame's objective: data misfit plus the weighted prior, over the box on x.
@@ -38,8 +43,8 @@ struct Objective {
   double lambda;  // absolute: relative lambda times the scale
   double lower, upper;
 
-  State evaluate(Eigen::VectorXd x, bool jacobian) const {
-    State s = forward(p, std::move(x), jacobian);
+  State evaluate(Eigen::VectorXd x) const {
+    State s = forward(p, std::move(x));
     s.phi = (s.v - target).squaredNorm() +
             lambda * (weight.array() * (s.x - prior).array().square()).sum();
     return s;
@@ -106,7 +111,8 @@ GaussNewton::GaussNewton(std::shared_ptr<const LinearProblem> shared,
   const LinearProblem& problem = *problem_;
   if (!problem.model)
     throw std::invalid_argument("GaussNewton: the linear problem has no forward model");
-  const State s0 = forward(problem, Eigen::VectorXd::Zero(problem.unknowns()), true);
+  State s0 = forward(problem, Eigen::VectorXd::Zero(problem.unknowns()));
+  linearise(problem, s0);
   reference_ = s0.v;
   const Eigen::VectorXd w =
       s0.J.colwise().squaredNorm().transpose().array().sqrt();  // NOSER, p = 1/2
@@ -146,7 +152,8 @@ Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report)
     f.prior = f.project(f.prior);
   }
   Report r;
-  State s = f.evaluate(f.prior, true);
+  State s = f.evaluate(f.prior);
+  linearise(p, s);
   r.residual.push_back((s.v - f.target).norm());
   r.objective.push_back(s.phi);
   r.message = message("%.0f iterations without meeting the tolerances", options_.max_iterations);
@@ -163,7 +170,7 @@ Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report)
       break;
     }
     auto trial = detail::armijo_backtracking(
-        s.phi, [&](double t) { return f.evaluate(f.project(s.x + t * delta), false); },
+        s.phi, [&](double t) { return f.evaluate(f.project(s.x + t * delta)); },
         [&](const State& next) { return 2 * g.dot(next.x - s.x); });
     if (!trial) {
       r.termination = GaussNewtonTermination::no_descent;
@@ -182,7 +189,8 @@ Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report)
       s = std::move(*trial);
       break;
     }
-    s = f.evaluate(std::move(trial->x), true);  // re-linearise only when another step follows
+    s = std::move(*trial);
+    linearise(p, s);  // only when another step follows
   }
   if (report) *report = r;
   return p.to_image(-s.x);  // on the label scale: -dsigma / sigma_0 (against sigma_0 in both modes)
