@@ -352,6 +352,20 @@ TEST_F(Cli, ImportMeasuredFrames) {
   EXPECT_FALSE(fs::exists(path("bad.h5")));
 }
 
+// Flags refused while parsing are bad input too: exit 2, a message naming the flag, no output.
+TEST_F(Cli, RefusedFlagsExitTwoAndWriteNothing) {
+  const std::pair<std::string, std::string> cases[] = {{"train --floor 2", "--floor"},
+                                                       {"train --warmup -1", "--warmup"},
+                                                       {"reconstruct --lambda -1", "--lambda"},
+                                                       {"mesh --no-such-flag", "--no-such-flag"}};
+  for (const auto& [args, flag] : cases) {
+    const Result r = run(args + " --out " + path("refused.out"));
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(flag), std::string::npos) << args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(path("refused.out"))) << args;
+  }
+}
+
 TEST_F(Cli, HelpIsAvailableEverywhere) {
   for (const std::string sub : {"", "mesh", "forward", "jacobian", "augment", "simulate", "info",
                                 "show", "import", "reconstruct", "train", "run", "compare"}) {

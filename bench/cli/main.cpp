@@ -30,7 +30,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help exits 0; a flag CLI11 refuses (unknown, out of range, missing) is bad input, 2 like
+    // every other, not CLI11's own code (105 for a value out of range).
+    return app.exit(e) == 0 ? 0 : 2;
   }
   try {
     for (auto* sub : app.get_subcommands()) actions.at(sub)();
