@@ -90,18 +90,6 @@ void GaussNewtonOptions::validate() const {
   if (!(max_ratio > 1) || !std::isfinite(max_ratio)) fail("max_ratio", "must be above 1");
 }
 
-const char* to_string(GaussNewtonTermination t) {
-  switch (t) {
-    case GaussNewtonTermination::converged:
-      return "converged";
-    case GaussNewtonTermination::no_descent:
-      return "no descent";
-    case GaussNewtonTermination::iteration_limit:
-      return "iteration limit";
-  }
-  return "?";
-}
-
 GaussNewton::GaussNewton(std::shared_ptr<const LinearProblem> shared,
                          const GaussNewtonOptions& options)
     : problem_(require_problem(std::move(shared), "GaussNewton")),
@@ -163,8 +151,8 @@ Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report)
     // The Gauss-Newton model's own prediction of the decrease: -g^T delta (Phi = 2x the model).
     const double predicted = -g.dot(delta) / s.phi;
     if (!(predicted >= options_.tolerance)) {
-      r.termination = predicted >= 0 || std::isnan(predicted) ? GaussNewtonTermination::converged
-                                                              : GaussNewtonTermination::no_descent;
+      r.termination = predicted >= 0 || std::isnan(predicted) ? Termination::converged
+                                                              : Termination::no_descent;
       r.message = message("the model predicts a relative decrease of %.3g (tolerance %.3g)",
                           predicted, options_.tolerance);
       break;
@@ -173,7 +161,7 @@ Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report)
         s.phi, [&](double t) { return f.evaluate(f.project(s.x + t * delta)); },
         [&](const State& next) { return 2 * g.dot(next.x - s.x); });
     if (!trial) {
-      r.termination = GaussNewtonTermination::no_descent;
+      r.termination = Termination::no_descent;
       r.message = message("no step along the direction lowered Phi = %.4g enough", s.phi);
       break;
     }
@@ -183,7 +171,7 @@ Eigen::VectorXd GaussNewton::solve(const Eigen::VectorXd& frame, Report* report)
     if (decrease < options_.tolerance ||
         r.residual.back() < options_.residual_tolerance * f.target.norm()) {
       ++r.iterations;
-      r.termination = GaussNewtonTermination::converged;
+      r.termination = Termination::converged;
       r.message = message("relative decrease %.3g, relative residual %.3g", decrease,
                           r.residual.back() / f.target.norm());
       s = std::move(*trial);

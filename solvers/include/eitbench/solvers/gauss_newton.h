@@ -22,6 +22,7 @@
 
 #include "eitbench/solvers/linear_problem.h"
 #include "eitbench/solvers/reconstructor.h"
+#include "eitbench/solvers/termination.h"
 
 namespace eitbench {
 
@@ -41,13 +42,6 @@ struct GaussNewtonOptions {
   void validate() const;
 };
 
-enum class GaussNewtonTermination {
-  converged,        // Phi's relative decrease or the relative residual fell below tolerance
-  no_descent,       // no step along the Gauss-Newton direction decreased Phi enough
-  iteration_limit,  // max_iterations steps, each a descent, without meeting the tolerances
-};
-const char* to_string(GaussNewtonTermination t);
-
 class GaussNewton : public Reconstructor {
  public:
   // Keeps `problem` (shared with the other methods built on it) for as long as it lives.
@@ -63,9 +57,9 @@ class GaussNewton : public Reconstructor {
     std::vector<double> residual;
     std::vector<double> objective;
     int iterations = 0;  // steps accepted
-    GaussNewtonTermination termination = GaussNewtonTermination::iteration_limit;
+    Termination termination = Termination::iteration_limit;
     std::string message;  // why it stopped, with the figures that decided it
-    bool converged() const { return termination == GaussNewtonTermination::converged; }
+    bool converged() const { return termination == Termination::converged; }
   };
   Eigen::VectorXd solve(const Eigen::VectorXd& frame, Report* report) const;
   double lambda() const { return lambda_; }
