@@ -34,6 +34,7 @@ struct Args {
   bool absolute = false;
   std::string neighbours = "pixels";
   double tolerance = 0;
+  std::string split = "test";
 };
 
 void add_options(CLI::App* cmd, Args* args) {
@@ -48,6 +49,11 @@ void add_options(CLI::App* cmd, Args* args) {
                   "reference frame for measured data (see 'import')");
   cmd->add_option("--variable", args->variable,
                   "array or variable holding the frames (.npz, .mat)");
+  cmd->add_option("--split", args->split,
+                  "the data set's split to reconstruct (validation: to tune a method by hand "
+                  "without looking at the test frames)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"train", "validation", "test"}));
   cmd->add_option("--frames", args->frames, "frames A:B of those selected (0-based, B excluded)");
   cmd->add_option("--order", args->order, "order of L(L-3)-value measured frames")
       ->capture_default_str()
@@ -126,8 +132,12 @@ Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) 
     data = import_measurements(args->data, args->reference, o);
   }
   std::vector<int>& selected = s.rows;
-  selected = data.indices(Split::test);
-  if (selected.empty()) throw InputError(args->data, "split", "no test frames to reconstruct");
+  const Split split = args->split == "train"        ? Split::train
+                      : args->split == "validation" ? Split::validation
+                                                    : Split::test;
+  selected = data.indices(split);
+  if (selected.empty())
+    throw InputError(args->data, "split", "no " + args->split + " frames to reconstruct");
   const auto [a, b] = parse_range(args->frames, static_cast<int>(selected.size()));
   selected = std::vector<int>(selected.begin() + a, selected.begin() + b);
   SampleMatrix& frames = s.frames;
