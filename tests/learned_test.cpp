@@ -267,6 +267,34 @@ TEST(Trainer, SameSeedSameModel) {
   EXPECT_LT((one - two).cwiseAbs().maxCoeff(), 1e-3 * one.cwiseAbs().maxCoeff());
 }
 
+// The step callback reads the loss at most 64 times a round (each read is a device sync), and what
+// it reports adds up to the round's training loss; a callback changes nothing in the training.
+TEST(Trainer, StepCallbackIsThinnedAndAddsUpToTheRoundLoss) {
+  const Dataset& data = tiny();
+  TrainingOptions o;
+  o.epochs = 10;
+  o.batch_size = 4;
+  o.validate_every = 1 << 20;  // one round: the whole budget
+  auto trainer = [&] {
+    return Trainer(test_network(), o, labelled_frames(data, Split::train),
+                   labelled_frames(data, Split::validation), sensor_of(data));
+  };
+  Trainer with = trainer(), without = trainer();
+  long long calls = 0, last = 0, total_steps = 0;
+  double weighted = 0;
+  const TrainingRecord r = with.run_round([&](long long step, long long steps, double loss) {
+    EXPECT_GT(step, last);
+    weighted += loss * double(step - last), last = step, total_steps = steps, ++calls;
+  });
+  ASSERT_GT(total_steps, 64);  // enough steps for the thinning to show
+  EXPECT_LE(calls, 64);
+  EXPECT_EQ(last, total_steps);  // the last step is always reported
+  EXPECT_NEAR(weighted / double(total_steps), r.train_loss, 1e-12 * r.train_loss);
+  const TrainingRecord plain = without.run_round();
+  EXPECT_EQ(plain.train_loss, r.train_loss);
+  EXPECT_EQ(plain.validation_loss, r.validation_loss);
+}
+
 TEST(Trainer, BadInputIsRefused) {
   const Dataset& data = tiny();
   const LabelledFrames train = labelled_frames(data, Split::train);

@@ -183,4 +183,9 @@ Eigen::VectorXd FrameSymmetry::apply(AugmentGroup group, const GroupElement& g,
   return group == AugmentGroup::paper ? apply_paper(g, frame, layout) : apply(g, frame, layout);
 }
 
+const std::vector<int>& FrameSymmetry::table(AugmentGroup group, const GroupElement& g,
+                                             FrameLayout layout) const {
+  return group == AugmentGroup::paper ? paper_permutation(g, layout) : permutation(g, layout);
+}
+
 }  // namespace eitbench

@@ -100,24 +100,32 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
                                               torch::optim::AdamOptions(options.learning_rate));
 }
 
-// Mean and standard deviation of every input over the augmented training set: each frame under
-// every group element (two passes, in double; a frame's orbit is a set of permutations of it).
+// Mean and standard deviation of every input over the augmented training set. A frame's orbit is
+// the frame gathered through one index table per group element, so the orbit's moments follow
+// from the plain per-input moments, gathered: O(N d + |G| d) work instead of O(N |G| d). With
+// m0, Q the plain mean and centred sum of squares of input j, and t a table, the augmented
+// input i collects sum_t (Q[t_i] + N (m0[t_i] - mean_i)^2) about its mean: no cancellation.
 void Trainer::Impl::input_statistics() {
   const FrameSymmetry symmetry(setup.electrodes);
   const auto elements = group_elements(setup.group, setup.electrodes);
-  const Eigen::Index d = train->frames.cols();
-  const double count = double(train->frames.rows()) * double(elements.size());
-  auto for_each = [&](const std::function<void(const Eigen::VectorXd&)>& f) {
-    for (Eigen::Index i = 0; i < train->frames.rows(); ++i) {
-      const Eigen::VectorXd frame = train->frames.row(i).transpose();
-      for (const GroupElement& g : elements) f(symmetry.apply(setup.group, g, frame, setup.layout));
-    }
-  };
+  const SampleMatrix& x = train->frames;
+  const Eigen::Index d = x.cols();
+  const double n = double(x.rows()), count = n * double(elements.size());
+  const Eigen::VectorXd m0 = x.colwise().mean().transpose();
+  const Eigen::VectorXd q = (x.rowwise() - m0.transpose()).colwise().squaredNorm().transpose();
+  std::vector<const std::vector<int>*> tables;
+  for (const GroupElement& g : elements)
+    tables.push_back(&symmetry.table(setup.group, g, setup.layout));
   mean = Eigen::VectorXd::Zero(d);
-  for_each([&](const Eigen::VectorXd& v) { mean += v; });
-  mean /= count;
+  for (const auto* t : tables)
+    for (Eigen::Index i = 0; i < d; ++i) mean[i] += m0[(*t)[i]];
+  mean /= double(tables.size());
   Eigen::VectorXd square = Eigen::VectorXd::Zero(d);
-  for_each([&](const Eigen::VectorXd& v) { square += (v - mean).cwiseAbs2(); });
+  for (const auto* t : tables)
+    for (Eigen::Index i = 0; i < d; ++i) {
+      const int j = (*t)[i];
+      square[i] += q[j] + n * (m0[j] - mean[i]) * (m0[j] - mean[i]);
+    }
   std = (square / count).cwiseSqrt();
   // A constant input (e.g. a single frame) would divide by zero: scale it by 1.
   const double floor = 1e-12 * std::max(std.maxCoeff(), 1e-300);
@@ -204,8 +212,14 @@ TrainingRecord Trainer::run_round(const StepCallback& on_step) {
   SampleMatrix frames, labels;
   std::vector<long long> order;
   int epoch = 0;  // of `order`
-  double loss_sum = 0, rate = 0;
+  double rate = 0;
   long long samples = 0;
+  // The batch losses add up on the device: reading one forces a device sync, so the sum is read
+  // only when on_step is due (at most 64 times a round) and at the end of the round.
+  auto loss_sum = torch::zeros({}, torch::TensorOptions().dtype(torch::kFloat64).device(m.device));
+  const long long report_every = std::max<long long>(1, (steps + 63) / 64);
+  double reported = 0;
+  long long reported_steps = 0;
   const auto start = std::chrono::steady_clock::now();
   for (long long s = 0; s < steps; ++s) {
     const long long step = m.steps_done + s;
@@ -221,10 +235,13 @@ TrainingRecord Trainer::run_round(const StepCallback& on_step) {
     const auto loss = torch::mse_loss(m.net->forward(x), y);
     loss.backward();
     m.adam->step();
-    const double value = loss.item<double>();
-    loss_sum += value;
+    loss_sum += loss.detach().to(torch::kFloat64);
     samples += frames.rows();
-    if (on_step) on_step(s + 1, steps, value);
+    if (on_step && ((s + 1) % report_every == 0 || s + 1 == steps)) {
+      const double total = loss_sum.item<double>();
+      on_step(s + 1, steps, (total - reported) / double(s + 1 - reported_steps));
+      reported = total, reported_steps = s + 1;
+    }
   }
   TrainingRecord r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -234,7 +251,7 @@ TrainingRecord Trainer::run_round(const StepCallback& on_step) {
   r.epoch = static_cast<int>((m.steps_done + m.steps_per_epoch - 1) / m.steps_per_epoch);
   r.steps = m.steps_done;
   r.samples = m.samples_done;
-  r.train_loss = loss_sum / double(steps);
+  r.train_loss = loss_sum.item<double>() / double(steps);
   r.learning_rate = rate;
   r.samples_per_second = r.seconds > 0 ? samples / r.seconds : 0;
   r.validation_loss = m.validate();

@@ -51,9 +51,10 @@ TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptio
   long long steps = done_before;
   while (!trainer->done()) {
     double loss_sum = 0;
-    long long count = 0;
-    const TrainingRecord r = trainer->run_round([&](long long, long long, double loss) {
-      loss_sum += loss, ++count, ++steps;
+    long long count = 0, round_steps = 0;
+    const TrainingRecord r = trainer->run_round([&](long long step, long long, double loss) {
+      loss_sum += loss * double(step - round_steps), count += step - round_steps;
+      steps += step - round_steps, round_steps = step;
       const long long epoch = (steps + trainer->steps_per_epoch() - 1) / trainer->steps_per_epoch();
       progress.update(static_cast<int>(steps),
                       fmt::format("epoch {}, loss {:.4g}", epoch, loss_sum / count));

@@ -74,6 +74,9 @@ class FrameSymmetry {
   const std::vector<int>& paper_permutation(const GroupElement& g, FrameLayout layout) const;
   Eigen::VectorXd apply(AugmentGroup group, const GroupElement& g, const Eigen::VectorXd& frame,
                         FrameLayout layout) const;
+  // The index table that apply(group, g, ., layout) gathers through.
+  const std::vector<int>& table(AugmentGroup group, const GroupElement& g,
+                                FrameLayout layout) const;
 
  private:
   Protocol protocol_;

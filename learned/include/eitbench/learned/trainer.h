@@ -62,7 +62,9 @@ std::vector<TrainingRecord> history_from_json(const std::string& text, const std
 // batch when it holds at least 2 samples (BatchNorm needs 2).
 long long steps_per_epoch(long long samples, int batch_size);
 
-// Called after each optimiser step: (step within the round, steps in the round, batch loss).
+// Called at most 64 times a round, and after its last step: (step within the round, steps in the
+// round, the mean batch loss since the previous call). Not after every step: reading a loss
+// forces a device sync, which would dominate a GPU step of a small network.
 using StepCallback = std::function<void(long long, long long, double)>;
 
 class Trainer {
