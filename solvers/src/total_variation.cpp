@@ -117,16 +117,25 @@ Eigen::VectorXd chambolle_pock(const TotalVariation::Impl& im, const Eigen::Vect
 
 }  // namespace
 
+void TotalVariationOptions::validate() const {
+  auto fail = [](const char* field, const std::string& why) {
+    throw InputError("TotalVariationOptions", field, why);
+  };
+  if (!(alpha > 0) || !std::isfinite(alpha))
+    fail("alpha", "the TV weight must be positive and finite");
+  if (!(tolerance > 0) || !std::isfinite(tolerance))
+    fail("tolerance", "must be positive and finite");
+  if (max_iterations < 1) fail("max_iterations", "must be at least 1");
+}
+
 TotalVariation::TotalVariation(std::shared_ptr<const LinearProblem> shared,
                                const TotalVariationOptions& options)
     : impl_(std::make_unique<Impl>()),
       problem_(require_problem(std::move(shared), "TotalVariation")),
       options_(options),
       alpha_(options.alpha) {
+  options.validate();
   const LinearProblem& problem = *problem_;
-  if (!(options.alpha > 0) || !std::isfinite(options.alpha))
-    throw InputError("--lambda", "", "the TV weight must be positive");
-  if (!(options.tolerance > 0)) throw InputError("tolerance", "", "must be positive");
   const int n = problem.image_size;
   std::vector<int> column(static_cast<std::size_t>(n) * n, -1);
   for (std::size_t j = 0; j < problem.pixels.size(); ++j)

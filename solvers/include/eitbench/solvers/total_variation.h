@@ -22,6 +22,10 @@ struct TotalVariationOptions {
   // pixels: isotropic TV of the image; elements: sum over interior mesh edges of
   // (edge length / pixel width) |difference of the two elements' values P x| (anisotropic).
   Neighbours neighbours = Neighbours::pixels;
+
+  // Throws InputError("TotalVariationOptions", field) when alpha or tolerance is not positive
+  // and finite, or max_iterations is below 1.
+  void validate() const;
 };
 
 class TotalVariation : public Reconstructor {
