@@ -4,19 +4,20 @@
 //  - pixel_shuffle (sub-pixel convolution): one stage per entry c of decoder_channels (3x3
 //    convolution to 4c channels at the current size, pixel shuffle to c channels at twice the size,
 //    BatchNorm, ReLU), then an output stage (3x3 convolution to 4 channels, pixel shuffle to the
-//    image). Every convolution runs at half the size it produces: 2.7x the training throughput of
-//    `nearest` on 2 cores (oneDNN's backward pass is slow on few channels at large sizes).
+//    image). Every convolution runs at half the size it produces, so it trains several times faster
+//    than `nearest` on a CPU (oneDNN's backward pass is slow on few channels at large sizes;
+//    docs/learned.md has the measurements).
 //  - nearest: one stage per entry (nearest 2x upsampling, 3x3 convolution, BatchNorm, ReLU), then a
 //    3x3 convolution to one channel at full size; the form of models made before pixel_shuffle.
 // Either is masked to the disk. Neither uses ConvTranspose2d: it has no oneDNN kernel in Debian's
-// LibTorch 1.13 and trained 2-10x slower per FLOP here.
+// LibTorch 1.13 and trained several times slower per FLOP (docs/learned.md).
 #include <string>
 #include <vector>
 
 namespace eitbench {
 
 enum class ModelSize {
-  small,  // sized for a 2-core CPU: ~1,000 training samples/s
+  small,  // sized for a 2-core CPU (its training speed: docs/learned.md)
   paper,  // the paper's widths (104 -> 512 -> 1024 -> 64 x 8 x 8); GPU advised
 };
 ModelSize parse_model_size(const std::string& name, const std::string& source = "ModelSize");
