@@ -522,5 +522,27 @@ TEST(Augment, RejectsBadSets) {
   EXPECT_THROW(expand(set, setup), InputError);  // 104 values do not fit L = 8
 }
 
+// The setup is validated before the augmenter builds its tables from it, naming the field.
+TEST(Augment, SetupValidateNamesTheField) {
+  using testing::input_error_at;
+  EXPECT_EQ(input_error_at([] { AugmentSetup{}.validate(); }), "no InputError");
+  LabelledFrames set;
+  set.frames = SampleMatrix::Ones(2, 104);
+  const auto shared = std::make_shared<const LabelledFrames>(set);
+  const std::pair<void (*)(AugmentSetup&), std::string> cases[] = {
+      {[](AugmentSetup& s) { s.electrodes = 3; }, "electrodes"},
+      {[](AugmentSetup& s) { s.image_size = 0; }, "image_size"},
+      {[](AugmentSetup& s) { s.radius = -1; }, "radius"},
+  };
+  for (const auto& [spoil, field] : cases) {
+    AugmentSetup setup;
+    spoil(setup);
+    EXPECT_EQ(input_error_at([&] { setup.validate(); }), "AugmentSetup." + field);
+    EXPECT_EQ(input_error_at([&] { expand(set, setup); }), "AugmentSetup." + field);
+    EXPECT_EQ(input_error_at([&] { OnTheFlyAugmenter(shared, setup, 1); }),
+              "AugmentSetup." + field);
+  }
+}
+
 }  // namespace
 }  // namespace eitbench
