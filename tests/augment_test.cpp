@@ -94,6 +94,11 @@ TEST(Group, ParseAndPrintElements) {
     EXPECT_THROW(parse_element(bad, 16), InputError) << bad;
   EXPECT_EQ(parse_group("d16"), AugmentGroup::dihedral);
   EXPECT_THROW(parse_group("d8x"), InputError);
+  // Unless the caller names where the name came from (the command line passes its flag), the
+  // error names what was being parsed.
+  EXPECT_EQ(testing::input_error_at([] { parse_group("d8x"); }), "AugmentGroup.");
+  EXPECT_EQ(testing::input_error_at([] { parse_group("d8x", "--group"); }), "--group.");
+  EXPECT_EQ(testing::input_error_at([] { parse_element("spin:1", 16); }), "GroupElement.");
   EXPECT_EQ(group_elements(AugmentGroup::dihedral, 16).size(), 32u);
   EXPECT_EQ(group_elements(AugmentGroup::rotations, 16).size(), 16u);
   EXPECT_EQ(group_elements(AugmentGroup::mirror, 16).size(), 2u);
@@ -206,6 +211,28 @@ TEST(ImpedanceMap, RoundTripsAndLayout) {
   EXPECT_EQ(frame_layout(208, 16, MeasurementOrder::ascending, "x"), FrameLayout::ascending);
   EXPECT_THROW(frame_layout(103, 16, MeasurementOrder::rotating, "x"), InputError);
   EXPECT_THROW(frame_layout(208, 8, MeasurementOrder::rotating, "x"), InputError);
+}
+
+// Frames, maps and images are data: one of the wrong size is bad input, not a programming error.
+TEST(ImpedanceMap, DataOfTheWrongSizeIsBadInput) {
+  using testing::input_error_at;
+  const Protocol p(16);
+  const Eigen::VectorXd short_frame = Eigen::VectorXd::Ones(103);
+  EXPECT_EQ(input_error_at([&] { impedance_map(short_frame, p, FrameLayout::reduced); }),
+            "frame.values");
+  EXPECT_EQ(input_error_at(
+                [&] { frame_from_map(Eigen::MatrixXd::Ones(16, 16), p, FrameLayout::reduced); }),
+            "map.shape");
+  const FrameSymmetry symmetry(16);
+  EXPECT_EQ(input_error_at([&] {
+              symmetry.apply({1, false}, short_frame, FrameLayout::reduced);
+            }),
+            "frame.values");
+  const ImageSymmetry images(16, PixelGrid(16, 1.0));
+  EXPECT_EQ(input_error_at([&] {
+              images.apply({1, false}, Eigen::VectorXd::Ones(255));
+            }),
+            "image.pixels");
 }
 
 TEST(Paper, AlgorithmOneEqualsTheRotations) {
@@ -493,6 +520,28 @@ TEST(Augment, RejectsBadSets) {
   setup.electrodes = 8;
   set.labels.resize(0, 0);
   EXPECT_THROW(expand(set, setup), InputError);  // 104 values do not fit L = 8
+}
+
+// The setup is validated before the augmenter builds its tables from it, naming the field.
+TEST(Augment, SetupValidateNamesTheField) {
+  using testing::input_error_at;
+  EXPECT_EQ(input_error_at([] { AugmentSetup{}.validate(); }), "no InputError");
+  LabelledFrames set;
+  set.frames = SampleMatrix::Ones(2, 104);
+  const auto shared = std::make_shared<const LabelledFrames>(set);
+  const std::pair<void (*)(AugmentSetup&), std::string> cases[] = {
+      {[](AugmentSetup& s) { s.electrodes = 3; }, "electrodes"},
+      {[](AugmentSetup& s) { s.image_size = 0; }, "image_size"},
+      {[](AugmentSetup& s) { s.radius = -1; }, "radius"},
+  };
+  for (const auto& [spoil, field] : cases) {
+    AugmentSetup setup;
+    spoil(setup);
+    EXPECT_EQ(input_error_at([&] { setup.validate(); }), "AugmentSetup." + field);
+    EXPECT_EQ(input_error_at([&] { expand(set, setup); }), "AugmentSetup." + field);
+    EXPECT_EQ(input_error_at([&] { OnTheFlyAugmenter(shared, setup, 1); }),
+              "AugmentSetup." + field);
+  }
 }
 
 }  // namespace

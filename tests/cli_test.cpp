@@ -366,6 +366,19 @@ TEST_F(Cli, RefusedFlagsExitTwoAndWriteNothing) {
   }
 }
 
+// The libraries name a bad option by its struct and field; the user still reads the flag. The
+// warm-up and the decay are each in range, so only the schedule's own check can refuse them.
+TEST_F(Cli, OptionsRefusedByALibraryNameTheFlag) {
+  const Result r = run("train --data " + path("missing.h5") + " --warmup 0.5 --decay 0.4 --out " +
+                       path("model.pt"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--warmup: the warm-up must end before the decay does"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("ScheduleOptions"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("model.pt")));
+}
+
 TEST_F(Cli, HelpIsAvailableEverywhere) {
   for (const std::string sub : {"", "mesh", "forward", "jacobian", "augment", "simulate", "info",
                                 "show", "import", "reconstruct", "train", "run", "compare"}) {

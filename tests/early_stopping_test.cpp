@@ -8,6 +8,7 @@
 #include "eitbench/jacobian/error.h"
 #include "eitbench/learned.h"
 #include "learned_support.h"
+#include "test_support.h"
 
 namespace eitbench {
 namespace {
@@ -59,6 +60,55 @@ TEST(Schedule, WarmUpThenHalfCosineToTheFloor) {
   bad.decay_fraction = 0.4;  // the warm-up would outlast the decay
   EXPECT_THROW(LearningRateSchedule(peak, total, bad), InputError);
   EXPECT_THROW(parse_schedule("linear"), InputError);
+}
+
+// Every options struct of training validates every field in one place and names the field at
+// fault, not a command-line flag (the command line maps the fields back to its flags).
+TEST(TrainingOptions, ValidateNamesTheField) {
+  using testing::input_error_at;
+  auto at = [](const auto& options) { return input_error_at([&] { options.validate(); }); };
+  EXPECT_EQ(at(TrainingOptions{}), "no InputError");
+  EXPECT_EQ(at(ScheduleOptions{}), "no InputError");
+  EXPECT_EQ(at(NetworkOptions{}), "no InputError");
+  const std::pair<void (*)(TrainingOptions&), std::string> cases[] = {
+      {[](TrainingOptions& o) { o.epochs = -1; }, "TrainingOptions.epochs"},
+      {[](TrainingOptions& o) { o.steps = -1; }, "TrainingOptions.steps"},
+      {[](TrainingOptions& o) { o.epochs = 2, o.steps = 10; }, "TrainingOptions.steps"},
+      {[](TrainingOptions& o) { o.batch_size = 1; }, "TrainingOptions.batch_size"},
+      {[](TrainingOptions& o) { o.learning_rate = 0; }, "TrainingOptions.learning_rate"},
+      {[](TrainingOptions& o) { o.validate_every = 0; }, "TrainingOptions.validate_every"},
+      {[](TrainingOptions& o) { o.patience = -1; }, "TrainingOptions.patience"},
+      {[](TrainingOptions& o) { o.min_improvement = 1; }, "TrainingOptions.min_improvement"},
+      {[](TrainingOptions& o) { o.device = "tpu"; }, "TrainingOptions.device"},
+      // The schedule is validated with them, under its own name.
+      {[](TrainingOptions& o) { o.schedule.final_fraction = 2; }, "ScheduleOptions.final_fraction"},
+      {[](TrainingOptions& o) { o.schedule.warmup_fraction = 0.7; },
+       "ScheduleOptions.warmup_fraction"},  // past the decay at 0.6
+  };
+  for (const auto& [spoil, where] : cases) {
+    TrainingOptions o;
+    spoil(o);
+    EXPECT_EQ(at(o), where);
+  }
+  ScheduleOptions s;
+  s.decay_fraction = -0.1;
+  EXPECT_EQ(at(s), "ScheduleOptions.decay_fraction");
+  NetworkOptions n;
+  n.dropout = 1;
+  EXPECT_EQ(at(n), "NetworkOptions.dropout");
+  n = {};
+  n.latent_size = 4;  // 4 * 2^3 != 64
+  EXPECT_EQ(at(n), "NetworkOptions.image_size");
+}
+
+// The trainer validates its options before it looks at the data.
+TEST(TrainingOptions, TheTrainerValidatesThem) {
+  TrainingOptions o;
+  o.batch_size = 0;
+  EXPECT_EQ(testing::input_error_at([&] {
+              Trainer(test_network(), o, LabelledFrames{}, LabelledFrames{}, AugmentSetup{});
+            }),
+            "TrainingOptions.batch_size");
 }
 
 TEST(Schedule, TheTrainerFollowsIt) {

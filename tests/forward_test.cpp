@@ -218,5 +218,24 @@ TEST(ForwardModel, RejectsBadInput) {
   }
 }
 
+TEST(ForwardModel, ValidateNamesTheField) {
+  using testing::input_error_at;
+  ForwardOptions o;
+  EXPECT_EQ(input_error_at([&] { o.validate(); }), "no InputError");
+  o.current = INFINITY;
+  EXPECT_EQ(input_error_at([&] { o.validate(); }), "ForwardOptions.current");
+  o = {};
+  o.contact_impedance = -1;
+  EXPECT_EQ(input_error_at([&] { o.validate(); }), "ForwardOptions.contact_impedance");
+  o.contact_impedances = Eigen::VectorXd::Constant(16, 0.01);  // overrides contact_impedance
+  EXPECT_EQ(input_error_at([&] { o.validate(); }), "no InputError");
+  o.contact_impedances[3] = NAN;
+  EXPECT_EQ(input_error_at([&] { o.validate(); }), "ForwardOptions.contact_impedances");
+  // One value per electrode is checked against the mesh.
+  o.contact_impedances = Eigen::VectorXd::Constant(15, 0.01);
+  EXPECT_EQ(input_error_at([&] { ForwardModel(testing::disk(16, MeshDensity::coarse), o); }),
+            "ForwardOptions.contact_impedances");
+}
+
 }  // namespace
 }  // namespace eitbench

@@ -101,6 +101,14 @@ TEST(PixelGrid, CentresAndMaskFollowTheSpec) {
   EXPECT_NEAR(grid.num_inside() / 4096.0, M_PI / 4, 0.01);
 }
 
+// The size and radius come from a data set or a user: bad input, named by the field.
+TEST(PixelGrid, RefusesABadSizeOrRadiusAsInput) {
+  using testing::input_error_at;
+  EXPECT_EQ(input_error_at([] { PixelGrid(0, 1.0); }), "PixelGrid.size");
+  EXPECT_EQ(input_error_at([] { PixelGrid(64, 0.0); }), "PixelGrid.radius");
+  EXPECT_EQ(input_error_at([] { PixelGrid(64, INFINITY); }), "PixelGrid.radius");
+}
+
 TEST(PixelGrid, OverlapConservesAreaAndMapsAreMeans) {
   const Mesh& mesh = testing::disk(16, MeshDensity::medium);
   const PixelGrid grid(64, 1.0);

@@ -144,6 +144,25 @@ TEST(DiskMeshGenerator, RejectsBadOptions) {
   EXPECT_THROW(parse_density("dense"), InputError);
 }
 
+// Each bad field is named by the struct and the field, not by a command-line flag.
+TEST(DiskMeshGenerator, ValidateNamesTheField) {
+  using testing::input_error_at;
+  EXPECT_EQ(input_error_at([] { DiskMeshOptions{}.validate(); }), "no InputError");
+  const std::pair<void (*)(DiskMeshOptions&), std::string> cases[] = {
+      {[](DiskMeshOptions& o) { o.electrodes = 257; }, "electrodes"},
+      {[](DiskMeshOptions& o) { o.radius = INFINITY; }, "radius"},
+      {[](DiskMeshOptions& o) { o.electrode_coverage = 0; }, "electrode_coverage"},
+      {[](DiskMeshOptions& o) { o.size_factor = 0.05; }, "size_factor"},
+  };
+  for (const auto& [spoil, field] : cases) {
+    DiskMeshOptions o;
+    spoil(o);
+    EXPECT_EQ(input_error_at([&] { o.validate(); }), "DiskMeshOptions." + field);
+    EXPECT_EQ(input_error_at([&] { generate_disk_mesh(o); }), "DiskMeshOptions." + field);
+  }
+  EXPECT_EQ(input_error_at([] { parse_density("dense"); }), "MeshDensity.name");
+}
+
 Mesh square() {  // two triangles, four point electrodes at the corners
   Mesh m;
   m.nodes.resize(4, 2);

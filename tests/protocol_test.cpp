@@ -17,7 +17,14 @@ TEST(Protocol, SizesForAnyL) {
   }
   EXPECT_EQ(Protocol(16).frame_size(), 208);
   EXPECT_EQ(Protocol(16).reduced_size(), 104);
-  EXPECT_THROW(Protocol(3), std::invalid_argument);
+  // L comes from a sensor, a file or a flag: bad input, not a programming error.
+  try {
+    Protocol(3);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "Protocol");
+    EXPECT_EQ(e.field(), "electrodes");
+  }
 }
 
 TEST(Protocol, RotatingOrderIsTheElectricalImpedanceMap) {
@@ -95,12 +102,19 @@ TEST(Protocol, ReciprocityErrorMeasuresAsymmetry) {
   Eigen::VectorXd v = p.expand(Eigen::VectorXd::Ones(104), MeasurementOrder::rotating);
   v[p.index(0, 2, MeasurementOrder::rotating)] = 3;  // one value off by 2 against its partner 1
   EXPECT_NEAR(p.reciprocity_error(v, MeasurementOrder::rotating), std::sqrt(4.0) / v.norm(), 1e-15);
+  // A frame is data: one of the wrong length is bad input.
   EXPECT_THROW(p.reorder(Eigen::VectorXd::Ones(207), MeasurementOrder::rotating,
                          MeasurementOrder::ascending),
-               std::invalid_argument);
-  EXPECT_THROW(p.expand(Eigen::VectorXd::Ones(103), MeasurementOrder::rotating),
-               std::invalid_argument);
-  EXPECT_THROW(parse_order("descending"), InputError);
+               InputError);
+  EXPECT_THROW(p.expand(Eigen::VectorXd::Ones(103), MeasurementOrder::rotating), InputError);
+  try {
+    parse_order("descending");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "MeasurementOrder: name: unknown measurement order "
+              "'descending' (rotating or ascending)");
+  }
 }
 
 }  // namespace

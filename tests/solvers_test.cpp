@@ -149,6 +149,92 @@ TEST(Tikhonov, RejectsBadInput) {
   EXPECT_THROW(TotalVariation(s.problem, tv), InputError);
 }
 
+// Every options struct validates every field in one place and names the field at fault (the
+// command line maps fields back to its flags); each constructor calls it.
+TEST(SolverOptions, ValidateNamesTheField) {
+  using testing::input_error_at;
+  auto at = [](const auto& options) { return input_error_at([&] { options.validate(); }); };
+  EXPECT_EQ(at(TikhonovOptions{}), "no InputError");
+  EXPECT_EQ(at(GreitOptions{}), "no InputError");
+  EXPECT_EQ(at(TotalVariationOptions{}), "no InputError");
+  EXPECT_EQ(at(GaussNewtonOptions{}), "no InputError");
+
+  TikhonovOptions t;
+  t.choice = Choice::fixed;  // a fixed lambda has no scale-free default: it must be given
+  EXPECT_EQ(at(t), "TikhonovOptions.lambda");
+  t.lambda = 1e-3;
+  EXPECT_EQ(at(t), "no InputError");
+  t.lambda = -1;
+  EXPECT_EQ(at(t), "TikhonovOptions.lambda");
+  t = {};
+  t.lambda = 1e-3;  // GCV would ignore it
+  EXPECT_EQ(at(t), "TikhonovOptions.lambda");
+  t = {};
+  t.noser_exponent = -0.5;
+  EXPECT_EQ(at(t), "TikhonovOptions.noser_exponent");
+  t = {};
+  t.grid = 2;
+  EXPECT_EQ(at(t), "TikhonovOptions.grid");
+  t = {};
+  t.laplace_epsilon = 0;
+  EXPECT_EQ(at(t), "TikhonovOptions.laplace_epsilon");
+
+  const std::pair<void (*)(GreitOptions&), std::string> greit[] = {
+      {[](GreitOptions& o) { o.targets = 9; }, "targets"},
+      {[](GreitOptions& o) { o.target_radius = 1; }, "target_radius"},
+      {[](GreitOptions& o) { o.desired_radius = 0; }, "desired_radius"},
+      {[](GreitOptions& o) { o.lambda = 0; }, "lambda"},  // no longer "the default"
+      {[](GreitOptions& o) { o.lambda = NAN; }, "lambda"},
+  };
+  for (const auto& [spoil, field] : greit) {
+    GreitOptions o;
+    spoil(o);
+    EXPECT_EQ(at(o), "GreitOptions." + field);
+  }
+
+  const std::pair<void (*)(TotalVariationOptions&), std::string> tv[] = {
+      {[](TotalVariationOptions& o) { o.alpha = 0; }, "alpha"},
+      {[](TotalVariationOptions& o) { o.tolerance = -1; }, "tolerance"},
+      {[](TotalVariationOptions& o) { o.tolerance = INFINITY; }, "tolerance"},
+      {[](TotalVariationOptions& o) { o.max_iterations = 0; }, "max_iterations"},
+  };
+  for (const auto& [spoil, field] : tv) {
+    TotalVariationOptions o;
+    spoil(o);
+    EXPECT_EQ(at(o), "TotalVariationOptions." + field);
+  }
+
+  GaussNewtonOptions g;
+  g.max_iterations = -1;
+  EXPECT_EQ(at(g), "GaussNewtonOptions.max_iterations");
+
+  // Names parsed into an enum are named by the enum.
+  EXPECT_EQ(input_error_at([] { parse_prior("tv"); }), "Prior.name");
+  EXPECT_EQ(input_error_at([] { parse_choice("fixed"); }), "Choice.name");
+  EXPECT_EQ(input_error_at([] { parse_neighbours("nodes"); }), "Neighbours.name");
+}
+
+TEST(SolverOptions, ConstructorsValidate) {
+  using testing::input_error_at;
+  const Reconstruction& s = medium();
+  TikhonovOptions t;
+  t.laplace_epsilon = NAN;
+  EXPECT_EQ(input_error_at([&] { Tikhonov(s.problem, t); }), "TikhonovOptions.laplace_epsilon");
+  GreitOptions g;
+  g.desired_radius = -0.1;
+  EXPECT_EQ(input_error_at([&] { Greit(s.problem, g); }), "GreitOptions.desired_radius");
+  TotalVariationOptions tv;
+  tv.max_iterations = 0;
+  EXPECT_EQ(input_error_at([&] { TotalVariation(s.problem, tv); }),
+            "TotalVariationOptions.max_iterations");
+  // GREIT's lambda has a real default, reported as such; another value is reported as fixed.
+  EXPECT_NE(Greit(s.problem, {}).settings().find("lambda=0.01 (default)"), std::string::npos);
+  g = {};
+  g.targets = 20;
+  g.lambda = 0.1;
+  EXPECT_NE(Greit(s.problem, g).settings().find("lambda=0.1 (fixed)"), std::string::npos);
+}
+
 // A solver keeps the problem it is built on: one made from a temporary works after the caller's
 // handle is gone, and gives the images of the shared fixture's problem.
 TEST(LinearProblem, SolversKeepTheProblemTheyAreBuiltOn) {

@@ -11,6 +11,18 @@
 
 namespace eitbench::testing {
 
+// "source.field" of the InputError that `call` throws, so that a test can check that an error
+// names the options struct and the field at fault; "no InputError" when it throws none.
+template <class Call>
+std::string input_error_at(Call call) {
+  try {
+    call();
+  } catch (const InputError& e) {
+    return e.source() + "." + e.field();
+  }
+  return "no InputError";
+}
+
 // Element conductivities uniform in [0.5, 2]: a generic, far from symmetric medium.
 inline Eigen::VectorXd random_conductivity(int n, unsigned seed) {
   std::mt19937 rng(seed);

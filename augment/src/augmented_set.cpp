@@ -21,7 +21,18 @@ Eigen::VectorXd transformed_label(const LabelledFrames& set, int i, const GroupE
 
 }  // namespace
 
+void AugmentSetup::validate() const {
+  auto fail = [](const char* field, const std::string& why) {
+    throw InputError("AugmentSetup", field, why);
+  };
+  if (electrodes < 4)
+    fail("electrodes", "the protocol needs at least 4, got " + std::to_string(electrodes));
+  if (image_size < 1) fail("image_size", "must be positive, not " + std::to_string(image_size));
+  if (!(radius > 0) || !std::isfinite(radius)) fail("radius", "must be positive and finite");
+}
+
 void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup) {
+  setup.validate();
   const Eigen::Index n = set.frames.rows();
   if (n == 0) throw InputError("frames", "", "the set is empty");
   if (set.frames.cols() != frame_size(setup.layout, setup.electrodes))
@@ -74,7 +85,7 @@ LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup) {
 OnTheFlyAugmenter::OnTheFlyAugmenter(std::shared_ptr<const LabelledFrames> set,
                                      const AugmentSetup& setup, std::uint64_t seed)
     : set_(std::move(set)),
-      setup_(setup),
+      setup_((setup.validate(), setup)),  // before the tables are built from it
       seed_(seed),
       elements_(group_elements(setup.group, setup.electrodes)),
       symmetry_(setup.electrodes),

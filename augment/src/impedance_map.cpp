@@ -1,7 +1,6 @@
 #include "eitbench/augment/impedance_map.h"
 
 #include <limits>
-#include <stdexcept>
 
 #include "eitbench/jacobian/error.h"
 
@@ -11,8 +10,10 @@ namespace {
 // Any layout to the rotating order.
 Eigen::VectorXd to_rotating(const Eigen::VectorXd& frame, const Protocol& p, FrameLayout layout) {
   if (frame.size() != frame_size(layout, p.electrodes()))
-    throw std::invalid_argument("frame of " + std::to_string(frame.size()) + " values for layout " +
-                                to_string(layout));
+    throw InputError("frame", "values",
+                     "has " + std::to_string(frame.size()) + " values, not the " +
+                         std::to_string(frame_size(layout, p.electrodes())) + " of the " +
+                         to_string(layout) + " layout");
   switch (layout) {
     case FrameLayout::rotating:
       return frame;
@@ -47,7 +48,9 @@ Eigen::MatrixXd full_impedance_map(const Eigen::VectorXd& frame, const Protocol&
 Eigen::VectorXd frame_from_map(const Eigen::MatrixXd& map, const Protocol& p, FrameLayout layout) {
   const int L = p.electrodes();
   if (map.rows() != L || map.cols() != L - 3)
-    throw std::invalid_argument("frame_from_map: the map must be L x (L-3)");
+    throw InputError("map", "shape",
+                     std::to_string(map.rows()) + " x " + std::to_string(map.cols()) +
+                         ", not L x (L-3) = " + std::to_string(L) + " x " + std::to_string(L - 3));
   Eigen::VectorXd rotating(p.frame_size());
   for (int d = 0; d < L; ++d)
     for (int k = 0; k < L - 3; ++k) rotating[d * (L - 3) + k] = map(d, k);

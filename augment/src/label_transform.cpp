@@ -1,7 +1,8 @@
 #include "eitbench/augment/label_transform.h"
 
 #include <cmath>
-#include <stdexcept>
+
+#include "eitbench/jacobian/error.h"
 
 namespace eitbench {
 
@@ -45,8 +46,9 @@ ImageSymmetry::ImageSymmetry(int electrodes, const PixelGrid& grid)
 
 Eigen::VectorXd ImageSymmetry::gather(const Stencil& s, const Eigen::VectorXd& image) {
   if (4 * static_cast<std::size_t>(image.size()) != s.index.size())
-    throw std::invalid_argument("ImageSymmetry: image of " + std::to_string(image.size()) +
-                                " pixels, expected " + std::to_string(s.index.size() / 4));
+    throw InputError("image", "pixels",
+                     "has " + std::to_string(image.size()) + " pixels, not the grid's " +
+                         std::to_string(s.index.size() / 4));
   Eigen::VectorXd out(image.size());
   for (Eigen::Index p = 0; p < out.size(); ++p) {
     const std::size_t at = 4 * static_cast<std::size_t>(p);

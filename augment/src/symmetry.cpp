@@ -3,7 +3,6 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <stdexcept>
 
 #include "eitbench/jacobian/error.h"
 
@@ -23,8 +22,9 @@ int layout_index(FrameLayout layout) {
 // out[i] = frame[table[i]].
 Eigen::VectorXd gather(const std::vector<int>& table, const Eigen::VectorXd& frame) {
   if (frame.size() != static_cast<Eigen::Index>(table.size()))
-    throw std::invalid_argument("FrameSymmetry: frame of " + std::to_string(frame.size()) +
-                                " values, expected " + std::to_string(table.size()));
+    throw InputError("frame", "values",
+                     "has " + std::to_string(frame.size()) + " values, not the layout's " +
+                         std::to_string(table.size()));
   Eigen::VectorXd out(frame.size());
   for (std::size_t i = 0; i < table.size(); ++i) out[i] = frame[table[i]];
   return out;

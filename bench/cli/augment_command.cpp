@@ -52,9 +52,10 @@ std::function<void()> add_augment_command(CLI::App& app) {
       throw InputError("augment", "", "give --group or --element");
     if (is_hdf5_file(args->in)) {
       FileAugmentOptions o;
-      o.group = cmd->count("--group") ? parse_group(args->group) : AugmentGroup::dihedral;
+      o.group =
+          cmd->count("--group") ? parse_group(args->group, "--group") : AugmentGroup::dihedral;
       if (cmd->count("--element"))
-        o.elements = {parse_element(args->element, read_dataset(args->in).electrodes)};
+        o.elements = {parse_element(args->element, read_dataset(args->in).electrodes, "--element")};
       if (args->split == "all")
         o.splits = {Split::train, Split::validation, Split::test};
       else
@@ -71,10 +72,11 @@ std::function<void()> add_augment_command(CLI::App& app) {
     const Eigen::MatrixXd frames = read_frames_csv(args->in);
     const FrameLayout layout = frame_layout(frames.cols(), L, parse_order(args->order), args->in);
     const AugmentGroup kind =
-        cmd->count("--group") ? parse_group(args->group) : AugmentGroup::dihedral;
+        cmd->count("--group") ? parse_group(args->group, "--group") : AugmentGroup::dihedral;
     const std::vector<GroupElement> elements =
-        cmd->count("--group") ? group_elements(kind, L)
-                              : std::vector<GroupElement>{parse_element(args->element, L)};
+        cmd->count("--group")
+            ? group_elements(kind, L)
+            : std::vector<GroupElement>{parse_element(args->element, L, "--element")};
     const FrameSymmetry symmetry(L);
     const Eigen::Index k = static_cast<Eigen::Index>(elements.size());
     Eigen::MatrixXd out(frames.rows() * k, frames.cols());

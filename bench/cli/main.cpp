@@ -9,6 +9,7 @@
 #include "eitbench/bench/support/allocator.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
+#include "flag_names.h"
 
 int main(int argc, char** argv) {
   eitbench::keep_freed_memory();
@@ -39,7 +40,10 @@ int main(int argc, char** argv) {
   } catch (const eitbench::cli::RegressionFound&) {
     return 1;
   } catch (const eitbench::InputError& e) {
-    fmt::print(stderr, "eitbench: error: {}\n", e.what());
+    // A library names the options field; the user typed the flag.
+    const auto chosen = app.get_subcommands();
+    const std::string command = chosen.empty() ? "" : chosen.front()->get_name();
+    fmt::print(stderr, "eitbench: error: {}\n", eitbench::cli::name_the_flag(e, command).what());
     return 2;
   } catch (const std::exception& e) {
     fmt::print(stderr, "eitbench: error: {}\n", e.what());

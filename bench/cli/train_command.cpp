@@ -63,8 +63,9 @@ void add_options(CLI::App* cmd, Args* args) {
       ->required();
   cmd->add_option("--batch", args->options.batch_size, "batch size (default: 128 small, 512 paper)")
       ->check(CLI::Range(2, 1 << 20));
-  cmd->add_option("--lr", args->options.learning_rate,
-                  "Adam's peak learning rate (default: 1e-2 small, 1e-3 paper; the paper used 1e-4)")
+  cmd->add_option(
+         "--lr", args->options.learning_rate,
+         "Adam's peak learning rate (default: 1e-2 small, 1e-3 paper; the paper used 1e-4)")
       ->check(kPositive);
   cmd->add_option("--schedule", args->schedule,
                   "cosine (linear warm-up, a half cosine down to --floor x the peak at --decay "
@@ -123,12 +124,13 @@ void add_options(CLI::App* cmd, Args* args) {
 TrainingOptions training_options(Args& args, const CLI::App& cmd, ModelSize size) {
   TrainingOptions o = args.options;
   o.augment = parse_group(args.augment, "--augment");
-  o.device = resolve_device(args.device);
-  o.schedule.kind = parse_schedule(args.schedule);
+  o.device = resolve_device(args.device, "--device");
+  o.schedule.kind = parse_schedule(args.schedule, "--schedule");
   if (!cmd.count("--batch")) o.batch_size = size == ModelSize::paper ? 512 : 128;
   if (!cmd.count("--lr")) o.learning_rate = size == ModelSize::paper ? 1e-3 : 1e-2;
   if (!cmd.count("--epochs") && !cmd.count("--steps"))
     o.epochs = size == ModelSize::paper ? 300 : 100;
+  o.validate();  // before the data are read: flags that disagree (--warmup, --decay) fail at once
   return o;
 }
 
@@ -154,7 +156,7 @@ std::function<void()> add_train_command(CLI::App& app) {
       "train", "Train the learned reconstructor (MLP encoder, CNN decoder) on a data set");
   add_options(cmd, args.get());
   return [args, cmd] {
-    const ModelSize size = parse_model_size(args->model);
+    const ModelSize size = parse_model_size(args->model, "--model");
     const TrainingOptions o = training_options(*args, *cmd, size);
     set_torch_threads(args->threads);
 

@@ -174,7 +174,8 @@ MeshDensity parse_density(const std::string& name) {
   if (name == "coarse") return MeshDensity::coarse;
   if (name == "medium") return MeshDensity::medium;
   if (name == "fine") return MeshDensity::fine;
-  throw InputError("--density", "", "unknown mesh density '" + name + "' (coarse, medium or fine)");
+  throw InputError("MeshDensity", "name",
+                   "unknown mesh density '" + name + "' (coarse, medium or fine)");
 }
 
 std::string to_string(MeshDensity density) {
@@ -189,16 +190,21 @@ std::string to_string(MeshDensity density) {
   return "?";
 }
 
+void DiskMeshOptions::validate() const {
+  auto fail = [](const char* field, const std::string& why) {
+    throw InputError("DiskMeshOptions", field, why);
+  };
+  if (electrodes < 4 || electrodes > 256)
+    fail("electrodes", "need 4 <= L <= 256, got " + std::to_string(electrodes));
+  if (!(radius > 0) || !std::isfinite(radius)) fail("radius", "must be positive and finite");
+  if (!(electrode_coverage > 0 && electrode_coverage < 1))
+    fail("electrode_coverage", "must lie strictly between 0 and 1");
+  if (!(size_factor >= 0.1 && size_factor <= 10)) fail("size_factor", "must lie in [0.1, 10]");
+}
+
 Mesh generate_disk_mesh(const DiskMeshOptions& o) {
+  o.validate();
   const int L = o.electrodes;
-  if (L < 4 || L > 256)
-    throw InputError("--electrodes", "", "need 4 <= L <= 256, got " + std::to_string(L));
-  if (!(o.radius > 0) || !std::isfinite(o.radius))
-    throw InputError("--radius", "", "the radius must be positive and finite");
-  if (!(o.electrode_coverage > 0 && o.electrode_coverage < 1))
-    throw InputError("--electrode-coverage", "", "must lie strictly between 0 and 1");
-  if (!(o.size_factor >= 0.1 && o.size_factor <= 10))
-    throw InputError("--size-factor", "", "must lie in [0.1, 10]");
 
   const double R = o.radius;
   const double gap = kPi / L;
@@ -212,7 +218,8 @@ Mesh generate_disk_mesh(const DiskMeshOptions& o) {
   // with spokes no longer than 1.2 centre sizes nor 0.3 R.
   const double b = std::min({0.7 * h.centre / (2 * std::sin(gap)), 1.2 * h.centre, 0.3 * R});
   const double a = b * (std::cos(gap) + std::sqrt(3.0) * std::sin(gap));
-  if (a > 0.6 * R) throw InputError("--size-factor", "", "the mesh is too coarse for this disk");
+  if (a > 0.6 * R)
+    throw InputError("DiskMeshOptions", "size_factor", "the mesh is too coarse for this disk");
 
   SectorMesh sector;
   try {

@@ -236,13 +236,24 @@ cholmod_sparse ForwardModel::Impl::view(std::vector<double>& values) const {
   return A;
 }
 
+void ForwardOptions::validate() const {
+  auto usable = [](double z) { return z > 0 && std::isfinite(z); };
+  if (!std::isfinite(current) || current == 0)
+    throw InputError("ForwardOptions", "current", "the drive current must be finite and non-zero");
+  if (contact_impedances.size() == 0 && !usable(contact_impedance))
+    throw InputError("ForwardOptions", "contact_impedance", "must be positive and finite");
+  for (Eigen::Index e = 0; e < contact_impedances.size(); ++e)
+    if (!usable(contact_impedances[e]))
+      throw InputError("ForwardOptions", "contact_impedances",
+                       "electrode " + std::to_string(e) + "'s must be positive and finite");
+}
+
 ForwardModel::ForwardModel(const Mesh& mesh, const ForwardOptions& options,
                            const std::string& source)
     // The mesh is checked before Impl builds the protocol from its electrode count.
     : impl_((validate_mesh(mesh, source), std::make_unique<Impl>(mesh, options))) {
+  options.validate();
   const int L = mesh.num_electrodes();
-  if (!std::isfinite(options.current) || options.current == 0)
-    throw InputError("ForwardOptions", "current", "the drive current must be finite and non-zero");
   if (options.contact_impedances.size() > 0) {
     if (options.contact_impedances.size() != L)
       throw InputError("ForwardOptions", "contact_impedances",
@@ -251,10 +262,6 @@ ForwardModel::ForwardModel(const Mesh& mesh, const ForwardOptions& options,
   } else {
     impl_->z = Eigen::VectorXd::Constant(L, options.contact_impedance);
   }
-  for (int e = 0; e < L; ++e)
-    if (!(impl_->z[e] > 0) || !std::isfinite(impl_->z[e]))
-      throw InputError("ForwardOptions", "contact impedance of electrode " + std::to_string(e),
-                       "must be positive and finite");
   impl_->build();
   impl_->rhs = Eigen::MatrixXd::Zero(impl_->dofs, L);
   for (int d = 0; d < L; ++d) {

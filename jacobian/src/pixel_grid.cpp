@@ -2,16 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <vector>
 
+#include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/geometry.h"
 
 namespace eitbench {
 
 PixelGrid::PixelGrid(int size, double radius) : size_(size), radius_(radius) {
-  if (size < 1 || !(radius > 0))
-    throw std::invalid_argument("PixelGrid: size and radius must be positive");
+  if (size < 1)
+    throw InputError("PixelGrid", "size", "must be positive, not " + std::to_string(size));
+  if (!(radius > 0) || !std::isfinite(radius))
+    throw InputError("PixelGrid", "radius", "must be positive and finite");
   mask_.resize(num_pixels());
   for (int i = 0; i < size_; ++i)
     for (int j = 0; j < size_; ++j) mask_[i * size_ + j] = center(i, j).norm() < radius_;

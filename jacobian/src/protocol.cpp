@@ -10,7 +10,7 @@ namespace eitbench {
 MeasurementOrder parse_order(const std::string& name) {
   if (name == "rotating") return MeasurementOrder::rotating;
   if (name == "ascending") return MeasurementOrder::ascending;
-  throw InputError("--order", "",
+  throw InputError("MeasurementOrder", "name",
                    "unknown measurement order '" + name + "' (rotating or ascending)");
 }
 
@@ -20,7 +20,9 @@ std::string to_string(MeasurementOrder order) {
 
 Protocol::Protocol(int electrodes) : electrodes_(electrodes) {
   const int L = electrodes;
-  if (L < 4) throw std::invalid_argument("the adjacent protocol needs at least 4 electrodes");
+  if (L < 4)
+    throw InputError("Protocol", "electrodes",
+                     "the adjacent protocol needs at least 4 electrodes, got " + std::to_string(L));
   auto mod = [L](int i) { return ((i % L) + L) % L; };
   rotating_index_.assign(L * L, -1);
   ascending_index_.assign(L * L, -1);
@@ -63,8 +65,9 @@ int Protocol::index(int drive, int measure, MeasurementOrder order) const {
 Eigen::VectorXd Protocol::reorder(const Eigen::VectorXd& frame, MeasurementOrder from,
                                   MeasurementOrder to) const {
   if (frame.size() != frame_size())
-    throw std::invalid_argument("reorder: frame has " + std::to_string(frame.size()) +
-                                " values, expected " + std::to_string(frame_size()));
+    throw InputError("frame", "values",
+                     "has " + std::to_string(frame.size()) + " values, not the protocol's " +
+                         std::to_string(frame_size()));
   if (from == to) return frame;
   Eigen::VectorXd out(frame_size());
   const auto& target = pairs(to);
@@ -82,8 +85,9 @@ Eigen::VectorXd Protocol::reduce(const Eigen::VectorXd& frame, MeasurementOrder 
 
 Eigen::VectorXd Protocol::expand(const Eigen::VectorXd& reduced, MeasurementOrder order) const {
   if (reduced.size() != reduced_size())
-    throw std::invalid_argument("expand: frame has " + std::to_string(reduced.size()) +
-                                " values, expected " + std::to_string(reduced_size()));
+    throw InputError("frame", "values",
+                     "has " + std::to_string(reduced.size()) +
+                         " values, not the reduced layout's " + std::to_string(reduced_size()));
   Eigen::VectorXd rotating(frame_size());
   for (int i = 0; i < frame_size(); ++i) rotating[i] = reduced[rotating_to_reduced_[i]];
   return reorder(rotating, MeasurementOrder::rotating, order);

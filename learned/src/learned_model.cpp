@@ -24,7 +24,7 @@ std::vector<std::pair<std::string, std::vector<long>>> shapes(const Network& net
 
 LearnedModel::LearnedModel(const NetworkOptions& network, int electrodes, std::uint64_t seed)
     : impl_(std::make_unique<Impl>()) {
-  check_network_options(network, "network");
+  network.validate();
   impl_->info.network = network;
   impl_->info.electrodes = electrodes;
   // LibTorch initialises weights from its process-wide generator: seed it for these weights, then

@@ -8,7 +8,7 @@
 namespace eitbench {
 
 NetworkImpl::NetworkImpl(const NetworkOptions& o) : options(o) {
-  check_network_options(o, "network");
+  o.validate();
   namespace nn = torch::nn;
   nn::Sequential enc;
   int width = o.inputs;

@@ -67,6 +67,10 @@ void check_network_options(const NetworkOptions& o, const std::string& source) {
     throw InputError(source, "radius", "must be positive");
 }
 
+void NetworkOptions::validate() const {
+  check_network_options(*this, "NetworkOptions");
+}
+
 double forward_flops(const NetworkOptions& o) {
   double macs = 0;
   int width = o.inputs;

@@ -21,7 +21,7 @@ std::string resolve_device(const std::string& name, const std::string& source) {
     if (!cuda_available())
       throw InputError(source, "",
                        "CUDA is not available (this LibTorch has no CUDA, or no GPU "
-                       "is present); use --device cpu or auto");
+                       "is present); use cpu or auto");
     return "cuda";
   }
   throw InputError(source, "", "unknown device '" + name + "' (auto, cpu or cuda)");

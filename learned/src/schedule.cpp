@@ -17,6 +17,18 @@ std::string to_string(ScheduleKind kind) {
   return kind == ScheduleKind::cosine ? "cosine" : "constant";
 }
 
+void ScheduleOptions::validate() const {
+  auto fraction = [](double v, const char* field) {
+    if (!(v >= 0 && v <= 1)) throw InputError("ScheduleOptions", field, "must lie in [0, 1]");
+  };
+  fraction(warmup_fraction, "warmup_fraction");
+  fraction(decay_fraction, "decay_fraction");
+  fraction(final_fraction, "final_fraction");
+  if (warmup_fraction > decay_fraction)
+    throw InputError("ScheduleOptions", "warmup_fraction",
+                     "the warm-up must end before the decay does");
+}
+
 LearningRateSchedule::LearningRateSchedule(double peak, long long total_steps,
                                            const ScheduleOptions& options,
                                            const std::string& source)
@@ -24,14 +36,7 @@ LearningRateSchedule::LearningRateSchedule(double peak, long long total_steps,
   if (!(peak > 0) || !std::isfinite(peak))
     throw InputError(source, "learning_rate", "must be positive and finite");
   if (total_steps < 1) throw InputError(source, "steps", "the budget must be at least one step");
-  auto fraction = [&](double v, const char* field) {
-    if (!(v >= 0 && v <= 1)) throw InputError(source, field, "must lie in [0, 1]");
-  };
-  fraction(options.warmup_fraction, "warmup_fraction");
-  fraction(options.decay_fraction, "decay_fraction");
-  fraction(options.final_fraction, "final_fraction");
-  if (options.warmup_fraction > options.decay_fraction)
-    throw InputError(source, "warmup_fraction", "the warm-up must end before the decay does");
+  options.validate();
   auto steps = [&](double f) {
     return std::min(static_cast<long long>(std::llround(f * double(total_))), total_ - 1);
   };

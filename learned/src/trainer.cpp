@@ -9,18 +9,25 @@
 
 namespace eitbench {
 
-void Trainer::Impl::check_options() const {
-  if (options.batch_size < 2) throw InputError("--batch", "", "must be at least 2");
-  if (!(options.learning_rate > 0) || !std::isfinite(options.learning_rate))
-    throw InputError("--lr", "", "must be positive");
-  if (options.epochs < 0 || options.steps < 0 || options.patience < 0)
-    throw InputError("budget", "", "epochs, steps and patience must not be negative");
-  if (options.epochs > 0 && options.steps > 0)
-    throw InputError("budget", "", "give epochs or steps, not both");
-  if (options.validate_every < 1)
-    throw InputError("--validate-every", "", "must be at least one sample");
-  if (!(options.min_improvement >= 0 && options.min_improvement < 1))
-    throw InputError("--min-improvement", "", "must lie in [0, 1)");
+void TrainingOptions::validate() const {
+  auto fail = [](const char* field, const std::string& why) {
+    throw InputError("TrainingOptions", field, why);
+  };
+  if (epochs < 0) fail("epochs", "must not be negative");
+  if (steps < 0) fail("steps", "must not be negative");
+  if (epochs > 0 && steps > 0) fail("steps", "give epochs or steps as the budget, not both");
+  if (batch_size < 2) fail("batch_size", "must be at least 2");
+  if (!(learning_rate > 0) || !std::isfinite(learning_rate))
+    fail("learning_rate", "must be positive and finite");
+  schedule.validate();
+  if (validate_every < 1) fail("validate_every", "must be at least one sample");
+  if (patience < 0) fail("patience", "must not be negative");
+  if (!(min_improvement >= 0 && min_improvement < 1)) fail("min_improvement", "must lie in [0, 1)");
+  try {
+    resolve_device(device, "TrainingOptions");
+  } catch (const InputError& e) {
+    fail("device", e.message());
+  }
 }
 
 Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledFrames train_set,
@@ -29,7 +36,8 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
       options(o),
       setup(sensor),
       train(std::make_shared<const LabelledFrames>(std::move(train_set))) {
-  check_network_options(network, "network");
+  network.validate();
+  options.validate();
   setup.group = options.augment;
   setup.layout = FrameLayout::reduced;
   if (train->frames.rows() == 0) throw InputError("train", "split", "the training set is empty");
@@ -49,8 +57,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
     throw InputError("network", "inputs",
                      "the network takes " + std::to_string(network.inputs) +
                          " values, frames have " + std::to_string(train->frames.cols()));
-  check_options();
-  device = torch::Device(resolve_device(options.device, "--device"));
+  device = torch::Device(resolve_device(options.device, "TrainingOptions"));
 
   // Validation frames as they are (no augmentation); labels from the circles when not stored.
   AugmentSetup plain = setup;
@@ -81,7 +88,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
     total_steps = total_epochs * steps_per_epoch;
   }
   schedule = std::make_unique<LearningRateSchedule>(options.learning_rate, total_steps,
-                                                    options.schedule, "--schedule");
+                                                    options.schedule, "Trainer");
 
   input_statistics();
   torch::manual_seed(options.seed);

@@ -43,7 +43,6 @@ struct Trainer::Impl {
 
   Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledFrames train_set,
        const LabelledFrames& validation, const AugmentSetup& sensor);
-  void check_options() const;
   void input_statistics();
   void make_batch(int epoch, const std::vector<long long>& order, long long index,
                   SampleMatrix& frames, SampleMatrix& labels) const;

@@ -168,7 +168,7 @@ void restore_progress(const nlohmann::json& state, Trainer::Impl& m, const std::
       state.at("validation_fingerprint").get<std::uint64_t>() != m.validation_print)
     throw InputError(source, "data",
                      "the checkpoint was made on other data (training or validation set "
-                     "differs): start a new run without --resume");
+                     "differs): start a new run instead of resuming");
   m.rounds_done = state.at("rounds_done").get<int>();
   m.steps_done = state.at("steps_done").get<long long>();
   m.samples_done = state.at("samples_done").get<long long>();
@@ -206,7 +206,7 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
     if (format.toStringRef() != kCheckpointFormat)
       throw InputError(source, "format",
                        "a checkpoint of another eitbench version (" + format.toStringRef() +
-                           "): start a new run without --resume");
+                           "): start a new run instead of resuming");
     archive.read("state", state_text);
     archive.read("net", net);
     archive.read("best", best);
@@ -217,9 +217,14 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
   std::unique_ptr<Impl> m;
   try {
     const auto state = nlohmann::json::parse(state_text.toStringRef());
-    m = std::make_unique<Impl>(network_from_json(state.at("network").dump(), source),
-                               options_from_json(state.at("options")), std::move(train), validation,
-                               sensor);
+    const TrainingOptions options = options_from_json(state.at("options"));
+    try {
+      options.validate();  // the checkpoint's options, not the caller's: the error names the file
+    } catch (const InputError& e) {
+      throw InputError(source, "options", e.field() + ": " + e.message());
+    }
+    m = std::make_unique<Impl>(network_from_json(state.at("network").dump(), source), options,
+                               std::move(train), validation, sensor);
     restore_progress(state, *m, source);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, "state", std::string("unreadable: ") + e.what());

@@ -11,15 +11,23 @@
 
 namespace eitbench {
 
+void GreitOptions::validate() const {
+  auto fail = [](const char* field, const std::string& why) {
+    throw InputError("GreitOptions", field, why);
+  };
+  if (targets < 10) fail("targets", "GREIT needs at least 10 training targets");
+  // A target must fit inside the disk; a desired disc of radius 0 would make D, and R, zero.
+  if (!(target_radius > 0 && target_radius < 1)) fail("target_radius", "must lie in (0, 1)");
+  if (!(desired_radius > 0 && desired_radius <= 1)) fail("desired_radius", "must lie in (0, 1]");
+  if (!(lambda > 0) || !std::isfinite(lambda)) fail("lambda", "must be positive and finite");
+}
+
 Greit::Greit(std::shared_ptr<const LinearProblem> shared, const GreitOptions& options)
     : problem_(require_problem(std::move(shared), "Greit")),
       options_(options),
-      lambda_(options.lambda > 0 ? options.lambda : 1e-2) {
+      lambda_(options.lambda) {
+  options.validate();
   const LinearProblem& problem = *problem_;
-  if (options.targets < 10)
-    throw InputError("GreitOptions", "targets", "GREIT needs at least 10 training targets");
-  if (options.lambda < 0 || !std::isfinite(options.lambda))
-    throw InputError("GreitOptions", "lambda", "must be positive (or 0 for the default)");
   const PixelGrid grid(problem.image_size, problem.radius);
   const double R = problem.radius;
   const int m = problem.measurements(), n = problem.unknowns();
@@ -48,7 +56,7 @@ Greit::Greit(std::shared_ptr<const LinearProblem> shared, const GreitOptions& op
   DYt_ = D * Y.transpose();
   YYt_ = Y * Y.transpose();
   N_ = YYt_.diagonal().asDiagonal();  // noise power proportional to each measurement's signal power
-  set_lambda(lambda_, options.lambda > 0 ? "fixed" : "default");
+  set_lambda(lambda_, options.lambda == GreitOptions().lambda ? "default" : "fixed");
 }
 
 std::string Greit::settings() const {

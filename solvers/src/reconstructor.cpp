@@ -35,7 +35,8 @@ double Reconstructor::best_by_score(const std::vector<double>& candidates,
                                     const SampleMatrix& frames, const SampleMatrix& labels,
                                     const ScoreFn& score, Eigen::Index max_frames) const {
   if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
-    throw InputError("--choose validation", "", "needs labelled validation frames");
+    throw InputError("validation frames", "",
+                     "choosing by validation needs labelled frames and a score");
   const std::vector<Eigen::Index> rows = spread_rows(frames.rows(), max_frames);
   SampleMatrix some(static_cast<Eigen::Index>(rows.size()), frames.cols());
   for (std::size_t k = 0; k < rows.size(); ++k) some.row(k) = frames.row(rows[k]);

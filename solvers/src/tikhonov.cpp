@@ -57,25 +57,44 @@ Eigen::SparseMatrix<double> element_laplacian(const LinearProblem& p) {
 Neighbours parse_neighbours(const std::string& name) {
   if (name == "pixels") return Neighbours::pixels;
   if (name == "elements") return Neighbours::elements;
-  throw InputError("--neighbours", "", "unknown neighbours '" + name + "' (pixels or elements)");
+  throw InputError("Neighbours", "name", "unknown neighbours '" + name + "' (pixels or elements)");
 }
 
 Prior parse_prior(const std::string& method) {
   if (method == "tikhonov" || method == "identity") return Prior::identity;
   if (method == "noser") return Prior::noser;
   if (method == "laplace") return Prior::laplace;
-  throw InputError("--method", "", "unknown prior '" + method + "'");
+  throw InputError("Prior", "name",
+                   "unknown prior '" + method + "' (tikhonov, identity, noser or laplace)");
 }
 
 Choice parse_choice(const std::string& name) {
   if (name == "gcv") return Choice::gcv;
   if (name == "lcurve") return Choice::lcurve;
   if (name == "validation") return Choice::validation;
-  throw InputError("--choose", "", "unknown choice '" + name + "' (gcv, lcurve or validation)");
+  throw InputError("Choice", "name", "unknown choice '" + name + "' (gcv, lcurve or validation)");
+}
+
+void TikhonovOptions::validate() const {
+  auto fail = [](const char* field, const std::string& why) {
+    throw InputError("TikhonovOptions", field, why);
+  };
+  if (choice == Choice::fixed && !lambda) fail("lambda", "choice fixed needs a lambda");
+  if (lambda && choice != Choice::fixed)
+    fail("lambda", "is used only with choice fixed; another choice would ignore it");
+  if (lambda && (!(*lambda > 0) || !std::isfinite(*lambda)))
+    fail("lambda", "must be positive and finite");
+  if (!(noser_exponent >= 0 && noser_exponent <= 1)) fail("noser_exponent", "must lie in [0, 1]");
+  // GCV and the L-curve need a curve to minimise or to bend: at least three candidates.
+  if (grid < 3) fail("grid", "needs at least 3 lambdas, got " + std::to_string(grid));
+  // L^T L has the constants in its kernel: without epsilon R^T R is singular.
+  if (!(laplace_epsilon > 0) || !std::isfinite(laplace_epsilon))
+    fail("laplace_epsilon", "must be positive and finite");
 }
 
 Tikhonov::Tikhonov(std::shared_ptr<const LinearProblem> shared, const TikhonovOptions& options)
     : problem_(require_problem(std::move(shared), "Tikhonov")), options_(options) {
+  options.validate();
   const LinearProblem& problem = *problem_;
   const Eigen::MatrixXd& A = problem.A;
   // B = P A^T with P = (R^T R)^-1.
@@ -111,16 +130,10 @@ Tikhonov::Tikhonov(std::shared_ptr<const LinearProblem> shared, const TikhonovOp
   U_ = eig.eigenvectors();
   C_ = B * U_;
   const double scale = g_.sum() / static_cast<double>(g_.size());
-  // GCV and the L-curve need a curve to minimise or to bend: at least three candidates.
-  if (options.grid < 3)
-    throw InputError("TikhonovOptions", "grid",
-                     "needs at least 3 lambdas, got " + std::to_string(options.grid));
   for (int k = 0; k < options.grid; ++k)
     grid_.push_back(scale * std::pow(10.0, -8.0 + 10.0 * k / std::max(1, options.grid - 1)));
   if (options.choice == Choice::fixed) {
-    if (!(options.lambda > 0) || !std::isfinite(options.lambda))
-      throw InputError("--lambda", "", "must be positive and finite");
-    set_lambda(options.lambda, "fixed");
+    set_lambda(*options.lambda, "fixed");
   } else {
     set_lambda(grid_[grid_.size() / 2], "default");  // until a choice is made
   }
@@ -234,7 +247,8 @@ double Tikhonov::choose_lcurve(const SampleMatrix& frames) {
 double Tikhonov::choose_validation(const SampleMatrix& frames, const SampleMatrix& labels,
                                    const ScoreFn& score) {
   if (!score || labels.rows() != frames.rows() || frames.rows() == 0)
-    throw InputError("--choose validation", "", "needs labelled validation frames and a score");
+    throw InputError("validation frames", "",
+                     "choosing by validation needs labelled frames and a score");
   // At most 500 frames, evenly spread: the sweep costs frames x grid matrix products. The same
   // sweep as best_by_score, on the eigenbasis, so that every lambda costs one small product.
   const std::vector<Eigen::Index> rows = spread_rows(frames.rows(), 500);

@@ -115,8 +115,8 @@ TotalVariation::TotalVariation(std::shared_ptr<const LinearProblem> shared,
       problem_(require_problem(std::move(shared), "TotalVariation")),
       options_(options),
       alpha_(options.alpha) {
-  const LinearProblem& problem = *problem_;
   options.validate();
+  const LinearProblem& problem = *problem_;
   // s_p = (||A e_p|| / its mean)^exponent: how strongly the boundary sees pixel p.
   const Eigen::VectorXd columns = problem.A.colwise().norm().transpose();
   const Eigen::VectorXd sensitivity =

@@ -1,4 +1,5 @@
-// One-step linear reconstruction, x = P A^T (A P A^T + lambda R)^-1 y, with three priors.
+// One-step linear reconstruction, x = P A^T (A P A^T + lambda I)^-1 y with P = (R^T R)^-1, with
+// three priors.
 #include "eitbench/solvers/tikhonov.h"
 
 #include "method_specs.h"
@@ -16,7 +17,7 @@ MethodSpec tikhonov_with(const std::string& prior) {
     TikhonovOptions t;
     t.prior = parse_prior(prior);
     t.choice = o.choose == "fixed" ? Choice::fixed : parse_choice(o.choose);
-    t.lambda = o.lambda;
+    if (t.choice == Choice::fixed) t.lambda = o.lambda;
     t.neighbours = parse_neighbours(o.neighbours);
     return std::unique_ptr<Reconstructor>(std::make_unique<Tikhonov>(std::move(problem), t));
   };

@@ -27,12 +27,15 @@ struct LabelledFrames {
 struct AugmentSetup {
   AugmentGroup group = AugmentGroup::dihedral;
   FrameLayout layout = FrameLayout::reduced;
-  int electrodes = 16;
-  int image_size = 64;  // labels are image_size^2 pixels over [-R, R]^2
-  double radius = 1.0;
+  int electrodes = 16;  // L >= 4, as the protocol needs
+  int image_size = 64;  // labels are image_size^2 pixels over [-R, R]^2; at least 1
+  double radius = 1.0;  // positive and finite
+
+  // Throws InputError("AugmentSetup", field) for a value out of range.
+  void validate() const;
 };
 
-// Throws InputError("frames", ...) when sizes disagree with the setup.
+// Validates the setup, then throws InputError("frames", ...) when sizes disagree with it.
 void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup);
 
 // |G| x N rows, sample-major: row i |G| + k is sample i under group element k.

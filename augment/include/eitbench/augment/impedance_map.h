@@ -8,6 +8,9 @@
 
 namespace eitbench {
 
+// A frame or map of the wrong size is data, not a programming error: InputError("frame",
+// "values") or InputError("map", "shape").
+
 // The L x (L-3) map: row d, column k holds v(d, d+2+k). A reduced frame is completed by
 // reciprocity.
 Eigen::MatrixXd impedance_map(const Eigen::VectorXd& frame, const Protocol& protocol,

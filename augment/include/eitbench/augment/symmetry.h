@@ -29,7 +29,7 @@ struct GroupElement {
 // "rot:S" (rotation by S electrode steps) or "mirror:S" (the mirror, then rot:S); S any integer,
 // taken mod L. Throws InputError naming `source`.
 GroupElement parse_element(const std::string& text, int electrodes,
-                           const std::string& source = "--element");
+                           const std::string& source = "GroupElement");
 GroupElement compose(const GroupElement& g, const GroupElement& h, int electrodes);  // g after h
 GroupElement inverse(const GroupElement& g, int electrodes);
 
@@ -41,7 +41,7 @@ enum class AugmentGroup {
   paper,      // the paper's literal Algorithms 1 + 2: rotations, and its column-reversal "mirror"
 };
 // none | rotations | mirror | d16 | dihedral | paper (d16 names D_L for any L).
-AugmentGroup parse_group(const std::string& name, const std::string& source = "--group");
+AugmentGroup parse_group(const std::string& name, const std::string& source = "AugmentGroup");
 std::string to_string(AugmentGroup group);
 // The elements, identity first: rotations s = 0..L-1, then mirror:0..L-1 where the group has them.
 std::vector<GroupElement> group_elements(AugmentGroup group, int electrodes);
@@ -60,7 +60,8 @@ class FrameSymmetry {
 
   // out[i] = in[permutation[i]] for a frame in `layout`.
   const std::vector<int>& permutation(const GroupElement& g, FrameLayout layout) const;
-  // The frame of the touch g moves. Throws std::invalid_argument for a frame of the wrong size.
+  // The frame of the touch g moves. Throws InputError("frame", "values") for a frame of the
+  // wrong size (a frame is data).
   Eigen::VectorXd apply(const GroupElement& g, const Eigen::VectorXd& frame,
                         FrameLayout layout) const;
   // The paper's variant: Algorithm 1 (a circular shift of the map's rows by s), after Algorithm 2

@@ -12,10 +12,15 @@
 namespace eitbench {
 
 struct ForwardOptions {
-  double current = 1.0;             // I, the drive amplitude (A)
-  double contact_impedance = 0.01;  // z_c for every electrode (Ohm m; lumped Ohm for point ones)
-  // One z_c per electrode; overrides contact_impedance when non-empty.
+  double current = 1.0;  // I, the drive amplitude (A): finite and non-zero
+  // z_c for every electrode (Ohm m; lumped Ohm for point ones): positive and finite.
+  double contact_impedance = 0.01;
+  // One z_c per electrode (each positive and finite); overrides contact_impedance when non-empty.
   Eigen::VectorXd contact_impedances{};
+
+  // Throws InputError("ForwardOptions", field) for a value out of range; whether
+  // contact_impedances has one value per electrode is checked against the mesh by ForwardModel.
+  void validate() const;
 };
 
 // The fields of all L adjacent drives for one conductivity.

@@ -13,6 +13,8 @@ namespace eitbench {
 
 class PixelGrid {
  public:
+  // size >= 1 and radius positive and finite (a data set's or a user's); InputError("PixelGrid",
+  // field) otherwise.
   explicit PixelGrid(int size = 64, double radius = 1.0);
 
   int size() const { return size_; }

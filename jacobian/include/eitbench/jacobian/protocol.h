@@ -11,7 +11,8 @@ enum class MeasurementOrder {
   ascending,  // instruments' order: for drive d, m = 0..L-1 skipping d-1, d, d+1
 };
 
-MeasurementOrder parse_order(const std::string& name);  // throws InputError naming `--order`
+// rotating | ascending; InputError("MeasurementOrder", "name") otherwise.
+MeasurementOrder parse_order(const std::string& name);
 std::string to_string(MeasurementOrder order);
 
 struct MeasurementPair {
@@ -24,7 +25,8 @@ struct MeasurementPair {
 
 class Protocol {
  public:
-  explicit Protocol(int electrodes);  // throws std::invalid_argument for L < 4
+  // L >= 4; InputError("Protocol", "electrodes") otherwise (L is a sensor's, so a user's).
+  explicit Protocol(int electrodes);
 
   int electrodes() const { return electrodes_; }
   int frame_size() const { return electrodes_ * (electrodes_ - 3); }        // 208 for L = 16
@@ -41,6 +43,7 @@ class Protocol {
   const std::vector<int>& reduced_to_rotating() const { return reduced_to_rotating_; }
   const std::vector<int>& rotating_to_reduced() const { return rotating_to_reduced_; }
 
+  // A frame (a user's data) of the wrong length is InputError("frame", "values").
   Eigen::VectorXd reorder(const Eigen::VectorXd& frame, MeasurementOrder from,
                           MeasurementOrder to) const;
   Eigen::VectorXd reduce(const Eigen::VectorXd& frame, MeasurementOrder order) const;

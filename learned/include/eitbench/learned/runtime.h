@@ -7,7 +7,7 @@ namespace eitbench {
 
 // "auto" (CUDA when LibTorch has it and a GPU is present, else CPU), "cpu" or "cuda".
 // InputError(source) when CUDA is asked for and not available.
-std::string resolve_device(const std::string& name, const std::string& source = "--device");
+std::string resolve_device(const std::string& name, const std::string& source = "device");
 // True when this LibTorch build can use a GPU now.
 bool cuda_available();
 // LibTorch's intra-op threads (0: leave its default, one per core).

@@ -15,22 +15,25 @@ enum class ScheduleKind {
   cosine,    // warm-up, then the half cosine
   constant,  // the peak at every step (the paper's plain Adam)
 };
-ScheduleKind parse_schedule(const std::string& name, const std::string& source = "--schedule");
+ScheduleKind parse_schedule(const std::string& name, const std::string& source = "ScheduleKind");
 std::string to_string(ScheduleKind kind);
 
 struct ScheduleOptions {
   ScheduleKind kind = ScheduleKind::cosine;
+  // Each in [0, 1], the warm-up no longer than the decay.
   double warmup_fraction = 0.02;  // of the budget's steps, for the linear warm-up
   double decay_fraction = 0.6;    // of the budget's steps, where the cosine reaches the floor
   double final_fraction = 0.01;   // the floor, relative to the peak
+
+  // Throws InputError("ScheduleOptions", field) for a value out of range.
+  void validate() const;
 };
 
 class LearningRateSchedule {
  public:
-  // Throws InputError(source) on a non-positive peak or budget, on fractions outside [0, 1] and on
-  // a warm-up longer than the decay.
+  // Throws InputError(source) on a non-positive peak or budget, and options.validate()'s error.
   LearningRateSchedule(double peak, long long total_steps, const ScheduleOptions& options,
-                       const std::string& source = "schedule");
+                       const std::string& source = "LearningRateSchedule");
   // The rate for optimiser step `step` (0-based; steps past the budget get the last rate).
   double rate(long long step) const;
   long long warmup_steps() const { return warmup_; }

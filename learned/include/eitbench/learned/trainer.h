@@ -22,21 +22,27 @@ struct TrainingOptions {
   // Materialise the |G| N augmented samples (an epoch sees each sample under every element)
   // instead of drawing one element per sample and epoch on the fly (an epoch is N samples).
   bool expanded = false;
-  int epochs = 0;               // the budget, an upper bound: epochs, or
-  long long steps = 0;          // optimiser steps; neither given: 20 epochs
-  int batch_size = 128;         // the paper: 512
-  double learning_rate = 1e-2;  // the schedule's peak (the paper: 1e-4, constant)
+  // The budget, an upper bound: epochs or optimiser steps, at most one of them given (> 0);
+  // neither given: 20 epochs. Neither may be negative.
+  int epochs = 0;
+  long long steps = 0;
+  int batch_size = 128;         // at least 2 (BatchNorm); the paper: 512
+  double learning_rate = 1e-2;  // the schedule's peak, positive (the paper: 1e-4, constant)
   ScheduleOptions schedule;     // warm-up and cosine over the budget
-  // Training samples between two validations (rounded up to whole steps): validation and the
-  // checkpoint cost the same whatever the epoch's size.
+  // Training samples between two validations (rounded up to whole steps), at least 1: validation
+  // and the checkpoint cost the same whatever the epoch's size.
   long long validate_every = 16384;
-  // Early stopping: stop after `patience` validations without a validation loss min_improvement
-  // (relative) below the last one that counted as an improvement; 0: train to the budget. The
-  // model kept is the best validation loss of the run either way.
+  // Early stopping: stop after `patience` (>= 0) validations without a validation loss
+  // min_improvement (relative, in [0, 1)) below the last one that counted as an improvement; 0:
+  // train to the budget. The model kept is the best validation loss of the run either way.
   int patience = 0;
   double min_improvement = 5e-3;
   std::uint64_t seed = 1;
-  std::string device = "cpu";  // cpu | cuda (see resolve_device)
+  std::string device = "cpu";  // auto | cpu | cuda (see resolve_device)
+
+  // Throws InputError("TrainingOptions", field) for a value out of range or a device this
+  // machine does not have, and ScheduleOptions::validate()'s error for the schedule.
+  void validate() const;
 };
 
 // One round: the steps since the previous validation, then a validation.
@@ -71,8 +77,8 @@ class Trainer {
  public:
   // The sensor (electrodes, layout = reduced, image size, radius) comes from `sensor`; its group
   // is replaced by options.augment. The trainer keeps its own training set (move it in to avoid a
-  // copy). Throws InputError on empty or unlabelled sets and on shapes that disagree with
-  // `network`.
+  // copy). Validates both options structs; throws InputError on empty or unlabelled sets and on
+  // shapes that disagree with `network`.
   Trainer(const NetworkOptions& network, const TrainingOptions& options, LabelledFrames train,
           const LabelledFrames& validation, const AugmentSetup& sensor);
   // Continues the run saved in `checkpoint` (bytes of checkpoint()) on the same data: InputError
@@ -92,7 +98,7 @@ class Trainer {
   int best_epoch() const;  // the epoch the best round ended in
   long long steps_per_epoch() const;
   long long steps_per_round() const;
-  long long total_steps() const;  // the budget in steps (epochs x steps per epoch, or --steps)
+  long long total_steps() const;  // the budget in steps (epochs x steps per epoch, or steps)
   int total_epochs() const;       // the epochs the budget needs
   long long samples_per_epoch() const;
   const TrainingOptions& options() const;

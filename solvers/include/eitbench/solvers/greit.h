@@ -16,15 +16,18 @@
 namespace eitbench {
 
 struct GreitOptions {
-  int targets = 1000;            // training targets, uniform over the disk
-  double target_radius = 0.05;   // relative to R
-  double desired_radius = 0.15;  // the desired image's disc, relative to R
-  // The noise term's weight. N = diag(Y Y^T), so lambda is dimensionless: 1 weighs each
-  // measurement's noise as much as its mean training signal. It is not Adler et al.'s noise figure
-  // (NF): choose it by validation (choose_by_validation) or set it. 0: the default 1e-2.
-  double lambda = 0;
+  int targets = 1000;            // training targets, uniform over the disk; at least 10
+  double target_radius = 0.05;   // relative to R, in (0, 1)
+  double desired_radius = 0.15;  // the desired image's disc, relative to R, in (0, 1]
+  // The noise term's weight, positive and finite. N = diag(Y Y^T), so lambda is dimensionless: 1
+  // weighs each measurement's noise as much as its mean training signal. It is not Adler et al.'s
+  // noise figure (NF): choose it by validation (choose_by_validation) or set it.
+  double lambda = 1e-2;
   std::uint64_t seed = 1;
   bool choose_by_validation = false;
+
+  // Throws InputError("GreitOptions", field) for a value out of range.
+  void validate() const;
 };
 
 class Greit : public Reconstructor {

@@ -5,6 +5,7 @@
 // matrix, GCV, the L-curve and the validation sweep. The per-frame work is one matrix-vector
 // product.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "eitbench/solvers/linear_problem.h"
@@ -18,7 +19,8 @@ enum class Prior {
   laplace,   // R^T R = L^T L + epsilon I, L the Laplacian of the in-disk pixels (4-neighbour) or
              // of the elements (epsilon I because L has the constants in its kernel)
 };
-Prior parse_prior(const std::string& method);  // tikhonov | noser | laplace
+// Each parser throws InputError(the enum's name, "name") for a name it does not know.
+Prior parse_prior(const std::string& method);  // tikhonov (or identity) | noser | laplace
 
 // Whose neighbours the Laplace prior couples: the image's pixels (4-neighbour), or the mesh's
 // triangles (those sharing an edge), applied to the elements' values P x.
@@ -30,15 +32,22 @@ Choice parse_choice(const std::string& name);  // gcv | lcurve | validation
 
 struct TikhonovOptions {
   Prior prior = Prior::noser;
-  double noser_exponent = 0.5;
-  double lambda = 0;  // used when choice == fixed; must then be > 0
+  double noser_exponent = 0.5;  // p of NOSER's diag(A^T A)^p, in [0, 1]
+  // The fixed lambda, on the scale of G = A P A^T (see scale()), positive and finite. No default:
+  // what suits depends on the mesh, the protocol and the prior, so it is given with choice ==
+  // fixed and only then (another choice would ignore it).
+  std::optional<double> lambda;
   Choice choice = Choice::gcv;
-  int grid = 41;                  // lambdas tried: trace(G)/m x 10^[-8, 2], log-spaced
-  double laplace_epsilon = 1e-3;  // relative to the mean diagonal of L^T L
+  int grid = 41;  // lambdas tried, at least 3: trace(G)/m x 10^[-8, 2], log-spaced
+  // epsilon of the Laplace prior, relative to the mean diagonal of L^T L: positive and finite.
+  double laplace_epsilon = 1e-3;
   Neighbours neighbours = Neighbours::pixels;
-  // The reconstruction matrix in single precision: about twice as fast (docs/speed.md) at 7
-  // significant digits; double for exact work (tiny lambdas amplify rounding).
+  // The reconstruction matrix in single precision: faster (docs/speed.md) at 7 significant
+  // digits; double for exact work (tiny lambdas amplify rounding).
   bool single_precision = true;
+
+  // Throws InputError("TikhonovOptions", field) for a value out of range.
+  void validate() const;
 };
 
 class Tikhonov : public Reconstructor {
