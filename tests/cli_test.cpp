@@ -324,7 +324,14 @@ TEST_F(Cli, ReconstructWritesImagesScoresAndPictures) {
             "validation"},
            {"reconstruct --data " + path("d.h5") + " --electrodes 8 --out " + path("x.h5"),
             "electrodes"},
-           {"reconstruct --data " + data + "bad_nan.npy --out " + path("x.h5"), "bad_nan.npy"}}) {
+           {"reconstruct --data " + data + "bad_nan.npy --out " + path("x.h5"), "bad_nan.npy"},
+           // TV has no GCV: refused, naming the flag, instead of keeping its default weight.
+           {"reconstruct --method tv --choose gcv --data " + path("d.h5") + " --out " +
+                path("x.h5"),
+            "--choose: gcv needs a one-step linear method"},
+           // Validation frames by hand: --split validation reconstructs them.
+           {"reconstruct --data " + data + "frames.csv --split validation --out " + path("x.h5"),
+            "no validation frames"}}) {
     const Result bad = run(args);
     EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
     EXPECT_NE(bad.output.find(words), std::string::npos) << bad.output;

@@ -76,7 +76,7 @@ TEST(Tikhonov, TinyLambdaFitsNoiseFreeDataAndBatchesAgree) {
   for (auto prior : {Prior::identity, Prior::noser, Prior::laplace}) {
     TikhonovOptions o;
     o.prior = prior;
-    o.choice = Choice::fixed;
+    o.choice = Criterion::fixed;
     o.lambda = 1e-12;
     o.single_precision = false;  // tiny lambdas amplify rounding
     Tikhonov t(s.problem, o);
@@ -135,7 +135,7 @@ TEST(Tikhonov, GcvAndLcurveLandWithinADecadeOfTheValidationOptimum) {
 TEST(Tikhonov, RejectsBadInput) {
   const Reconstruction& s = medium();
   TikhonovOptions o;
-  o.choice = Choice::fixed;
+  o.choice = Criterion::fixed;
   o.lambda = -1;
   EXPECT_THROW(Tikhonov(s.problem, o), InputError);
   o.lambda = 0;
@@ -160,7 +160,7 @@ TEST(SolverOptions, ValidateNamesTheField) {
   EXPECT_EQ(at(GaussNewtonOptions{}), "no InputError");
 
   TikhonovOptions t;
-  t.choice = Choice::fixed;  // a fixed lambda has no scale-free default: it must be given
+  t.choice = Criterion::fixed;  // a fixed lambda has no scale-free default: it must be given
   EXPECT_EQ(at(t), "TikhonovOptions.lambda");
   t.lambda = 1e-3;
   EXPECT_EQ(at(t), "no InputError");
@@ -210,8 +210,38 @@ TEST(SolverOptions, ValidateNamesTheField) {
 
   // Names parsed into an enum are named by the enum.
   EXPECT_EQ(input_error_at([] { parse_prior("tv"); }), "Prior.name");
-  EXPECT_EQ(input_error_at([] { parse_choice("fixed"); }), "Choice.name");
+  EXPECT_EQ(input_error_at([] { parse_criterion("noise figure"); }), "Criterion.name");
+  for (Criterion c : {Criterion::fixed, Criterion::validation, Criterion::gcv, Criterion::lcurve})
+    EXPECT_EQ(parse_criterion(to_string(c)), c);
   EXPECT_EQ(input_error_at([] { parse_neighbours("nodes"); }), "Neighbours.name");
+}
+
+// One mechanism chooses every method's hyperparameter: a criterion a method cannot use is refused,
+// naming its options' field, instead of being ignored; so is a validation without candidates.
+TEST(SolverOptions, ACriterionAMethodCannotUseIsRefused) {
+  using testing::input_error_at;
+  for (Criterion c : {Criterion::gcv, Criterion::lcurve}) {
+    TotalVariationOptions tv;
+    tv.choice = c;
+    EXPECT_EQ(input_error_at([&] { tv.validate(); }), "TotalVariationOptions.choice");
+    GaussNewtonOptions gn;
+    gn.choice = c;
+    EXPECT_EQ(input_error_at([&] { gn.validate(); }), "GaussNewtonOptions.choice");
+    GreitOptions greit;
+    greit.choice = c;
+    EXPECT_EQ(input_error_at([&] { greit.validate(); }), "GreitOptions.choice");
+    TikhonovOptions t;  // the one-step linear methods use both
+    t.choice = c;
+    EXPECT_NO_THROW(t.validate());
+  }
+  TotalVariationOptions tv;
+  tv.choice = Criterion::validation;
+  tv.candidates = {};
+  EXPECT_EQ(input_error_at([&] { tv.validate(); }), "TotalVariationOptions.candidates");
+  GreitOptions greit;
+  greit.choice = Criterion::validation;
+  greit.candidates = {1e-2, -1};
+  EXPECT_EQ(input_error_at([&] { greit.validate(); }), "GreitOptions.candidates");
 }
 
 TEST(SolverOptions, ConstructorsValidate) {
@@ -241,7 +271,7 @@ TEST(LinearProblem, SolversKeepTheProblemTheyAreBuiltOn) {
   const Reconstruction& s = medium();
   TikhonovOptions o;
   const double scale = Tikhonov(s.problem, o).scale();
-  o.choice = Choice::fixed;
+  o.choice = Criterion::fixed;
   o.lambda = 1e-3 * scale;
   const Tikhonov owned(
       std::make_shared<const LinearProblem>(make_linear_problem(s.model, 1.0, s.grid)), o);
@@ -270,7 +300,7 @@ TEST(LinearProblem, EveryMethodWorksAt8And32Electrodes) {
     EXPECT_LT((s.problem->A * x - y.row(0).transpose()).norm() / y.row(0).norm(), 1e-4) << L;
     std::vector<std::unique_ptr<Reconstructor>> methods;
     TikhonovOptions noser;
-    noser.choice = Choice::fixed;
+    noser.choice = Criterion::fixed;
     noser.lambda = 1e-3 * fit.scale();
     methods.push_back(std::make_unique<Tikhonov>(s.problem, noser));
     methods.push_back(std::make_unique<TotalVariation>(s.problem, TotalVariationOptions{}));
@@ -306,7 +336,7 @@ TEST(Tikhonov, RefusesToChooseOnDegenerateInput) {
   const ScoreFn nan_score = [](const Eigen::VectorXd&, const Eigen::VectorXd&) { return NAN; };
   EXPECT_THROW(t.choose_validation(frames, labels, nan_score), InputError);
   GreitOptions g;
-  g.choose_by_validation = true;
+  g.choice = Criterion::validation;
   Greit greit(s.problem, g);
   EXPECT_THROW(greit.fit(frames, labels, nan_score), InputError);
 }

@@ -36,7 +36,10 @@ const Table kSolvers = {{"TikhonovOptions", "lambda", "--lambda"},
                         {"TotalVariationOptions", "tolerance", "--tolerance"},
                         {"GaussNewtonOptions", "tolerance", "--tolerance"},
                         {"Prior", "name", "--method"},
-                        {"Choice", "name", "--choose"},
+                        {"Criterion", "name", "--choose"},
+                        {"TotalVariationOptions", "choice", "--choose"},
+                        {"GaussNewtonOptions", "choice", "--choose"},
+                        {"GreitOptions", "choice", "--choose"},
                         {"Neighbours", "name", "--neighbours"}};
 // The flags train and run share.
 const Table kBudget = {{"TrainingOptions", "epochs", "--epochs"},

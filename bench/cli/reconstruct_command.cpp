@@ -68,7 +68,9 @@ void add_options(CLI::App* cmd, Args* args) {
   auto* choose =
       cmd->add_option(
              "--choose", args->choose,
-             "choose lambda: gcv (default) | lcurve | validation (needs a validation split)")
+             "choose lambda: gcv | lcurve (one-step linear methods; gcv is their default) | "
+             "validation (any method; needs a validation split). Without it and --lambda, tv, gn "
+             "and greit keep their default weight")
           ->check(CLI::IsMember({"gcv", "lcurve", "validation"}));
   lambda->excludes(choose);
   cmd->add_option("--neighbours", args->neighbours,
@@ -209,7 +211,9 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   const auto problem =
       std::make_shared<const LinearProblem>(make_linear_problem(model, background, grid));
   MethodOptions mo;
-  mo.choose = cmd.count("--lambda") ? "fixed" : args->choose.empty() ? "gcv" : args->choose;
+  mo.choose = cmd.count("--lambda")  ? "fixed"
+              : args->choose.empty() ? find_method(args->method).default_choice
+                                     : args->choose;
   mo.lambda = args->lambda;
   mo.absolute = args->absolute;
   mo.neighbours = args->neighbours;

@@ -88,6 +88,7 @@ void GaussNewtonOptions::validate() const {
   if (!(residual_tolerance >= 0)) fail("residual_tolerance", "must not be negative");
   if (!(min_ratio > 0 && min_ratio < 1)) fail("min_ratio", "must lie in (0, 1)");
   if (!(max_ratio > 1) || !std::isfinite(max_ratio)) fail("max_ratio", "must be above 1");
+  check_fixed_or_validation("GaussNewtonOptions", choice, candidates);
 }
 
 GaussNewton::GaussNewton(std::shared_ptr<const LinearProblem> shared,
@@ -190,9 +191,9 @@ Eigen::VectorXd GaussNewton::reconstruct(const Eigen::VectorXd& frame) const {
 
 void GaussNewton::fit(const SampleMatrix& frames, const SampleMatrix& labels,
                       const ScoreFn& score) {
-  if (!options_.choose_by_validation) return;
+  if (options_.choice != Criterion::validation) return;
   const double best = best_by_score(
-      {1e-5, 1e-4, 1e-3, 1e-2, 1e-1}, [&](double l) { lambda_ = l; }, frames, labels, score, 20);
+      options_.candidates, [&](double l) { lambda_ = l; }, frames, labels, score, 20);
   set_lambda(best, "validation");
 }
 

@@ -20,6 +20,7 @@ void GreitOptions::validate() const {
   if (!(target_radius > 0 && target_radius < 1)) fail("target_radius", "must lie in (0, 1)");
   if (!(desired_radius > 0 && desired_radius <= 1)) fail("desired_radius", "must lie in (0, 1]");
   if (!(lambda > 0) || !std::isfinite(lambda)) fail("lambda", "must be positive and finite");
+  check_fixed_or_validation("GreitOptions", choice, candidates);
 }
 
 Greit::Greit(std::shared_ptr<const LinearProblem> shared, const GreitOptions& options)
@@ -76,10 +77,9 @@ void Greit::set_lambda(double relative, const std::string& how) {
 }
 
 void Greit::fit(const SampleMatrix& frames, const SampleMatrix& labels, const ScoreFn& score) {
-  if (!options_.choose_by_validation) return;
+  if (options_.choice != Criterion::validation) return;
   const double best = best_by_score(
-      {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0}, [&](double l) { set_lambda(l, "sweep"); }, frames,
-      labels, score, 500);
+      options_.candidates, [&](double l) { set_lambda(l, "sweep"); }, frames, labels, score, 500);
   set_lambda(best, "validation");
 }
 

@@ -8,6 +8,41 @@
 
 namespace eitbench {
 
+const char* to_string(Criterion c) {
+  switch (c) {
+    case Criterion::fixed:
+      return "fixed";
+    case Criterion::validation:
+      return "validation";
+    case Criterion::gcv:
+      return "gcv";
+    case Criterion::lcurve:
+      return "lcurve";
+  }
+  return "?";
+}
+
+Criterion parse_criterion(const std::string& name) {
+  for (Criterion c : {Criterion::fixed, Criterion::validation, Criterion::gcv, Criterion::lcurve})
+    if (name == to_string(c)) return c;
+  throw InputError("Criterion", "name",
+                   "unknown criterion '" + name + "' (fixed, validation, gcv or lcurve)");
+}
+
+void check_fixed_or_validation(const char* options, Criterion choice,
+                               const std::vector<double>& candidates) {
+  if (choice == Criterion::gcv || choice == Criterion::lcurve)
+    throw InputError(options, "choice",
+                     std::string(to_string(choice)) +
+                         " needs a one-step linear method; this one is fixed or chosen by "
+                         "validation");
+  if (choice != Criterion::validation) return;
+  if (candidates.empty()) throw InputError(options, "candidates", "validation needs candidates");
+  for (double c : candidates)
+    if (!(c > 0) || !std::isfinite(c))
+      throw InputError(options, "candidates", "every candidate must be positive and finite");
+}
+
 void Reconstructor::fit(const SampleMatrix&, const SampleMatrix&, const ScoreFn&) {}
 
 SampleMatrix Reconstructor::reconstruct_all(const SampleMatrix& frames) const {

@@ -68,19 +68,12 @@ Prior parse_prior(const std::string& method) {
                    "unknown prior '" + method + "' (tikhonov, identity, noser or laplace)");
 }
 
-Choice parse_choice(const std::string& name) {
-  if (name == "gcv") return Choice::gcv;
-  if (name == "lcurve") return Choice::lcurve;
-  if (name == "validation") return Choice::validation;
-  throw InputError("Choice", "name", "unknown choice '" + name + "' (gcv, lcurve or validation)");
-}
-
 void TikhonovOptions::validate() const {
   auto fail = [](const char* field, const std::string& why) {
     throw InputError("TikhonovOptions", field, why);
   };
-  if (choice == Choice::fixed && !lambda) fail("lambda", "choice fixed needs a lambda");
-  if (lambda && choice != Choice::fixed)
+  if (choice == Criterion::fixed && !lambda) fail("lambda", "choice fixed needs a lambda");
+  if (lambda && choice != Criterion::fixed)
     fail("lambda", "is used only with choice fixed; another choice would ignore it");
   if (lambda && (!(*lambda > 0) || !std::isfinite(*lambda)))
     fail("lambda", "must be positive and finite");
@@ -132,7 +125,7 @@ Tikhonov::Tikhonov(std::shared_ptr<const LinearProblem> shared, const TikhonovOp
   const double scale = g_.sum() / static_cast<double>(g_.size());
   for (int k = 0; k < options.grid; ++k)
     grid_.push_back(scale * std::pow(10.0, -8.0 + 10.0 * k / std::max(1, options.grid - 1)));
-  if (options.choice == Choice::fixed) {
+  if (options.choice == Criterion::fixed) {
     set_lambda(*options.lambda, "fixed");
   } else {
     set_lambda(grid_[grid_.size() / 2], "default");  // until a choice is made
@@ -169,15 +162,15 @@ void Tikhonov::set_lambda(double lambda, const std::string& how) {
 
 void Tikhonov::fit(const SampleMatrix& frames, const SampleMatrix& labels, const ScoreFn& score) {
   switch (options_.choice) {
-    case Choice::fixed:
+    case Criterion::fixed:
       return;
-    case Choice::gcv:
+    case Criterion::gcv:
       choose_gcv(frames);
       return;
-    case Choice::lcurve:
+    case Criterion::lcurve:
       choose_lcurve(frames);
       return;
-    case Choice::validation:
+    case Criterion::validation:
       choose_validation(frames, labels, score);
       return;
   }

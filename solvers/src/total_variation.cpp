@@ -107,6 +107,7 @@ void TotalVariationOptions::validate() const {
     throw InputError("TotalVariationOptions", "max_iterations", "must be at least 1");
   if (!(sensitivity_exponent >= 0 && sensitivity_exponent <= 4))
     throw InputError("TotalVariationOptions", "sensitivity_exponent", "must lie in [0, 4]");
+  check_fixed_or_validation("TotalVariationOptions", choice, candidates);
 }
 
 TotalVariation::TotalVariation(std::shared_ptr<const LinearProblem> shared,
@@ -135,7 +136,7 @@ TotalVariation::TotalVariation(std::shared_ptr<const LinearProblem> shared,
 
   TikhonovOptions start;  // the starting point: NOSER, regularised near its usual optimum
   start.prior = Prior::noser;
-  start.choice = Choice::gcv;  // placeholder choice; lambda is set just below
+  start.choice = Criterion::gcv;  // placeholder choice; lambda is set just below
   impl_->start = std::make_unique<Tikhonov>(problem_, start);
   impl_->start->set_lambda(1e-3 * impl_->start->scale(), "start");
 }
@@ -197,11 +198,10 @@ Eigen::VectorXd TotalVariation::reconstruct(const Eigen::VectorXd& frame) const 
 
 void TotalVariation::fit(const SampleMatrix& frames, const SampleMatrix& labels,
                          const ScoreFn& score) {
-  if (!options_.choose_by_validation) return;
+  if (options_.choice != Criterion::validation) return;
   // A TV solve costs a tenth of a second: sweep on at most 20 frames.
   const double best = best_by_score(
-      {1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3}, [&](double a) { alpha_ = a; }, frames, labels,
-      score, 20);
+      options_.candidates, [&](double a) { alpha_ = a; }, frames, labels, score, 20);
   set_alpha(best, "validation");
 }
 

@@ -1,5 +1,5 @@
-// Regularised Gauss-Newton on the nonlinear forward model: lambda from {1e-5, 1e-4, ..., 1e-1} by
-// validation CC.
+// Regularised Gauss-Newton on the nonlinear forward model: lambda fixed, or from
+// GaussNewtonOptions::candidates by validation CC.
 #include "eitbench/solvers/gauss_newton.h"
 
 #include "method_specs.h"
@@ -12,12 +12,13 @@ MethodSpec gauss_newton() {
   spec.sweep_on_subset = true;
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GaussNewtonOptions g;
-    if (o.choose == "fixed") g.lambda = o.lambda;
-    g.choose_by_validation = o.choose == "validation";
+    g.choice = parse_criterion(o.choose.empty() ? "fixed" : o.choose);
+    const bool given = g.choice == Criterion::fixed && o.lambda > 0;
+    if (given) g.lambda = o.lambda;
     g.absolute = o.absolute;
     if (o.tolerance > 0) g.tolerance = o.tolerance;
     auto gn = std::make_unique<GaussNewton>(std::move(problem), g);
-    if (o.choose == "fixed") gn->set_lambda(o.lambda, "fixed");
+    if (given) gn->set_lambda(o.lambda, "fixed");
     return std::unique_ptr<Reconstructor>(std::move(gn));
   };
   return spec;

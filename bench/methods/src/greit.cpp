@@ -1,5 +1,5 @@
-// GREIT: a linear map trained on small targets; its lambda from {1e-5, 1e-4, ..., 1} by validation
-// CC.
+// GREIT: a linear map trained on small targets; its lambda fixed, or from GreitOptions::candidates
+// by validation CC.
 #include "eitbench/solvers/greit.h"
 
 #include "method_specs.h"
@@ -11,8 +11,8 @@ MethodSpec greit() {
   spec.name = "greit";
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GreitOptions g;
-    if (o.choose == "fixed") g.lambda = o.lambda;
-    g.choose_by_validation = o.choose == "validation";
+    g.choice = parse_criterion(o.choose.empty() ? "fixed" : o.choose);
+    if (g.choice == Criterion::fixed && o.lambda > 0) g.lambda = o.lambda;
     return std::unique_ptr<Reconstructor>(std::make_unique<Greit>(std::move(problem), g));
   };
   return spec;

@@ -13,11 +13,12 @@ namespace {
 MethodSpec tikhonov_with(const std::string& prior) {
   MethodSpec spec;
   spec.name = prior;
+  spec.default_choice = "gcv";
   spec.make = [prior](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     TikhonovOptions t;
     t.prior = parse_prior(prior);
-    t.choice = o.choose == "fixed" ? Choice::fixed : parse_choice(o.choose);
-    if (t.choice == Choice::fixed) t.lambda = o.lambda;
+    t.choice = parse_criterion(o.choose.empty() ? "gcv" : o.choose);
+    if (t.choice == Criterion::fixed) t.lambda = o.lambda;
     t.neighbours = parse_neighbours(o.neighbours);
     return std::unique_ptr<Reconstructor>(std::make_unique<Tikhonov>(std::move(problem), t));
   };

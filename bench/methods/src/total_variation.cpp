@@ -1,5 +1,6 @@
-// Total variation by Chambolle-Pock: the TV weight alpha from {1e-6, 3e-6, ..., 1e-3} by
-// validation CC. GCV and the L-curve do not apply: asked for them, it keeps its default alpha.
+// Total variation by Chambolle-Pock: the TV weight alpha fixed, or from
+// TotalVariationOptions::candidates by validation CC. GCV and the L-curve do not apply: asked for
+// them, the solver refuses.
 #include "eitbench/solvers/total_variation.h"
 
 #include "method_specs.h"
@@ -12,11 +13,14 @@ MethodSpec total_variation() {
   spec.sweep_on_subset = true;
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     TotalVariationOptions t;
-    if (o.choose == "fixed") t.alpha = o.lambda;
-    t.choose_by_validation = o.choose == "validation";
+    t.choice = parse_criterion(o.choose.empty() ? "fixed" : o.choose);
+    const bool given = t.choice == Criterion::fixed && o.lambda > 0;
+    if (given) t.alpha = o.lambda;
     if (o.tolerance > 0) t.tolerance = o.tolerance;
     t.neighbours = parse_neighbours(o.neighbours);
-    return std::unique_ptr<Reconstructor>(std::make_unique<TotalVariation>(std::move(problem), t));
+    auto tv = std::make_unique<TotalVariation>(std::move(problem), t);
+    if (given) tv->set_alpha(o.lambda, "fixed");
+    return std::unique_ptr<Reconstructor>(std::move(tv));
   };
   return spec;
 }

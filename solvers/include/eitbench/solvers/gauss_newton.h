@@ -36,7 +36,10 @@ struct GaussNewtonOptions {
   double residual_tolerance = 1e-6;  // or when ||r|| / ||v_target|| does
   double min_ratio = 1e-4;           // the box on sigma / sigma_0, far beyond any touch
   double max_ratio = 1e4;
-  bool choose_by_validation = false;  // lambda from {1e-5, ..., 1e-1} by the score in fit()
+  // fixed (lambda above) or validation (the candidates, by the score in fit(), on at most 20
+  // frames); gcv and lcurve are refused.
+  Criterion choice = Criterion::fixed;
+  std::vector<double> candidates = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1};
 
   // Throws InputError naming the field ("GaussNewtonOptions", field) for a value out of range.
   void validate() const;

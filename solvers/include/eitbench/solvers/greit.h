@@ -21,10 +21,13 @@ struct GreitOptions {
   double desired_radius = 0.15;  // the desired image's disc, relative to R, in (0, 1]
   // The noise term's weight, positive and finite. N = diag(Y Y^T), so lambda is dimensionless: 1
   // weighs each measurement's noise as much as its mean training signal. It is not Adler et al.'s
-  // noise figure (NF): choose it by validation (choose_by_validation) or set it.
+  // noise figure (NF): choose it by validation or set it.
   double lambda = 1e-2;
   std::uint64_t seed = 1;
-  bool choose_by_validation = false;
+  // fixed (lambda above) or validation (the candidates, by the score in fit(), on at most 500
+  // frames); gcv and lcurve are refused.
+  Criterion choice = Criterion::fixed;
+  std::vector<double> candidates = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0};
 
   // Throws InputError("GreitOptions", field) for a value out of range.
   void validate() const;

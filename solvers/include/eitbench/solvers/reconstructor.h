@@ -12,6 +12,24 @@
 
 namespace eitbench {
 
+// How a method's hyperparameter is chosen: one mechanism for every method (EIDORS, too, keeps the
+// choice apart from the solvers). Each options struct has a `choice` and, where it can sweep, its
+// `candidates`; asking a method for a criterion it cannot use is an InputError, never ignored.
+enum class Criterion {
+  fixed,       // the value in the options
+  validation,  // the candidate with the best total score on labelled frames, in fit()
+  gcv,         // generalised cross-validation: one-step linear methods only (frames, no labels)
+  lcurve,      // the L-curve's corner: one-step linear methods only (frames, no labels)
+};
+const char* to_string(Criterion c);
+// fixed | validation | gcv | lcurve; InputError("Criterion", "name") for another name.
+Criterion parse_criterion(const std::string& name);
+// For the methods that choose by validation or take a fixed value (TV, Gauss-Newton, GREIT):
+// InputError(options, "choice") for gcv or lcurve, InputError(options, "candidates") for
+// validation with no candidates or one that is not positive and finite.
+void check_fixed_or_validation(const char* options, Criterion choice,
+                               const std::vector<double>& candidates);
+
 // How good an image is against its label (higher is better): the caller's metric, e.g. the mean
 // correlation coefficient of bench/metrics. Reconstructors choose hyperparameters by it.
 using ScoreFn = std::function<double(const Eigen::VectorXd& image, const Eigen::VectorXd& label)>;

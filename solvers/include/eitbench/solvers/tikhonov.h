@@ -27,9 +27,6 @@ Prior parse_prior(const std::string& method);  // tikhonov (or identity) | noser
 enum class Neighbours { pixels, elements };
 Neighbours parse_neighbours(const std::string& name);  // pixels | elements
 
-enum class Choice { fixed, gcv, lcurve, validation };
-Choice parse_choice(const std::string& name);  // gcv | lcurve | validation
-
 struct TikhonovOptions {
   Prior prior = Prior::noser;
   double noser_exponent = 0.5;  // p of NOSER's diag(A^T A)^p, in [0, 1]
@@ -37,7 +34,7 @@ struct TikhonovOptions {
   // what suits depends on the mesh, the protocol and the prior, so it is given with choice ==
   // fixed and only then (another choice would ignore it).
   std::optional<double> lambda;
-  Choice choice = Choice::gcv;
+  Criterion choice = Criterion::gcv;  // any criterion; validation sweeps the grid below
   int grid = 41;  // lambdas tried, at least 3: trace(G)/m x 10^[-8, 2], log-spaced
   // epsilon of the Laplace prior, relative to the mean diagonal of L^T L: positive and finite.
   double laplace_epsilon = 1e-3;

@@ -15,8 +15,10 @@ namespace eitbench {
 
 // What the command line and the benchmark ask of a method.
 struct MethodOptions {
-  std::string choose = "gcv";         // gcv | lcurve | validation | fixed
-  double lambda = 0;                  // with choose == fixed
+  // fixed | validation | gcv | lcurve, or empty for the method's default_choice. A method refuses
+  // a criterion it cannot use (InputError naming its options' "choice").
+  std::string choose;
+  double lambda = 0;                  // with choose == fixed; 0: the method's default value
   bool absolute = false;              // gn: absolute frames instead of differences
   std::string neighbours = "pixels";  // laplace: pixels | elements
   double tolerance = 0;               // tv, gn: stopping tolerance (0: the method's default)
@@ -27,6 +29,9 @@ struct MethodSpec {
   // The benchmark tunes it on at most RunConfig::sweep_frames validation frames instead of all:
   // the iterative methods, whose sweep costs a solve per frame and candidate.
   bool sweep_on_subset = false;
+  // What an empty MethodOptions::choose means: gcv for the one-step Tikhonov family (frames
+  // alone choose lambda), fixed at the documented default for the rest.
+  std::string default_choice = "fixed";
   // Null for a method that is trained, not built on the linear problem (dnn).
   std::function<std::unique_ptr<Reconstructor>(std::shared_ptr<const LinearProblem>,
                                                const MethodOptions&)>
