@@ -108,6 +108,27 @@ TEST_P(ElectrodeCount, TransferImpedancesAreReciprocalAtAContrastOf1e4) {
   ASSERT_TRUE(Z.allFinite());
 }
 
+// A conductivity must be positive and finite, yet one near the largest double overflows the
+// assembled system: 1.7e308 everywhere gave NaN potentials while CHOLMOD reported success (1e308
+// still solves). The numbers defeated the solve, so it is a NumericalError, which Gauss-Newton's
+// line search reads as "no decrease there"; and the failed solve leaves the model's pool of
+// workspaces serving the same frames as before it.
+TEST(ForwardModel, OverflowIsANumericalErrorAndSpoilsNoLaterSolve) {
+  const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
+  const ForwardModel model(mesh);
+  const int T = mesh.num_triangles();
+  const Eigen::VectorXd sigma = testing::random_conductivity(T, 5);
+  const Eigen::VectorXd before = model.frame(sigma);
+  const Eigen::VectorXd overflowing = Eigen::VectorXd::Constant(T, 1.7e308);
+  EXPECT_THROW(model.solve(overflowing), NumericalError);
+  EXPECT_THROW(model.frame(overflowing), NumericalError);
+  EXPECT_THROW(model.jacobian(overflowing), NumericalError);
+  EXPECT_TRUE(model.frame(Eigen::VectorXd::Constant(T, 1e308)).allFinite());
+  EXPECT_EQ(model.frame(sigma), before);
+  EXPECT_EQ(model.solve(sigma).electrode_potentials,
+            ForwardModel(mesh).solve(sigma).electrode_potentials);
+}
+
 INSTANTIATE_TEST_SUITE_P(ForwardModel, ElectrodeCount, ::testing::Values(8, 16, 32),
                          [](const auto& info) {
                            return std::to_string(info.param) + "electrodes";
