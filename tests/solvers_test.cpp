@@ -110,8 +110,11 @@ TEST(Tikhonov, SinglePrecisionAgreesWithDoubleAtWorkingLambdas) {
   }
 }
 
-TEST(Tikhonov, GcvAndLcurveLandWithinADecadeOfTheValidationOptimum) {
-  // Linear data with white noise: the case GCV and the L-curve are made for.
+// Linear data with white noise: the case GCV and the L-curve are made for. The grid's step is a
+// quarter decade. Measured here: GCV +0.25, the L-curve 0 decades from the validation optimum, for
+// both priors; over noise seeds 2-4 at 30 and 40 dB, GCV +0 to +0.5 and the L-curve -0.25 to +0.25.
+// So the bound is half a decade, two grid steps.
+TEST(Tikhonov, GcvAndLcurveLandWithinHalfADecadeOfTheValidationOptimum) {
   const Reconstruction& s = medium();
   SampleMatrix labels;
   SampleMatrix y = linear_frames(s, touches(60, 2), &labels);
@@ -125,9 +128,9 @@ TEST(Tikhonov, GcvAndLcurveLandWithinADecadeOfTheValidationOptimum) {
           return correlation(a, b, s.grid);
         });
     const double gcv = t.choose_gcv(y), lcurve = t.choose_lcurve(y);
-    EXPECT_LT(std::abs(std::log10(gcv / best)), 1.0)
+    EXPECT_LE(std::abs(std::log10(gcv / best)), 0.5 + 1e-9)
         << t.name() << " gcv " << gcv << " validation " << best;
-    EXPECT_LT(std::abs(std::log10(lcurve / best)), 1.0)
+    EXPECT_LE(std::abs(std::log10(lcurve / best)), 0.5 + 1e-9)
         << t.name() << " lcurve " << lcurve << " validation " << best;
   }
 }
@@ -503,8 +506,9 @@ TEST(GaussNewton, AbsoluteModeRecoversAHomogeneousConductivity) {
     o.absolute = true;
     const GaussNewton gn(s.problem, o);
     const Eigen::VectorXd image = gn.reconstruct(frame);
+    // Measured worst pixel: 0.78 % of sigma at 0.5, 1.21 % at 2; the bound is 1.5x the larger.
     for (int p : s.problem->pixels)
-      EXPECT_NEAR(image[p], 1.0 - sigma, 0.02 * sigma) << "pixel " << p;
+      EXPECT_NEAR(image[p], 1.0 - sigma, 0.018 * sigma) << "pixel " << p;
   }
 }
 
