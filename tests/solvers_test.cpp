@@ -110,8 +110,11 @@ TEST(Tikhonov, SinglePrecisionAgreesWithDoubleAtWorkingLambdas) {
   }
 }
 
-TEST(Tikhonov, GcvAndLcurveLandWithinADecadeOfTheValidationOptimum) {
-  // Linear data with white noise: the case GCV and the L-curve are made for.
+// Linear data with white noise: the case GCV and the L-curve are made for. The grid's step is a
+// quarter decade. Measured here: GCV +0.25, the L-curve 0 decades from the validation optimum, for
+// both priors; over noise seeds 2-4 at 30 and 40 dB, GCV +0 to +0.5 and the L-curve -0.25 to +0.25.
+// So the bound is half a decade, two grid steps.
+TEST(Tikhonov, GcvAndLcurveLandWithinHalfADecadeOfTheValidationOptimum) {
   const Reconstruction& s = medium();
   SampleMatrix labels;
   SampleMatrix y = linear_frames(s, touches(60, 2), &labels);
@@ -125,9 +128,9 @@ TEST(Tikhonov, GcvAndLcurveLandWithinADecadeOfTheValidationOptimum) {
           return correlation(a, b, s.grid);
         });
     const double gcv = t.choose_gcv(y), lcurve = t.choose_lcurve(y);
-    EXPECT_LT(std::abs(std::log10(gcv / best)), 1.0)
+    EXPECT_LE(std::abs(std::log10(gcv / best)), 0.5 + 1e-9)
         << t.name() << " gcv " << gcv << " validation " << best;
-    EXPECT_LT(std::abs(std::log10(lcurve / best)), 1.0)
+    EXPECT_LE(std::abs(std::log10(lcurve / best)), 0.5 + 1e-9)
         << t.name() << " lcurve " << lcurve << " validation " << best;
   }
 }
@@ -619,8 +622,9 @@ TEST(GaussNewton, AbsoluteModeRecoversAHomogeneousConductivity) {
     o.absolute = true;
     const GaussNewton gn(s.problem, o);
     const Eigen::VectorXd image = gn.reconstruct(frame);
+    // Measured worst pixel: 0.78 % of sigma at 0.5, 1.21 % at 2; the bound is 1.5x the larger.
     for (int p : s.problem->pixels)
-      EXPECT_NEAR(image[p], 1.0 - sigma, 0.02 * sigma) << "pixel " << p;
+      EXPECT_NEAR(image[p], 1.0 - sigma, 0.018 * sigma) << "pixel " << p;
   }
 }
 
@@ -788,10 +792,11 @@ TEST(GaussNewton, StaysBoundedOnFramesWithModelError) {
 // the nonlinear forward model (5 % contrast), not with the training's linear model.
 // GREIT's figures of merit (Adler et al. 2009) for a small target at (x, y): amplitude response
 // (image mass over the target's), position error of the centroid of the quarter-maximum set Q,
-// resolution sqrt(area(Q) / area(disk)), and ringing: the opposite-sign mass outside Q over the
-// mass inside it.
+// resolution sqrt(area(Q) / area(disk)), shape deformation: the fraction of Q's mass outside the
+// circle C of Q's area about Q's centroid (0 for a round image), and ringing: the opposite-sign
+// mass outside Q over the mass inside it.
 struct FiguresOfMerit {
-  double amplitude, position_error, resolution, ringing;
+  double amplitude, position_error, resolution, shape_deformation, ringing;
 };
 FiguresOfMerit greit_figures(const Reconstruction& s, const Reconstructor& method, double x,
                              double y) {
@@ -814,16 +819,24 @@ FiguresOfMerit greit_figures(const Reconstruction& s, const Reconstructor& metho
       ringing -= image[p];
   }
   centroid /= mass;
+  const double radius_c = s.grid.pixel_width() * std::sqrt(in_q / M_PI);
+  double outside_c = 0;
+  for (int p = 0; p < image.size(); ++p)
+    if (s.grid.mask()[p] && image[p] >= quarter &&
+        (s.grid.center(p / 64, p % 64) - centroid).norm() > radius_c)
+      outside_c += image[p];
   return {image.sum() / truth.sum(), (centroid - Eigen::Vector2d(x, y)).norm(),
-          std::sqrt(static_cast<double>(in_q) / s.grid.num_inside()), ringing / mass};
+          std::sqrt(static_cast<double>(in_q) / s.grid.num_inside()), outside_c / mass,
+          ringing / mass};
 }
 
 // Bounds at about 1.5x the measured figures (amplitude 1.024 +- 3.7 %, position error 0.018 R,
-// resolution 0.268 +- 17.2 %, ringing 0.334), so that a regression of half again fails.
+// resolution 0.268 +- 17.2 %, shape deformation 0.063, ringing 0.334), so that a regression of
+// half again fails.
 TEST(Greit, FiguresOfMeritAreUniformAcrossTheDisk) {
   const Reconstruction& s = medium();
   const Greit greit(s.problem, {});
-  std::vector<double> amplitude, position, resolution, ringing;
+  std::vector<double> amplitude, position, resolution, shape, ringing;
   for (double r : {0.0, 0.2, 0.4, 0.6, 0.8})
     for (int k = 0; k < (r == 0 ? 1 : 8); ++k) {
       const double a = 2 * M_PI * (k + 0.3) / 8;  // off the symmetry axes
@@ -831,6 +844,7 @@ TEST(Greit, FiguresOfMeritAreUniformAcrossTheDisk) {
       amplitude.push_back(f.amplitude);
       position.push_back(f.position_error);
       resolution.push_back(f.resolution);
+      shape.push_back(f.shape_deformation);
       ringing.push_back(f.ringing);
     }
   auto array = [](const std::vector<double>& v) {
@@ -840,16 +854,18 @@ TEST(Greit, FiguresOfMeritAreUniformAcrossTheDisk) {
     return std::sqrt((a - a.mean()).square().mean()) / a.mean();
   };
   const Eigen::ArrayXd ar = array(amplitude), pe = array(position), res = array(resolution),
-                       rng = array(ringing);
+                       sd = array(shape), rng = array(ringing);
   std::printf(
       "greit: amplitude response %.3f +- %.1f %%, position error max %.3f R, mean %.3f R, "
-      "resolution %.3f +- %.1f %%, ringing max %.3f, mean %.3f\n",
+      "resolution %.3f +- %.1f %%, shape deformation max %.3f, mean %.3f, ringing max %.3f, mean "
+      "%.3f\n",
       ar.mean(), 100 * spread(ar), pe.maxCoeff(), pe.mean(), res.mean(), 100 * spread(res),
-      rng.maxCoeff(), rng.mean());
+      sd.maxCoeff(), sd.mean(), rng.maxCoeff(), rng.mean());
   EXPECT_LT(spread(ar), 0.055);       // amplitude response uniform within 5.5 %
   EXPECT_NEAR(ar.mean(), 1.0, 0.05);  // and close to the true mass
   EXPECT_LT(pe.maxCoeff(), 0.027);    // position error under 0.027 R everywhere up to 0.8 R
   EXPECT_LT(spread(res), 0.26);       // resolution uniform within 26 % (measured 17.2 %)
+  EXPECT_LT(sd.maxCoeff(), 0.095);    // images round to within 9.5 % of their mass (measured 6.3 %)
   EXPECT_LT(rng.maxCoeff(), 0.5);     // ringing at most half the image's mass (measured 0.334)
 }
 

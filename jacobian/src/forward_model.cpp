@@ -341,6 +341,13 @@ std::unique_ptr<Workspace> ForwardModel::Impl::solve(const Eigen::VectorXd& sigm
   if (!cholmod_solve2(CHOLMOD_A, w->factor, &B, nullptr, &w->X, nullptr, &w->Y, &w->E,
                       w->common.get()))
     throw std::runtime_error("CHOLMOD: solve failed (out of memory?)");
+  // Conductivities near the largest double overflow the assembled system (1.7e308 everywhere gives
+  // NaN potentials while CHOLMOD reports success): the numbers, not the input's form, failed.
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> X(
+      static_cast<const double*>(w->X->x), m.dofs, static_cast<Eigen::Index>(w->X->ncol),
+      Eigen::OuterStride<>(static_cast<Eigen::Index>(w->X->d)));
+  if (!X.allFinite())
+    throw NumericalError("the CEM system overflowed: conductivities beyond double precision");
   return w;
 }
 
