@@ -415,7 +415,7 @@ TEST(Augment, ExpandedPairsAgreeWithTheForwardModel) {
   const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
   const LabelledFrames set = circle_set(mesh, 3, 1);
   AugmentSetup setup;
-  const LabelledFrames big = expand(set, setup);
+  const LabelledFrames big = expand_by_group(set, setup);
   ASSERT_EQ(big.frames.rows(), 3 * 32);
   const ForwardModel model(mesh);
   const Eigen::VectorXd ref = model.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), 0.05));
@@ -433,23 +433,23 @@ TEST(Augment, ExpandedPairsAgreeWithTheForwardModel) {
         1e-12);
   }
   setup.group = AugmentGroup::rotations;
-  EXPECT_EQ(expand(set, setup).frames.rows(), 3 * 16);
+  EXPECT_EQ(expand_by_group(set, setup).frames.rows(), 3 * 16);
 }
 
 TEST(Augment, ExpansionIsIdenticalForAnyThreadCount) {
   const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
   LabelledFrames set = circle_set(mesh, 6, 3);
   AugmentSetup setup;
-  const LabelledFrames many = expand(set, setup);
+  const LabelledFrames many = expand_by_group(set, setup);
   LabelledFrames one;
   {
     const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
-    one = expand(set, setup);
+    one = expand_by_group(set, setup);
   }
   EXPECT_EQ(one.frames, many.frames);
   EXPECT_EQ(one.labels, many.labels);
   set.circles.clear();  // the bilinear path too
-  EXPECT_EQ(expand(set, setup).labels.rows(), 6 * 32);
+  EXPECT_EQ(expand_by_group(set, setup).labels.rows(), 6 * 32);
 }
 
 TEST(Augment, OnTheFlyIsDeterministicUniformAndConsistent) {
@@ -499,27 +499,27 @@ TEST(Augment, OnTheFlyIsDeterministicUniformAndConsistent) {
 TEST(Augment, RejectsBadSets) {
   LabelledFrames set;
   AugmentSetup setup;
-  EXPECT_THROW(expand(set, setup), InputError);  // empty
+  EXPECT_THROW(expand_by_group(set, setup), InputError);  // empty
   {  // circles without the background their labels are relative to
     LabelledFrames unset;
     unset.frames = SampleMatrix::Ones(1, 104);
     unset.labels = SampleMatrix::Zero(1, 4096);
     unset.circles = {{{0.1, 0.2, 0.2, 0.01}}};
-    EXPECT_THROW(expand(unset, setup), InputError);
+    EXPECT_THROW(expand_by_group(unset, setup), InputError);
     unset.background = 0.05;
-    EXPECT_NO_THROW(expand(unset, setup));
+    EXPECT_NO_THROW(expand_by_group(unset, setup));
   }
   set.frames = SampleMatrix::Ones(2, 103);
-  EXPECT_THROW(expand(set, setup), InputError);  // wrong length
+  EXPECT_THROW(expand_by_group(set, setup), InputError);  // wrong length
   set.frames = SampleMatrix::Ones(2, 104);
   set.frames(1, 3) = NAN;
-  EXPECT_THROW(expand(set, setup), InputError);
+  EXPECT_THROW(expand_by_group(set, setup), InputError);
   set.frames(1, 3) = 1;
   set.labels = SampleMatrix::Ones(2, 100);
-  EXPECT_THROW(expand(set, setup), InputError);
+  EXPECT_THROW(expand_by_group(set, setup), InputError);
   setup.electrodes = 8;
   set.labels.resize(0, 0);
-  EXPECT_THROW(expand(set, setup), InputError);  // 104 values do not fit L = 8
+  EXPECT_THROW(expand_by_group(set, setup), InputError);  // 104 values do not fit L = 8
 }
 
 // The setup is validated before the augmenter builds its tables from it, naming the field.
@@ -538,7 +538,7 @@ TEST(Augment, SetupValidateNamesTheField) {
     AugmentSetup setup;
     spoil(setup);
     EXPECT_EQ(input_error_at([&] { setup.validate(); }), "AugmentSetup." + field);
-    EXPECT_EQ(input_error_at([&] { expand(set, setup); }), "AugmentSetup." + field);
+    EXPECT_EQ(input_error_at([&] { expand_by_group(set, setup); }), "AugmentSetup." + field);
     EXPECT_EQ(input_error_at([&] { OnTheFlyAugmenter(shared, setup, 1); }),
               "AugmentSetup." + field);
   }

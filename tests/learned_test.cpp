@@ -215,7 +215,7 @@ TEST(Trainer, InputStatisticsAreThoseOfTheAugmentedSet) {
                           sensor_of(data));
     LabelledFrames frames_only;
     frames_only.frames = train.frames;
-    const SampleMatrix all = expand(frames_only, sensor_of(data, group)).frames;
+    const SampleMatrix all = expand_by_group(frames_only, sensor_of(data, group)).frames;
     const Eigen::VectorXd mean = all.colwise().mean().transpose();
     const Eigen::VectorXd std =
         ((all.rowwise() - mean.transpose()).colwise().squaredNorm() / double(all.rows()))

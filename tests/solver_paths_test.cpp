@@ -57,7 +57,7 @@ double linearisation_error(const Problem& p, double contrast) {
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(p.model->mesh().num_triangles());
   const Eigen::VectorXd v0 = p.model->frame(ones);
   const Eigen::VectorXd v1 =
-      p.model->frame(ones - p.linear->pixel_to_element * p.linear->from_image(x));
+      p.model->frame(ones - p.linear->element_from_pixels * p.linear->from_image(x));
   const Eigen::VectorXd dv = p.model->protocol().reduce(v1 - v0, MeasurementOrder::rotating);
   return (p.linear->A * p.linear->from_image(x) - dv).norm() / dv.norm();
 }
@@ -118,14 +118,14 @@ TEST(Fit, GaussNewtonChoosesTheLambdaTheScoreFavours) {
     fixed.lambda = target;
     const SampleMatrix labels = GaussNewton(p.linear, fixed).reconstruct_all(y);
     GaussNewtonOptions o;
-    o.choose_by_validation = true;
+    o.choice = Criterion::validation;
     GaussNewton gn(p.linear, o);
     gn.fit(y, labels, distance_score());
     EXPECT_EQ(gn.lambda(), target);
     EXPECT_NE(gn.settings().find("validation"), std::string::npos) << gn.settings();
     EXPECT_EQ(gn.reconstruct_all(y), labels);
   }
-  // Without choose_by_validation fit leaves lambda alone.
+  // With a fixed choice fit leaves lambda alone.
   GaussNewton gn(p.linear, {});
   gn.fit(y, y, distance_score());
   EXPECT_EQ(gn.lambda(), GaussNewtonOptions{}.lambda);
@@ -139,7 +139,7 @@ TEST(Fit, GreitChoosesTheLambdaTheScoreFavours) {
     fixed.lambda = target;
     const SampleMatrix labels = Greit(p.linear, fixed).reconstruct_all(y);
     GreitOptions o;
-    o.choose_by_validation = true;
+    o.choice = Criterion::validation;
     Greit greit(p.linear, o);
     greit.fit(y, labels, distance_score());
     EXPECT_NE(greit.settings().find("(validation)"), std::string::npos) << greit.settings();
@@ -155,7 +155,7 @@ TEST(Fit, TotalVariationChoosesTheAlphaTheScoreFavours) {
   const SampleMatrix labels = TotalVariation(p.linear, {}).reconstruct_all(y);
   TotalVariationOptions o;
   o.alpha = 1e-3;
-  o.choose_by_validation = true;
+  o.choice = Criterion::validation;
   TotalVariation tv(p.linear, o);
   tv.fit(y, labels, distance_score());
   EXPECT_EQ(tv.alpha(), target);
@@ -188,7 +188,7 @@ TEST(GaussNewtonPaths, AFailedLineSearchReturnsTheLastAcceptedStep) {
   const Mesh& mesh = p.model->mesh();
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(mesh.num_triangles());
   const Eigen::VectorXd sigma =
-      p.linear->pixel_to_element * (1.0 - p.linear->from_image(image).array()).matrix();
+      p.linear->element_from_pixels * (1.0 - p.linear->from_image(image).array()).matrix();
   const Eigen::VectorXd dv = p.model->protocol().reduce(
       p.model->frame(sigma) - p.model->frame(ones), MeasurementOrder::rotating);
   EXPECT_NEAR((dv - y).norm(), report.residual.back(), 1e-9 * report.residual.back());

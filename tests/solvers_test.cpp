@@ -64,7 +64,7 @@ TEST(LinearProblem, IsTheLinearisedForwardModelOnTheLabelScale) {
   const Mesh& mesh = s.model->mesh();
   const Eigen::VectorXd v0 = s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles()));
   const Eigen::VectorXd v1 = s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles()) -
-                                            s.problem->pixel_to_element * s.problem->from_image(x));
+                                            s.problem->element_from_pixels * s.problem->from_image(x));
   const Eigen::VectorXd dv = s.model->protocol().reduce(v1 - v0, MeasurementOrder::rotating);
   EXPECT_LT((s.problem->A * s.problem->from_image(x) - dv).norm() / dv.norm(), 0.01);
 }
@@ -601,7 +601,7 @@ TEST(GaussNewton, ResidualFallsEveryStepAndEndsBelowTheOneStepSolution) {
   auto residual = [&](const Eigen::VectorXd& img) {  // sigma = sigma_0 (1 - x) on the label scale
     const Eigen::VectorXd sigma_pix = (1.0 - s.problem->from_image(img).array()).max(1e-3).matrix();
     const Eigen::VectorXd v = s.model->protocol().reduce(
-        s.model->frame(s.problem->pixel_to_element * sigma_pix), MeasurementOrder::rotating);
+        s.model->frame(s.problem->element_from_pixels * sigma_pix), MeasurementOrder::rotating);
     const Eigen::VectorXd v0 = s.model->protocol().reduce(
         s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles())), MeasurementOrder::rotating);
     return (v - v0 - two_discs().frame).norm();

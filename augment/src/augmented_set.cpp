@@ -54,7 +54,7 @@ void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup)
                      "relative to it)");
 }
 
-LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup) {
+LabelledFrames expand_by_group(const LabelledFrames& set, const AugmentSetup& setup) {
   check_labelled_frames(set, setup);
   const int L = setup.electrodes;
   const auto elements = group_elements(setup.group, L);

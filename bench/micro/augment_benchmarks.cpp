@@ -39,7 +39,7 @@ void BM_ExpandFrames_21833x32(benchmark::State& state) {
   for (auto& x : set.frames.reshaped()) x = normal(rng);
   set.labels.resize(0, 0);
   AugmentSetup setup;
-  for (auto _ : state) benchmark::DoNotOptimize(expand(set, setup).frames.data());
+  for (auto _ : state) benchmark::DoNotOptimize(expand_by_group(set, setup).frames.data());
   state.SetItemsProcessed(state.iterations() * 21833 * 32);
 }
 
@@ -47,7 +47,7 @@ void BM_ExpandFrames_21833x32(benchmark::State& state) {
 void BM_ExpandFramesAndLabels(benchmark::State& state) {
   const LabelledFrames set = random_set(200, state.range(0) == 1);
   AugmentSetup setup;
-  for (auto _ : state) benchmark::DoNotOptimize(expand(set, setup).labels.data());
+  for (auto _ : state) benchmark::DoNotOptimize(expand_by_group(set, setup).labels.data());
   state.SetItemsProcessed(state.iterations() * 200 * 32);
   state.SetLabel(state.range(0) ? "exact labels (circles)" : "bilinear labels");
 }

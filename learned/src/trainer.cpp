@@ -70,7 +70,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
   validation_print = fingerprint(validation);
 
   if (options.expanded) {
-    expanded = expand(*train, setup);
+    expanded = expand_by_group(*train, setup);
     train_size = expanded.frames.rows();
   } else {
     augmenter = std::make_unique<OnTheFlyAugmenter>(train, setup, options.seed);

@@ -21,7 +21,7 @@ struct State {
 State forward(const LinearProblem& p, Eigen::VectorXd x) {
   State s;
   const Eigen::VectorXd sigma_pix = p.background * (1.0 + x.array()).matrix();
-  s.solution = p.model->solve(p.pixel_to_element * sigma_pix);
+  s.solution = p.model->solve(p.element_from_pixels * sigma_pix);
   s.v = p.model->protocol().reduce(p.model->frame(s.solution), MeasurementOrder::rotating);
   s.x = std::move(x);
   return s;
@@ -30,8 +30,9 @@ State forward(const LinearProblem& p, Eigen::VectorXd x) {
 // The Jacobian at a state, from the fields its forward solve already holds (the line search
 // solved the accepted step; solving it again only to linearise would double that cost).
 void linearise(const LinearProblem& p, State& s) {
-  s.J = (p.model->jacobian(s.solution, p.model->protocol().reduced_pairs()) * p.pixel_to_element) *
-        p.background;
+  s.J =
+      (p.model->jacobian(s.solution, p.model->protocol().reduced_pairs()) * p.element_from_pixels) *
+      p.background;
 }
 
 // One frame's objective: data misfit plus the weighted prior, over the box on x.

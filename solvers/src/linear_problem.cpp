@@ -91,19 +91,19 @@ LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, dou
   const auto overlap = pixel_overlap(mesh, grid);
   check_mesh_is_the_grids_disk(mesh, grid, overlap);
   // Columns of P for the in-disk pixels only (P has no weight on the others).
-  const auto full = eitbench::pixel_to_element(mesh, grid, overlap);
+  const auto full = pixel_to_element(mesh, grid, overlap);
   std::vector<int> column(grid.num_pixels(), -1);
   for (std::size_t j = 0; j < p.pixels.size(); ++j) column[p.pixels[j]] = static_cast<int>(j);
   std::vector<Eigen::Triplet<double>> entries;
   for (int t = 0; t < full.rows(); ++t)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(full, t); it; ++it)
       entries.emplace_back(t, column[it.col()], it.value());
-  p.pixel_to_element.resize(full.rows(), static_cast<Eigen::Index>(p.pixels.size()));
-  p.pixel_to_element.setFromTriplets(entries.begin(), entries.end());
+  p.element_from_pixels.resize(full.rows(), static_cast<Eigen::Index>(p.pixels.size()));
+  p.element_from_pixels.setFromTriplets(entries.begin(), entries.end());
   const Eigen::MatrixXd J =
       model->jacobian(model->solve(Eigen::VectorXd::Constant(mesh.num_triangles(), background)),
                       model->protocol().reduced_pairs());
-  p.A = -background * (J * p.pixel_to_element);
+  p.A = -background * (J * p.element_from_pixels);
   return p;
 }
 

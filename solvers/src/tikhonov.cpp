@@ -49,16 +49,10 @@ Eigen::SparseMatrix<double> element_laplacian(const LinearProblem& p) {
     }
   Eigen::SparseMatrix<double> L(mesh.num_triangles(), mesh.num_triangles());
   L.setFromTriplets(entries.begin(), entries.end());
-  return L * Eigen::SparseMatrix<double>(p.pixel_to_element);
+  return L * Eigen::SparseMatrix<double>(p.element_from_pixels);
 }
 
 }  // namespace
-
-Neighbours parse_neighbours(const std::string& name) {
-  if (name == "pixels") return Neighbours::pixels;
-  if (name == "elements") return Neighbours::elements;
-  throw InputError("Neighbours", "name", "unknown neighbours '" + name + "' (pixels or elements)");
-}
 
 Prior parse_prior(const std::string& method) {
   if (method == "tikhonov" || method == "identity") return Prior::identity;

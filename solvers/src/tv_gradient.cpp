@@ -28,7 +28,7 @@ TvGradient TvGradient::elements(const LinearProblem& problem, const Eigen::Vecto
   TvGradient d;
   const Mesh& mesh = problem.model->mesh();
   const double h = 2.0 * problem.radius / problem.image_size;
-  const Eigen::VectorXd element_sensitivity = problem.pixel_to_element * sensitivity;
+  const Eigen::VectorXd element_sensitivity = problem.element_from_pixels * sensitivity;
   std::map<std::pair<int, int>, int> first;  // edge -> the first triangle seen on it
   std::vector<Eigen::Triplet<double>> entries;
   std::vector<double> weights;
@@ -45,7 +45,7 @@ TvGradient TvGradient::elements(const LinearProblem& problem, const Eigen::Vecto
   Eigen::SparseMatrix<double, Eigen::RowMajor> D(static_cast<Eigen::Index>(weights.size()),
                                                  mesh.num_triangles());
   D.setFromTriplets(entries.begin(), entries.end());
-  d.K_ = D * problem.pixel_to_element;
+  d.K_ = D * problem.element_from_pixels;
   d.Kt_ = d.K_.transpose();
   d.weight_ =
       Eigen::Map<const Eigen::VectorXd>(weights.data(), static_cast<Eigen::Index>(weights.size()));

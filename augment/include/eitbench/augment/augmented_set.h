@@ -39,7 +39,7 @@ struct AugmentSetup {
 void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup);
 
 // |G| x N rows, sample-major: row i |G| + k is sample i under group element k.
-LabelledFrames expand(const LabelledFrames& set, const AugmentSetup& setup);
+LabelledFrames expand_by_group(const LabelledFrames& set, const AugmentSetup& setup);
 
 // Shares the set it draws from, so a temporary passed in cannot dangle.
 class OnTheFlyAugmenter {

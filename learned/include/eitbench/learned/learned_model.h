@@ -45,9 +45,11 @@ class LearnedModel {
   static LearnedModel from_bytes(const std::string& bytes, const std::string& source);
 
   struct Impl;  // defined in learned/src (LibTorch)
-  Impl& impl() const { return *impl_; }
 
  private:
+  friend class Trainer;  // fills a new model's network with the best one it trained
+  Impl& impl() { return *impl_; }
+
   explicit LearnedModel(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

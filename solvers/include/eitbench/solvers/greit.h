@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "eitbench/solvers/linear_problem.h"
 #include "eitbench/solvers/reconstructor.h"

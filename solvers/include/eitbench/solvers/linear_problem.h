@@ -23,7 +23,8 @@ struct LinearProblem {
   double background = 1.0;
   // What Gauss-Newton needs to re-linearise: the model and the pixel-to-element map.
   std::shared_ptr<const ForwardModel> model;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_to_element;  // triangles x n (in-disk columns)
+  Eigen::SparseMatrix<double, Eigen::RowMajor>
+      element_from_pixels;  // triangles x n (in-disk columns)
 
   int measurements() const { return static_cast<int>(A.rows()); }
   int unknowns() const { return static_cast<int>(A.cols()); }

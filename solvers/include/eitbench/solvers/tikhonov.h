@@ -9,6 +9,7 @@
 #include <string>
 
 #include "eitbench/solvers/linear_problem.h"
+#include "eitbench/solvers/neighbours.h"
 #include "eitbench/solvers/reconstructor.h"
 
 namespace eitbench {
@@ -21,11 +22,6 @@ enum class Prior {
 };
 // Each parser throws InputError(the enum's name, "name") for a name it does not know.
 Prior parse_prior(const std::string& method);  // tikhonov (or identity) | noser | laplace
-
-// Whose neighbours the Laplace prior couples: the image's pixels (4-neighbour), or the mesh's
-// triangles (those sharing an edge), applied to the elements' values P x.
-enum class Neighbours { pixels, elements };
-Neighbours parse_neighbours(const std::string& name);  // pixels | elements
 
 struct TikhonovOptions {
   Prior prior = Prior::noser;

@@ -25,11 +25,12 @@
 // (not after a fixed count; max_iterations is a guard, and the report says which ended it).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "eitbench/solvers/linear_problem.h"
+#include "eitbench/solvers/neighbours.h"
 #include "eitbench/solvers/reconstructor.h"
 #include "eitbench/solvers/termination.h"
-#include "eitbench/solvers/tikhonov.h"
 
 namespace eitbench {
 
