@@ -202,78 +202,71 @@ void DiskMeshOptions::validate() const {
   if (!(size_factor >= 0.1 && size_factor <= 10)) fail("size_factor", "must lie in [0.1, 10]");
 }
 
-Mesh generate_disk_mesh(const DiskMeshOptions& o) {
-  o.validate();
-  const int L = o.electrodes;
+namespace {
 
-  const double R = o.radius;
-  const double gap = kPi / L;
-  SizeSet h = sizes_for(o.density);
-  h = {h.centre * R * o.size_factor, h.boundary * R * o.size_factor, h.edge * R * o.size_factor};
-  // At least one segment across each half electrode, so narrow electrodes are still resolved.
-  h.edge = std::min(h.edge, R * kPi * o.electrode_coverage / L);
-  h.boundary = std::max(h.boundary, h.edge);
-
-  // Spoke length b and cap corner a: an equilateral cap whose side is about 0.7 of the centre size,
-  // with spokes no longer than 1.2 centre sizes nor 0.3 R.
-  const double b = std::min({0.7 * h.centre / (2 * std::sin(gap)), 1.2 * h.centre, 0.3 * R});
-  const double a = b * (std::cos(gap) + std::sqrt(3.0) * std::sin(gap));
-  if (a > 0.6 * R)
-    throw InputError("DiskMeshOptions", "size_factor", "the mesh is too coarse for this disk");
-
-  SectorMesh sector;
-  try {
-    sector = mesh_sector(o, h, a, b);
-  } catch (const std::runtime_error&) {
-    throw;
-  } catch (...) {
-    throw std::runtime_error("disk mesher: Gmsh failed to mesh the sector");
-  }
-
-  // Copy c of the sector covers c*pi/L <= theta <= (c+1)*pi/L: even copies are rotations of the
-  // sector, odd ones its mirror images. A node on an axis belongs to two neighbouring copies; the
-  // even copy owns it.
-  const int n_local = static_cast<int>(sector.r.size());
-  const int copies = 2 * L;
-  std::vector<int> global(static_cast<std::size_t>(copies) * n_local, -1);
+// The disk as 2L copies of the sector: copy c covers c*pi/L <= theta <= (c+1)*pi/L, even copies
+// rotations of the sector, odd ones its mirror images. A node on an axis belongs to two
+// neighbouring copies; the even copy owns it.
+struct Replicas {
   std::vector<std::array<double, 2>> nodes{{0.0, 0.0}};  // node 0: the centre
+  std::vector<int> global;                               // (copy, local node) -> node
+  int copies = 0, n_local = 0;
+  int id(int c, int k) const {
+    return global[static_cast<std::size_t>(((c % copies) + copies) % copies) * n_local + k];
+  }
+};
+
+Replicas replicate_nodes(const SectorMesh& sector, int L) {
+  const double gap = kPi / L;
+  Replicas out;
+  out.n_local = static_cast<int>(sector.r.size());
+  out.copies = 2 * L;
+  out.global.assign(static_cast<std::size_t>(out.copies) * out.n_local, -1);
   auto angle_of = [&](int c, int k) {
     return (c % 2 == 0) ? c * gap + sector.phi[k] : (c + 1) * gap - sector.phi[k];
   };
-  for (int c = 0; c < copies; ++c) {
-    for (int k = 0; k < n_local; ++k) {
+  for (int c = 0; c < out.copies; ++c) {
+    for (int k = 0; k < out.n_local; ++k) {
       int owner = c;
-      if (c % 2 == 1 && sector.phi[k] == 0.0) owner = (c + 1) % copies;  // on electrode axis
-      if (c % 2 == 1 && sector.phi[k] == gap) owner = c - 1;             // on gap axis
-      int& slot = global[static_cast<std::size_t>(owner) * n_local + k];
+      if (c % 2 == 1 && sector.phi[k] == 0.0) owner = (c + 1) % out.copies;  // on electrode axis
+      if (c % 2 == 1 && sector.phi[k] == gap) owner = c - 1;                 // on gap axis
+      int& slot = out.global[static_cast<std::size_t>(owner) * out.n_local + k];
       if (slot < 0) {
         const double theta = angle_of(owner, k);
-        slot = static_cast<int>(nodes.size());
-        nodes.push_back({sector.r[k] * std::cos(theta), sector.r[k] * std::sin(theta)});
+        slot = static_cast<int>(out.nodes.size());
+        out.nodes.push_back({sector.r[k] * std::cos(theta), sector.r[k] * std::sin(theta)});
       }
-      global[static_cast<std::size_t>(c) * n_local + k] = slot;
+      out.global[static_cast<std::size_t>(c) * out.n_local + k] = slot;
     }
   }
-  auto id = [&](int c, int k) {
-    return global[static_cast<std::size_t>(((c % copies) + copies) % copies) * n_local + k];
-  };
+  return out;
+}
 
+// Every copy's triangles, then the two that close each electrode's cap at the centre.
+std::vector<std::array<int, 3>> replicate_triangles(const SectorMesh& sector, const Replicas& r,
+                                                    int L) {
   std::vector<std::array<int, 3>> triangles;
-  for (int c = 0; c < copies; ++c) {
+  for (int c = 0; c < r.copies; ++c) {
     for (const auto& t : sector.triangles) {
-      std::array<int, 3> g{id(c, t[0]), id(c, t[1]), id(c, t[2])};
+      std::array<int, 3> g{r.id(c, t[0]), r.id(c, t[1]), r.id(c, t[2])};
       if (c % 2 == 1) std::swap(g[1], g[2]);  // a reflection reverses orientation
       triangles.push_back(g);
     }
   }
   for (int j = 0; j < L; ++j) {
-    const int g_prev = id(2 * j - 2, sector.g0);  // G_{j-1}, on the gap axis at (2j-1) pi/L
-    const int g_next = id(2 * j, sector.g0);      // G_j, at (2j+1) pi/L
-    const int e = id(2 * j, sector.e0);           // E_j, on electrode j's axis
+    const int g_prev = r.id(2 * j - 2, sector.g0);  // G_{j-1}, on the gap axis at (2j-1) pi/L
+    const int g_next = r.id(2 * j, sector.g0);      // G_j, at (2j+1) pi/L
+    const int e = r.id(2 * j, sector.e0);           // E_j, on electrode j's axis
     triangles.push_back({0, g_prev, g_next});
     triangles.push_back({g_prev, e, g_next});
   }
+  return triangles;
+}
 
+// Nodes and triangles into a Mesh, every triangle counter-clockwise (Gmsh's sector orientation is
+// not promised); `triangles` is reoriented in place to match.
+Mesh to_mesh(const std::vector<std::array<double, 2>>& nodes,
+             std::vector<std::array<int, 3>>& triangles) {
   Mesh mesh;
   mesh.nodes.resize(static_cast<Eigen::Index>(nodes.size()), 2);
   for (std::size_t i = 0; i < nodes.size(); ++i) mesh.nodes.row(i) << nodes[i][0], nodes[i][1];
@@ -283,13 +276,18 @@ Mesh generate_disk_mesh(const DiskMeshOptions& o) {
     const Eigen::Vector2d p0 = mesh.nodes.row(tri[0]), p1 = mesh.nodes.row(tri[1]),
                           p2 = mesh.nodes.row(tri[2]);
     const double cross = (p1 - p0).x() * (p2 - p0).y() - (p1 - p0).y() * (p2 - p0).x();
-    if (cross < 0) std::swap(tri[1], tri[2]);  // Gmsh's sector orientation is not promised
+    if (cross < 0) std::swap(tri[1], tri[2]);
     mesh.triangles.row(t) << tri[0], tri[1], tri[2];
   }
+  return mesh;
+}
 
-  // Electrode e: the rim segments whose midpoint lies within its arc. The electrode edges are
-  // nodes, so every rim segment is either wholly under an electrode or wholly in a gap.
-  const double half = kPi * o.electrode_coverage / L;
+// Electrode e: the rim segments whose midpoint lies within its arc, sorted counter-clockwise.
+// The electrode edges are nodes, so every rim segment is either wholly under an electrode or
+// wholly in a gap.
+void assign_electrodes(Mesh& mesh, const std::vector<std::array<int, 3>>& triangles, int L,
+                       double coverage) {
+  const double gap = kPi / L, half = kPi * coverage / L;
   mesh.electrodes.resize(L);
   std::map<std::pair<int, int>, int> edge_count;
   for (const auto& t : triangles)
@@ -322,6 +320,42 @@ Mesh generate_disk_mesh(const DiskMeshOptions& o) {
                        std::remainder(angle(t) - centre, 2 * kPi);
               });
   }
+}
+
+}  // namespace
+
+Mesh generate_disk_mesh(const DiskMeshOptions& o) {
+  o.validate();
+  const int L = o.electrodes;
+
+  const double R = o.radius;
+  const double gap = kPi / L;
+  SizeSet h = sizes_for(o.density);
+  h = {h.centre * R * o.size_factor, h.boundary * R * o.size_factor, h.edge * R * o.size_factor};
+  // At least one segment across each half electrode, so narrow electrodes are still resolved.
+  h.edge = std::min(h.edge, R * kPi * o.electrode_coverage / L);
+  h.boundary = std::max(h.boundary, h.edge);
+
+  // Spoke length b and cap corner a: an equilateral cap whose side is about 0.7 of the centre size,
+  // with spokes no longer than 1.2 centre sizes nor 0.3 R.
+  const double b = std::min({0.7 * h.centre / (2 * std::sin(gap)), 1.2 * h.centre, 0.3 * R});
+  const double a = b * (std::cos(gap) + std::sqrt(3.0) * std::sin(gap));
+  if (a > 0.6 * R)
+    throw InputError("DiskMeshOptions", "size_factor", "the mesh is too coarse for this disk");
+
+  SectorMesh sector;
+  try {
+    sector = mesh_sector(o, h, a, b);
+  } catch (const std::runtime_error&) {
+    throw;
+  } catch (...) {
+    throw std::runtime_error("disk mesher: Gmsh failed to mesh the sector");
+  }
+
+  const Replicas replicas = replicate_nodes(sector, L);
+  std::vector<std::array<int, 3>> triangles = replicate_triangles(sector, replicas, L);
+  Mesh mesh = to_mesh(replicas.nodes, triangles);
+  assign_electrodes(mesh, triangles, L, o.electrode_coverage);
   return mesh;
 }
 
