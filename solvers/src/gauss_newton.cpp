@@ -62,8 +62,11 @@ struct Objective {
     for (Eigen::Index i = 0; i < winv.size(); ++i)
       if ((s.x[i] <= lower && g[i] > 0) || (s.x[i] >= upper && g[i] < 0)) winv[i] = 0;
     const Eigen::VectorXd a = winv.cwiseProduct(g);
-    const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(s.J.rows(), s.J.rows()) +
-                              s.J * winv.asDiagonal() * s.J.transpose();
+    // S = I + J W^-1 J^T as a symmetric rank update: only its lower triangle is formed (half the
+    // product), which is all the LDLT reads.
+    const Eigen::MatrixXd Jw = s.J * winv.cwiseSqrt().asDiagonal();
+    Eigen::MatrixXd S = Eigen::MatrixXd::Identity(s.J.rows(), s.J.rows());
+    S.selfadjointView<Eigen::Lower>().rankUpdate(Jw);
     return -(a - winv.cwiseProduct(s.J.transpose() * S.ldlt().solve(s.J * a)));
   }
   Eigen::VectorXd project(const Eigen::VectorXd& x) const {
