@@ -110,7 +110,10 @@ void normalize_mesh(Mesh& mesh) {
   mesh.nodes = std::move(kept);
 }
 
-void validate_mesh(const Mesh& mesh, const std::string& source) {
+namespace {
+
+// Indices in range and coordinates finite: what every later check reads.
+void check_indices(const Mesh& mesh, const std::string& source) {
   const int n = mesh.num_nodes();
   if (n < 3)
     throw InputError(source, "nodes", "a mesh needs at least 3 nodes, found " + std::to_string(n));
@@ -122,7 +125,10 @@ void validate_mesh(const Mesh& mesh, const std::string& source) {
       if (mesh.triangles(t, k) < 0 || mesh.triangles(t, k) >= n)
         throw InputError(source, "triangle " + std::to_string(t),
                          "refers to a node that does not exist");
+}
 
+// Every triangle counter-clockwise with an area above rounding.
+void check_areas(const Mesh& mesh, const std::string& source) {
   const Eigen::VectorXd area = triangle_areas(mesh);
   const double scale = area.cwiseAbs().maxCoeff();
   for (int t = 0; t < mesh.num_triangles(); ++t) {
@@ -132,15 +138,11 @@ void validate_mesh(const Mesh& mesh, const std::string& source) {
       throw InputError(source, "triangle " + std::to_string(t),
                        "is inverted (clockwise while others are counter-clockwise)");
   }
+}
 
-  const auto edges = edge_counts(mesh.triangles);
-  for (const auto& [edge, count] : edges)
-    if (count > 2)
-      throw InputError(source, "triangles",
-                       "edge " + std::to_string(edge.first) + "-" + std::to_string(edge.second) +
-                           " is shared by " + std::to_string(count) +
-                           " triangles (overlapping mesh)");
-
+// One piece, every node used (union-find over the triangles' edges).
+void check_connected(const Mesh& mesh, const std::string& source) {
+  const int n = mesh.num_nodes();
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
   std::vector<char> used(n, 0);
@@ -159,7 +161,12 @@ void validate_mesh(const Mesh& mesh, const std::string& source) {
   if (pieces != 1)
     throw InputError(source, "triangles",
                      "the mesh falls into " + std::to_string(pieces) + " disconnected pieces");
+}
 
+// At least 4 electrodes, each a node or boundary segments, no node shared between two.
+template <class EdgeCounts>
+void check_electrodes(const Mesh& mesh, const EdgeCounts& edges, const std::string& source) {
+  const int n = mesh.num_nodes();
   if (mesh.num_electrodes() < 4)
     throw InputError(source, "electrodes",
                      "need at least 4 electrodes, found " + std::to_string(mesh.num_electrodes()));
@@ -192,6 +199,22 @@ void validate_mesh(const Mesh& mesh, const std::string& source) {
       claim(s[1], e);
     }
   }
+}
+
+}  // namespace
+
+void validate_mesh(const Mesh& mesh, const std::string& source) {
+  check_indices(mesh, source);
+  check_areas(mesh, source);
+  const auto edges = edge_counts(mesh.triangles);
+  for (const auto& [edge, count] : edges)
+    if (count > 2)
+      throw InputError(source, "triangles",
+                       "edge " + std::to_string(edge.first) + "-" + std::to_string(edge.second) +
+                           " is shared by " + std::to_string(count) +
+                           " triangles (overlapping mesh)");
+  check_connected(mesh, source);
+  check_electrodes(mesh, edges, source);
 }
 
 }  // namespace eitbench
