@@ -6,6 +6,7 @@
 
 #include "eitbench/jacobian/error.h"
 
+#include "neighbour_graphs.h"
 namespace eitbench {
 
 Eigen::VectorXd LinearProblem::to_image(const Eigen::VectorXd& x) const {
@@ -92,8 +93,7 @@ LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, dou
   check_mesh_is_the_grids_disk(mesh, grid, overlap);
   // Columns of P for the in-disk pixels only (P has no weight on the others).
   const auto full = pixel_to_element(mesh, grid, overlap);
-  std::vector<int> column(grid.num_pixels(), -1);
-  for (std::size_t j = 0; j < p.pixels.size(); ++j) column[p.pixels[j]] = static_cast<int>(j);
+  const std::vector<int> column = detail::unknown_of_pixel(p.pixels, grid.num_pixels());
   std::vector<Eigen::Triplet<double>> entries;
   for (int t = 0; t < full.rows(); ++t)
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(full, t); it; ++it)

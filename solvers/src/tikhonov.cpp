@@ -3,10 +3,10 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <cmath>
-#include <map>
 #include <stdexcept>
 
 #include "eitbench/jacobian/error.h"
+#include "neighbour_graphs.h"
 
 namespace eitbench {
 namespace {
@@ -14,8 +14,7 @@ namespace {
 // The 4-neighbour graph Laplacian of the in-disk pixels.
 Eigen::SparseMatrix<double> pixel_laplacian(const LinearProblem& p) {
   const int n = p.image_size;
-  std::vector<int> column(static_cast<std::size_t>(n) * n, -1);
-  for (std::size_t j = 0; j < p.pixels.size(); ++j) column[p.pixels[j]] = static_cast<int>(j);
+  const std::vector<int> column = detail::unknown_of_pixel(p.pixels, n * n);
   std::vector<Eigen::Triplet<double>> entries;
   for (std::size_t j = 0; j < p.pixels.size(); ++j) {
     const int i = p.pixels[j] / n, k = p.pixels[j] % n;
@@ -37,16 +36,11 @@ Eigen::SparseMatrix<double> pixel_laplacian(const LinearProblem& p) {
 // The edge-neighbour graph Laplacian of the mesh's triangles, applied to the elements' values P x.
 Eigen::SparseMatrix<double> element_laplacian(const LinearProblem& p) {
   const Mesh& mesh = p.model->mesh();
-  std::map<std::pair<int, int>, int> first;  // edge -> the first triangle seen on it
   std::vector<Eigen::Triplet<double>> entries;
-  for (int t = 0; t < mesh.num_triangles(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = mesh.triangles(t, k), b = mesh.triangles(t, (k + 1) % 3);
-      const auto [it, fresh] = first.emplace(std::make_pair(std::min(a, b), std::max(a, b)), t);
-      if (fresh) continue;
-      const int u = it->second;
-      entries.insert(entries.end(), {{u, u, 1.0}, {t, t, 1.0}, {u, t, -1.0}, {t, u, -1.0}});
-    }
+  for (const detail::InteriorEdge& e : detail::interior_edges(mesh)) {
+    const int u = e.first, t = e.second;
+    entries.insert(entries.end(), {{u, u, 1.0}, {t, t, 1.0}, {u, t, -1.0}, {t, u, -1.0}});
+  }
   Eigen::SparseMatrix<double> L(mesh.num_triangles(), mesh.num_triangles());
   L.setFromTriplets(entries.begin(), entries.end());
   return L * Eigen::SparseMatrix<double>(p.element_from_pixels);

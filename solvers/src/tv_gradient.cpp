@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
+#include "neighbour_graphs.h"
 #include "operator_norm.h"
 
 namespace eitbench::detail {
@@ -11,9 +11,7 @@ namespace eitbench::detail {
 TvGradient TvGradient::pixels(const LinearProblem& problem, const Eigen::VectorXd& sensitivity) {
   TvGradient d;
   const int n = problem.image_size;
-  std::vector<int> column(static_cast<std::size_t>(n) * n, -1);
-  for (std::size_t j = 0; j < problem.pixels.size(); ++j)
-    column[problem.pixels[j]] = static_cast<int>(j);
+  const std::vector<int> column = unknown_of_pixel(problem.pixels, n * n);
   for (int pixel : problem.pixels) {
     const int i = pixel / n, k = pixel % n;
     d.right_.push_back(k + 1 < n ? column[pixel + 1] : -1);
@@ -29,19 +27,14 @@ TvGradient TvGradient::elements(const LinearProblem& problem, const Eigen::Vecto
   const Mesh& mesh = problem.model->mesh();
   const double h = 2.0 * problem.radius / problem.image_size;
   const Eigen::VectorXd element_sensitivity = problem.element_from_pixels * sensitivity;
-  std::map<std::pair<int, int>, int> first;  // edge -> the first triangle seen on it
   std::vector<Eigen::Triplet<double>> entries;
   std::vector<double> weights;
-  for (int t = 0; t < mesh.num_triangles(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = mesh.triangles(t, k), b = mesh.triangles(t, (k + 1) % 3);
-      const auto [it, fresh] = first.emplace(std::make_pair(std::min(a, b), std::max(a, b)), t);
-      if (fresh) continue;
-      const int e = static_cast<int>(weights.size());
-      entries.insert(entries.end(), {{e, t, 1.0}, {e, it->second, -1.0}});
-      weights.push_back((mesh.nodes.row(a) - mesh.nodes.row(b)).norm() / h * 0.5 *
-                        (element_sensitivity[t] + element_sensitivity[it->second]));
-    }
+  for (const InteriorEdge& edge : interior_edges(mesh)) {
+    const int e = static_cast<int>(weights.size()), t = edge.second, u = edge.first;
+    entries.insert(entries.end(), {{e, t, 1.0}, {e, u, -1.0}});
+    weights.push_back((mesh.nodes.row(edge.a) - mesh.nodes.row(edge.b)).norm() / h * 0.5 *
+                      (element_sensitivity[t] + element_sensitivity[u]));
+  }
   Eigen::SparseMatrix<double, Eigen::RowMajor> D(static_cast<Eigen::Index>(weights.size()),
                                                  mesh.num_triangles());
   D.setFromTriplets(entries.begin(), entries.end());
