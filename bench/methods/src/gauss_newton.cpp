@@ -12,7 +12,7 @@ MethodSpec gauss_newton() {
   spec.sweep_on_subset = true;
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GaussNewtonOptions g;
-    g.choice = parse_criterion(o.choose.empty() ? "fixed" : o.choose);
+    g.choice = parse_criterion(o.choose);
     const bool given = g.choice == Criterion::fixed && o.lambda > 0;
     if (given) g.lambda = o.lambda;
     g.absolute = o.absolute;

@@ -11,7 +11,7 @@ MethodSpec greit() {
   spec.name = "greit";
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GreitOptions g;
-    g.choice = parse_criterion(o.choose.empty() ? "fixed" : o.choose);
+    g.choice = parse_criterion(o.choose);
     if (g.choice == Criterion::fixed && o.lambda > 0) g.lambda = o.lambda;
     return std::unique_ptr<Reconstructor>(std::make_unique<Greit>(std::move(problem), g));
   };

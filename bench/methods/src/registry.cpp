@@ -41,7 +41,9 @@ std::unique_ptr<Reconstructor> make_reconstructor(const std::string& name,
   if (!spec.make)
     throw InputError("--model", "",
                      "the " + name + " method needs a trained model (eitbench train)");
-  return spec.make(std::move(problem), options);
+  MethodOptions resolved = options;  // an empty choice is the method's default
+  if (resolved.choose.empty()) resolved.choose = spec.default_choice;
+  return spec.make(std::move(problem), resolved);
 }
 
 }  // namespace eitbench

@@ -17,7 +17,7 @@ MethodSpec tikhonov_with(const std::string& prior) {
   spec.make = [prior](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     TikhonovOptions t;
     t.prior = parse_prior(prior);
-    t.choice = parse_criterion(o.choose.empty() ? "gcv" : o.choose);
+    t.choice = parse_criterion(o.choose);
     if (t.choice == Criterion::fixed) t.lambda = o.lambda;
     t.neighbours = parse_neighbours(o.neighbours);
     return std::unique_ptr<Reconstructor>(std::make_unique<Tikhonov>(std::move(problem), t));

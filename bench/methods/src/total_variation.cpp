@@ -13,7 +13,7 @@ MethodSpec total_variation() {
   spec.sweep_on_subset = true;
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     TotalVariationOptions t;
-    t.choice = parse_criterion(o.choose.empty() ? "fixed" : o.choose);
+    t.choice = parse_criterion(o.choose);
     const bool given = t.choice == Criterion::fixed && o.lambda > 0;
     if (given) t.alpha = o.lambda;
     if (o.tolerance > 0) t.tolerance = o.tolerance;
