@@ -295,6 +295,54 @@ TEST(Trainer, StepCallbackIsThinnedAndAddsUpToTheRoundLoss) {
   EXPECT_EQ(plain.validation_loss, r.validation_loss);
 }
 
+// The resident path (the set on the device, a batch one gather there) is the host path's batches,
+// converted to float32 once instead of each step: the same batches, hence the same training.
+TEST(Trainer, ResidentSetGivesTheHostPathsBatchesAndTraining) {
+  const Dataset& data = tiny();
+  const LabelledFrames train = labelled_frames(data, Split::train),
+                       validation = labelled_frames(data, Split::validation);
+  for (bool expanded : {false, true}) {
+    TrainingOptions o;
+    o.augment = AugmentGroup::dihedral;
+    o.expanded = expanded;
+    o.steps = 6;
+    o.batch_size = 16;
+    o.validate_every = 48;
+    TrainingOptions on = o, off = o;
+    on.resident = "on", off.resident = "off";
+    Trainer resident(test_network(), on, train, validation, sensor_of(data));
+    Trainer host(test_network(), off, train, validation, sensor_of(data));
+    SampleMatrix f1, l1, f2, l2;
+    for (int epoch : {1, 3})
+      for (long long index : {0LL, resident.steps_per_epoch() - 1}) {
+        resident.batch(epoch, index, f1, l1);
+        host.batch(epoch, index, f2, l2);
+        ASSERT_EQ(f1.rows(), f2.rows());
+        // float32 on the device, double on the host: equal to float rounding.
+        EXPECT_LT((f1 - f2).cwiseAbs().maxCoeff(), 1e-6 * f2.cwiseAbs().maxCoeff())
+            << "expanded " << expanded << " epoch " << epoch << " batch " << index;
+        EXPECT_LT((l1 - l2).cwiseAbs().maxCoeff(), 1e-6 * l2.cwiseAbs().maxCoeff());
+      }
+    while (!resident.done()) resident.run_round();
+    while (!host.done()) host.run_round();
+    ASSERT_EQ(resident.history().size(), host.history().size());
+    for (std::size_t r = 0; r < host.history().size(); ++r) {
+      EXPECT_EQ(resident.history()[r].train_loss, host.history()[r].train_loss) << r;
+      EXPECT_EQ(resident.history()[r].validation_loss, host.history()[r].validation_loss) << r;
+    }
+  }
+  // "on" beyond its budget says so; "auto" falls back to the host path.
+  TrainingOptions tight;
+  tight.augment = AugmentGroup::dihedral;
+  tight.resident = "on";
+  tight.resident_max_gib = 1e-6;
+  EXPECT_THROW(Trainer(test_network(), tight, train, validation, sensor_of(data)), InputError);
+  tight.resident = "auto";
+  EXPECT_NO_THROW(Trainer(test_network(), tight, train, validation, sensor_of(data)));
+  tight.resident = "always";
+  EXPECT_THROW(Trainer(test_network(), tight, train, validation, sensor_of(data)), InputError);
+}
+
 TEST(Trainer, BadInputIsRefused) {
   const Dataset& data = tiny();
   const LabelledFrames train = labelled_frames(data, Split::train);

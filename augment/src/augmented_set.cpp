@@ -100,6 +100,17 @@ const GroupElement& OnTheFlyAugmenter::element(int sample, int epoch) const {
   return elements_[h % elements_.size()];
 }
 
+Eigen::VectorXd OnTheFlyAugmenter::frame(int i, const GroupElement& g) const {
+  return symmetry_.apply(setup_.group, g, set_->frames.row(i).transpose(), setup_.layout);
+}
+
+Eigen::VectorXd OnTheFlyAugmenter::label(int i, const GroupElement& g) const {
+  if (set_->labels.cols() == 0 && set_->circles.empty()) return Eigen::VectorXd();
+  if (g == GroupElement{} && set_->labels.cols() > 0)
+    return set_->labels.row(i).transpose();  // the identity: the stored label, no re-rasterising
+  return transformed_label(*set_, i, g, setup_.electrodes, images_);
+}
+
 void OnTheFlyAugmenter::batch(const std::vector<int>& indices, int epoch, SampleMatrix& frames,
                               SampleMatrix& labels) const {
   const bool labelled = set_->labels.cols() > 0 || !set_->circles.empty();
@@ -109,12 +120,8 @@ void OnTheFlyAugmenter::batch(const std::vector<int>& indices, int epoch, Sample
   for (std::size_t b = 0; b < indices.size(); ++b) {
     const int i = indices[b];
     const GroupElement& g = element(i, epoch);
-    frames.row(b) = symmetry_.apply(setup_.group, g, set_->frames.row(i).transpose(), setup_.layout)
-                        .transpose();
-    if (labelled && g == GroupElement{} && set_->labels.cols() > 0)
-      labels.row(b) = set_->labels.row(i);  // the identity: the stored label, no re-rasterising
-    else if (labelled)
-      labels.row(b) = transformed_label(*set_, i, g, setup_.electrodes, images_).transpose();
+    frames.row(b) = frame(i, g).transpose();
+    if (labelled) labels.row(b) = label(i, g).transpose();
   }
 }
 

@@ -53,7 +53,9 @@ const Table kTraining = {{"TrainingOptions", "steps", "--steps"},
                          {"ScheduleOptions", "warmup_fraction", "--warmup"},
                          {"ScheduleOptions", "decay_fraction", "--decay"},
                          {"ScheduleOptions", "final_fraction", "--floor"},
-                         {"NetworkOptions", "dropout", "--dropout"}};
+                         {"NetworkOptions", "dropout", "--dropout"},
+                         {"TrainingOptions", "resident", "--resident"},
+                         {"TrainingOptions", "resident_max_gib", "--resident-max-gib"}};
 
 const std::map<std::string, Table>& tables() {
   static const std::map<std::string, Table> by_command = {

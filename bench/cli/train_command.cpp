@@ -55,6 +55,15 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--device", args->device, "auto | cpu | cuda")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "cpu", "cuda"}));
+  cmd->add_option("--resident", args->options.resident,
+                  "keep the training set on the device, a batch one gather there: auto (on a "
+                  "GPU when it fits in --resident-max-gib), on, off; the same batches either way")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "on", "off"}));
+  cmd->add_option("--resident-max-gib", args->options.resident_max_gib,
+                  "device memory the resident set may take, in GiB")
+      ->capture_default_str()
+      ->check(kPositive);
   cmd->add_flag("--resume", args->resume,
                 "continue the interrupted run whose checkpoint is beside --out (OUT.checkpoint)");
   cmd->add_option("--out", args->out,

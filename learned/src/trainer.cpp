@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <tuple>
 
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/random.h"
@@ -23,6 +24,10 @@ void TrainingOptions::validate() const {
   if (validate_every < 1) fail("validate_every", "must be at least one sample");
   if (patience < 0) fail("patience", "must not be negative");
   if (!(min_improvement >= 0 && min_improvement < 1)) fail("min_improvement", "must lie in [0, 1)");
+  if (resident != "auto" && resident != "on" && resident != "off")
+    fail("resident", "must be auto, on or off, got '" + resident + "'");
+  if (!(resident_max_gib > 0) || !std::isfinite(resident_max_gib))
+    fail("resident_max_gib", "must be positive and finite");
   try {
     resolve_device(device, "TrainingOptions");
   } catch (const InputError& e) {
@@ -69,6 +74,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
   train_print = fingerprint(*train);
   validation_print = fingerprint(validation);
 
+  group_size = static_cast<int>(group_elements(setup.group, setup.electrodes).size());
   if (options.expanded) {
     expanded = expand_by_group(*train, setup);
     train_size = expanded.frames.rows();
@@ -77,6 +83,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
     train_size = train->frames.rows();
   }
   if (train_size < 2) throw InputError("train", "split", "training needs at least 2 samples");
+  if (choose_residency()) make_resident();
   const long long b = options.batch_size;
   steps_per_epoch = eitbench::steps_per_epoch(train_size, options.batch_size);
   steps_per_round = (options.validate_every + b - 1) / b;
@@ -218,7 +225,8 @@ TrainingRecord Trainer::run_round(const StepCallback& on_step) {
   m.net->train();
   SampleMatrix frames, labels;
   std::vector<long long> order;
-  int epoch = 0;  // of `order`
+  torch::Tensor rows;  // order's rows on the device, when resident
+  int epoch = 0;       // of `order`
   double rate = 0;
   long long samples = 0;
   // The batch losses add up on the device: reading one forces a device sync, so the sum is read
@@ -231,10 +239,19 @@ TrainingRecord Trainer::run_round(const StepCallback& on_step) {
   for (long long s = 0; s < steps; ++s) {
     const long long step = m.steps_done + s;
     const int step_epoch = static_cast<int>(step / m.steps_per_epoch) + 1;
-    if (step_epoch != epoch)
+    if (step_epoch != epoch) {
       epoch = step_epoch, order = permutation(m.train_size, m.options.seed, epoch);
-    m.make_batch(epoch, order, step % m.steps_per_epoch, frames, labels);
-    const auto x = to_tensor(frames, m.device), y = to_tensor(labels, m.device);
+      if (m.resident) rows = m.resident_rows(epoch, order);
+    }
+    torch::Tensor x, y;
+    const long long index = step % m.steps_per_epoch;
+    if (m.resident) {
+      const long long b = m.options.batch_size, first = index * b;
+      std::tie(x, y) = m.resident->batch(rows, first, std::min(first + b, m.train_size));
+    } else {
+      m.make_batch(epoch, order, index, frames, labels);
+      x = to_tensor(frames, m.device), y = to_tensor(labels, m.device);
+    }
     rate = m.schedule->rate(step);
     for (auto& group : m.adam->param_groups())
       static_cast<torch::optim::AdamOptions&>(group.options()).lr(rate);
@@ -243,7 +260,7 @@ TrainingRecord Trainer::run_round(const StepCallback& on_step) {
     loss.backward();
     m.adam->step();
     loss_sum += loss.detach().to(torch::kFloat64);
-    samples += frames.rows();
+    samples += x.size(0);
     if (on_step && ((s + 1) % report_every == 0 || s + 1 == steps)) {
       const double total = loss_sum.item<double>();
       on_step(s + 1, steps, (total - reported) / double(s + 1 - reported_steps));
@@ -307,8 +324,13 @@ Eigen::VectorXd Trainer::input_std() const {
 void Trainer::batch(int epoch, long long index, SampleMatrix& frames, SampleMatrix& labels) const {
   if (epoch < 1 || index < 0 || index >= impl_->steps_per_epoch)
     throw std::out_of_range("Trainer::batch: no such batch");
-  impl_->make_batch(epoch, permutation(impl_->train_size, impl_->options.seed, epoch), index,
-                    frames, labels);
+  const Impl& m = *impl_;
+  const auto order = permutation(m.train_size, m.options.seed, epoch);
+  if (!m.resident) return m.make_batch(epoch, order, index, frames, labels);
+  const long long b = m.options.batch_size, first = index * b;
+  const auto [x, y] =
+      m.resident->batch(m.resident_rows(epoch, order), first, std::min(first + b, m.train_size));
+  frames = to_samples(x), labels = to_samples(y);
 }
 
 LearnedModel Trainer::best_model() const {

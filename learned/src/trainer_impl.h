@@ -10,6 +10,7 @@
 
 #include "eitbench/learned/trainer.h"
 #include "network.h"
+#include "resident_set.h"
 
 namespace eitbench {
 
@@ -25,6 +26,8 @@ struct Trainer::Impl {
   SampleMatrix validation_frames, validation_labels;
   std::uint64_t train_print = 0, validation_print = 0;
   torch::Device device = torch::kCPU;
+  std::unique_ptr<ResidentSet> resident;  // the set on the device, when options.resident allows
+  int group_size = 1;
   Network net{nullptr}, best{nullptr};
   std::unique_ptr<torch::optim::Adam> adam;
   std::unique_ptr<LearningRateSchedule> schedule;
@@ -44,6 +47,10 @@ struct Trainer::Impl {
   Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledFrames train_set,
        const LabelledFrames& validation, const AugmentSetup& sensor);
   void input_statistics();
+  bool choose_residency() const;
+  void make_resident();
+  // The rows of `order`'s samples in the resident set's layout, on the device.
+  torch::Tensor resident_rows(int epoch, const std::vector<long long>& order) const;
   void make_batch(int epoch, const std::vector<long long>& order, long long index,
                   SampleMatrix& frames, SampleMatrix& labels) const;
   double validate();

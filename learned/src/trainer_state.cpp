@@ -63,7 +63,9 @@ nlohmann::json options_to_json(const TrainingOptions& o) {
           {"patience", o.patience},
           {"min_improvement", o.min_improvement},
           {"seed", o.seed},
-          {"device", o.device}};
+          {"device", o.device},
+          {"resident", o.resident},
+          {"resident_max_gib", o.resident_max_gib}};
 }
 
 TrainingOptions options_from_json(const nlohmann::json& j) {
@@ -83,6 +85,9 @@ TrainingOptions options_from_json(const nlohmann::json& j) {
   o.min_improvement = j.at("min_improvement").get<double>();
   o.seed = j.at("seed").get<std::uint64_t>();
   o.device = j.at("device").get<std::string>();
+  // Not in checkpoints before residency existed; it never changes the batches.
+  o.resident = j.value("resident", o.resident);
+  o.resident_max_gib = j.value("resident_max_gib", o.resident_max_gib);
   return o;
 }
 

@@ -51,6 +51,10 @@ class OnTheFlyAugmenter {
   const std::vector<GroupElement>& elements() const { return elements_; }
   // The element of sample i in `epoch`: a hash of (seed, epoch, i), uniform over the group.
   const GroupElement& element(int sample, int epoch) const;
+  // Sample i under g: its frame, and its label (empty when the set has none; the stored label for
+  // the identity, else transformed as moved_label does).
+  Eigen::VectorXd frame(int i, const GroupElement& g) const;
+  Eigen::VectorXd label(int i, const GroupElement& g) const;
   // Rows of `frames` and `labels` (resized) get samples `indices` as they are in `epoch`.
   void batch(const std::vector<int>& indices, int epoch, SampleMatrix& frames,
              SampleMatrix& labels) const;

@@ -39,6 +39,12 @@ struct TrainingOptions {
   double min_improvement = 5e-3;
   std::uint64_t seed = 1;
   std::string device = "cpu";  // auto | cpu | cuda (see resolve_device)
+  // Keep the training set on the device, every sample under every group element as float32, so
+  // that a batch is one gather there and a step never waits for the host: "on", "off", or
+  // "auto" (on for a GPU when it fits in resident_max_gib, off on the CPU). The batches, and so
+  // the training, are the same either way; it costs N |G| (inputs + pixels) 4 bytes.
+  std::string resident = "auto";
+  double resident_max_gib = 24;  // positive; "on" beyond it is an error, "auto" falls back
 
   // Throws InputError("TrainingOptions", field) for a value out of range or a device this
   // machine does not have, and ScheduleOptions::validate()'s error for the schedule.
