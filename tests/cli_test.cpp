@@ -36,6 +36,39 @@ TEST_F(Cli, MeshWritesGmshAndPng) {
   EXPECT_EQ(read_msh_file(path("m22.msh")).nodes, read_msh_file(path("m.msh")).nodes);
 }
 
+// A build without Gmsh reads the meshes `mesh --cache` wrote: node for node the generated ones.
+TEST_F(Cli, MeshCacheHoldsTheGeneratedMeshExactly) {
+  const std::string dir = path("meshes");
+  fs::create_directories(dir);
+  const Result r =
+      run("mesh --electrodes 8 --density coarse --electrode-coverage 0.4 --cache " + dir);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  DiskMeshOptions o;
+  o.electrodes = 8, o.density = MeshDensity::coarse, o.electrode_coverage = 0.4;
+  const Mesh generated = generate_disk_mesh(o), cached = read_disk_mesh(dir, o);
+  EXPECT_EQ(cached.nodes, generated.nodes);
+  EXPECT_EQ(cached.triangles, generated.triangles);
+  ASSERT_EQ(cached.num_electrodes(), 8);
+  for (int e = 0; e < 8; ++e)
+    EXPECT_EQ(cached.electrodes[e].segments, generated.electrodes[e].segments);
+  // Other options name another file: it is missing, and the message names it.
+  DiskMeshOptions other = o;
+  other.electrode_coverage = 0.5;
+  EXPECT_NE(disk_mesh_file_name(other), disk_mesh_file_name(o));
+  try {
+    read_disk_mesh(dir, other);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), dir + "/" + disk_mesh_file_name(other));
+  }
+  // A file under the name whose mesh has other electrodes is refused.
+  other.electrodes = 16;
+  fs::copy_file(dir + "/" + disk_mesh_file_name(o), dir + "/" + disk_mesh_file_name(other));
+  EXPECT_THROW(read_disk_mesh(dir, other), InputError);
+  EXPECT_NE(run("mesh --mesh " + dir + "/" + disk_mesh_file_name(o) + " --cache " + dir).exit_code,
+            0);
+}
+
 TEST_F(Cli, ForwardWritesTheFrameInTheRequestedOrderAndSize) {
   const std::string common =
       "forward --electrodes 16 --density coarse --circles '0.3,0.2,0.2,0.5' --background 1";

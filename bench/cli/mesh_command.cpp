@@ -14,7 +14,7 @@ namespace eitbench::cli {
 std::function<void()> add_mesh_command(CLI::App& app) {
   struct Args {
     MeshSource mesh;
-    std::string out, png, format = "4.1";
+    std::string out, png, format = "4.1", cache;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -25,6 +25,9 @@ std::function<void()> add_mesh_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember({"2.2", "4.1"}));
   cmd->add_option("--png", args->png, "draw the mesh with its electrodes to a PNG");
+  cmd->add_option("--cache", args->cache,
+                  "also write the generated mesh into this folder under its options' name, "
+                  "where a build without Gmsh reads it (EITBENCH_MESH_DIR)");
   return [args] {
     const Mesh mesh = load_mesh(args->mesh);
     const MeshQuality q = measure_quality(mesh);
@@ -39,6 +42,14 @@ std::function<void()> add_mesh_command(CLI::App& app) {
         write_msh(out, mesh, args->format == "2.2" ? MshVersion::v22 : MshVersion::v41);
       });
       fmt::print("wrote {}\n", args->out);
+    }
+    if (!args->cache.empty()) {
+      if (!args->mesh.file.empty())
+        throw InputError("--cache", "", "keeps generated meshes only, not --mesh files");
+      const std::string path = args->cache + "/" + disk_mesh_file_name(args->mesh.disk);
+      write_text_atomically(path,
+                            [&](std::ostream& out) { write_msh(out, mesh, MshVersion::v41); });
+      fmt::print("wrote {}\n", path);
     }
     if (!args->png.empty()) {
       draw_mesh_png(mesh, args->png);

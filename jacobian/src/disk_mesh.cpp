@@ -170,38 +170,6 @@ SectorMesh mesh_sector(const DiskMeshOptions& o, const SizeSet& h, double a, dou
 
 }  // namespace
 
-MeshDensity parse_density(const std::string& name) {
-  if (name == "coarse") return MeshDensity::coarse;
-  if (name == "medium") return MeshDensity::medium;
-  if (name == "fine") return MeshDensity::fine;
-  throw InputError("MeshDensity", "name",
-                   "unknown mesh density '" + name + "' (coarse, medium or fine)");
-}
-
-std::string to_string(MeshDensity density) {
-  switch (density) {
-    case MeshDensity::coarse:
-      return "coarse";
-    case MeshDensity::medium:
-      return "medium";
-    case MeshDensity::fine:
-      return "fine";
-  }
-  return "?";
-}
-
-void DiskMeshOptions::validate() const {
-  auto fail = [](const char* field, const std::string& why) {
-    throw InputError("DiskMeshOptions", field, why);
-  };
-  if (electrodes < 4 || electrodes > 256)
-    fail("electrodes", "need 4 <= L <= 256, got " + std::to_string(electrodes));
-  if (!(radius > 0) || !std::isfinite(radius)) fail("radius", "must be positive and finite");
-  if (!(electrode_coverage > 0 && electrode_coverage < 1))
-    fail("electrode_coverage", "must lie strictly between 0 and 1");
-  if (!(size_factor >= 0.1 && size_factor <= 10)) fail("size_factor", "must lie in [0.1, 10]");
-}
-
 namespace {
 
 // The disk as 2L copies of the sector: copy c covers c*pi/L <= theta <= (c+1)*pi/L, even copies

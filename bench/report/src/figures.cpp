@@ -4,13 +4,41 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#ifdef EITBENCH_HAVE_FIGURES
 #include <opencv2/imgcodecs.hpp>
+#endif
 #include <opencv2/imgproc.hpp>
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
+
+namespace {
+
+// Every figure leaves through here: written atomically, or refused by a build without imgcodecs.
+void write_png(const cv::Mat& canvas, const std::string& path) {
+#ifdef EITBENCH_HAVE_FIGURES
+  write_atomically(path, [&](const std::string& temp) {
+    if (!cv::imwrite(temp, canvas)) throw InputError(path, "", "cannot write the PNG");
+  });
+#else
+  (void)canvas;
+  throw InputError(path, "",
+                   "this build writes no PNG figures (EITBENCH_WITH_FIGURES=OFF): `eitbench "
+                   "report DIR` on a build with them draws a run's figures from its results");
+#endif
+}
+
+}  // namespace
+
+bool can_draw_figures() {
+#ifdef EITBENCH_HAVE_FIGURES
+  return true;
+#else
+  return false;
+#endif
+}
 
 void draw_mesh_png(const Mesh& mesh, const std::string& path, int pixels) {
   const Eigen::Vector2d lo = mesh.nodes.colwise().minCoeff(), hi = mesh.nodes.colwise().maxCoeff();
@@ -55,9 +83,7 @@ void draw_mesh_png(const Mesh& mesh, const std::string& path, int pixels) {
                 cv::Point(std::lround(p.x - 7.0 * label.size()), std::lround(p.y + 7)),
                 cv::FONT_HERSHEY_SIMPLEX, 0.6, colour, 2, cv::LINE_AA);
   }
-  write_atomically(path, [&](const std::string& temp) {
-    if (!cv::imwrite(temp, image)) throw InputError(path, "", "cannot write the PNG");
-  });
+  write_png(image, path);
 }
 
 }  // namespace eitbench
@@ -142,12 +168,6 @@ void draw_plot(cv::Mat& img, cv::Rect box, const LinePlot& f) {
       legend_y += 18;
     }
   }
-}
-
-void write_png(const cv::Mat& canvas, const std::string& path) {
-  write_atomically(path, [&](const std::string& temp) {
-    if (!cv::imwrite(temp, canvas)) throw InputError(path, "", "cannot write the PNG");
-  });
 }
 
 }  // namespace

@@ -45,7 +45,7 @@ void write_loss_curves(
     plot.series.push_back(train);
     plot.series.push_back(validation);
   }
-  draw_plot_png(plot, png_path);
+  if (can_draw_figures()) draw_plot_png(plot, png_path);
 }
 
 }  // namespace eitbench

@@ -91,15 +91,20 @@ RunResults draw_run_report(const std::string& folder, bool quiet) {
   if (!fs::is_directory(dir)) throw InputError(folder, "", "is not a folder of a benchmark run");
   const RunResults results = read_results_json((dir / "results.json").string());
   const fs::path images = dir / "reconstructions.npy";
-  if (fs::exists(images))
+  if (!can_draw_figures()) {
+    if (!quiet)
+      fmt::print("this build draws no figures: `eitbench report {}` on one that does\n", folder);
+  } else if (fs::exists(images)) {
     draw_reconstructions(images.string(), results, (dir / "reconstructions.png").string());
-  else if (!quiet)
+  } else if (!quiet) {
     fmt::print("{}: not found; reconstructions.png is left as it is\n", images.string());
+  }
   write_results_csv((dir / "results.csv").string(), results.rows);
   std::vector<std::pair<std::string, std::vector<TrainingRecord>>> curves;
   for (const auto& t : results.training) curves.emplace_back(t.augment, t.history);
   write_loss_curves((dir / "loss_curves.csv").string(), (dir / "loss_curves.png").string(), curves);
-  if (!results.efficiency.empty()) draw_efficiency_figures(results.efficiency, dir.string());
+  if (!results.efficiency.empty() && can_draw_figures())
+    draw_efficiency_figures(results.efficiency, dir.string());
   write_report((dir / "report.md").string(), results);
   return results;
 }

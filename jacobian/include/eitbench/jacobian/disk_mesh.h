@@ -33,6 +33,17 @@ struct DiskMeshOptions {
 // surrounded by L triangles: symmetry forces that, so for L > 24 their apex angle 360/L deg is the
 // mesh's smallest angle. Validates the options first. Deterministic; safe to call from several
 // threads (Gmsh's global state is behind a mutex, so calls mesh one at a time).
+// A build without Gmsh reads the mesh instead, from $EITBENCH_MESH_DIR/disk_mesh_file_name(options)
+// as `eitbench mesh --cache DIR` wrote it on a build with Gmsh (InputError when it is missing).
 Mesh generate_disk_mesh(const DiskMeshOptions& options);
+
+// Whether this build meshes with Gmsh (true) or reads meshes from $EITBENCH_MESH_DIR (false).
+bool can_generate_disk_mesh();
+// The file a mesh of these options is kept under: disk-L16-medium-R1-c0.5-s1.msh, its numbers
+// exact. Validates the options first.
+std::string disk_mesh_file_name(const DiskMeshOptions& options);
+// dir/disk_mesh_file_name(options), read; InputError naming the file when it is missing or does
+// not have the options' electrodes.
+Mesh read_disk_mesh(const std::string& dir, const DiskMeshOptions& options);
 
 }  // namespace eitbench

@@ -9,6 +9,10 @@
 
 namespace eitbench {
 
+// Whether this build writes PNGs (OpenCV's imgcodecs; EITBENCH_WITH_FIGURES). Without, every
+// draw_*_png throws InputError naming the file, and the run and the report leave figures out.
+bool can_draw_figures();
+
 // The mesh's triangles, its electrodes in colour with their numbers, and the centre node, as a PNG.
 void draw_mesh_png(const Mesh& mesh, const std::string& path, int pixels = 900);
 
