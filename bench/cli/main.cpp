@@ -6,16 +6,24 @@
 #include <map>
 
 #include "commands.h"
+#include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/support/allocator.h"
 #include "eitbench/bench/support/version.h"
+#include "eitbench/jacobian/disk_mesh.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/learned/runtime.h"
 #include "flag_names.h"
 
 int main(int argc, char** argv) {
   eitbench::keep_freed_memory();
   CLI::App app{
       "eitbench: electrical impedance tomography for tactile sensing, toolkit and benchmark"};
-  app.set_version_flag("--version", eitbench::program_version());
+  app.set_version_flag("--version", [] {
+    // What this build can do: the optional parts (docs/gpu.md) and where training runs.
+    return fmt::format("{}\nGmsh meshing: {}; PNG figures: {}; {}", eitbench::program_version(),
+                       eitbench::can_generate_disk_mesh() ? "yes" : "no (EITBENCH_MESH_DIR)",
+                       eitbench::can_draw_figures() ? "yes" : "no", eitbench::torch_runtime());
+  });
   app.require_subcommand(1);
   std::map<CLI::App*, std::function<void()>> actions;
   for (auto add : {eitbench::cli::add_mesh_command, eitbench::cli::add_forward_command,

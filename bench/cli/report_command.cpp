@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/run_store.h"
 
@@ -26,8 +27,9 @@ std::function<void()> add_report_command(CLI::App& app) {
   return [args] {
     const RunResults results = draw_run_report(args->folder, args->quiet);
     if (!args->quiet)
-      fmt::print("{}\n{}\n\nwrote {}/report.md, results.csv and the figures\n",
-                 summary_table(results), results.recommendation, args->folder);
+      fmt::print("{}\n{}\n\nwrote {}/report.md, results.csv{}\n", summary_table(results),
+                 results.recommendation, args->folder,
+                 can_draw_figures() ? " and the figures" : " (no figures: this build draws none)");
   };
 }
 

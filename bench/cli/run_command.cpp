@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "eitbench/bench/methods/registry.h"
+#include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/run/benchmark_run.h"
 #include "eitbench/bench/support/version.h"
@@ -98,10 +99,10 @@ std::function<void()> add_run_command(CLI::App& app) {
     const RunResults results = run_benchmark(c);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    fmt::print(
-        "\n{}\n{}\n\nwrote {}/report.md, results.json, results.csv and the figures in "
-        "{:.0f} s\n",
-        summary_table(results), results.recommendation, c.out, seconds);
+    fmt::print("\n{}\n{}\n\nwrote {}/report.md, results.json, results.csv{} in {:.0f} s\n",
+               summary_table(results), results.recommendation, c.out,
+               can_draw_figures() ? " and the figures" : " (no figures: this build draws none)",
+               seconds);
   };
 }
 

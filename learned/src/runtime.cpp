@@ -1,6 +1,7 @@
 #include "eitbench/learned/runtime.h"
 
 #include <torch/torch.h>
+#include <torch/version.h>
 
 #include <algorithm>
 #include <chrono>
@@ -12,6 +13,13 @@ namespace eitbench {
 
 bool cuda_available() {
   return torch::cuda::is_available();
+}
+
+std::string torch_runtime() {
+  std::string text = "LibTorch " TORCH_VERSION;
+  if (!torch::cuda::is_available()) return text + ", CPU";
+  const auto gpus = torch::cuda::device_count();
+  return text + ", CUDA, " + std::to_string(gpus) + (gpus == 1 ? " GPU" : " GPUs");
 }
 
 std::string resolve_device(const std::string& name, const std::string& source) {

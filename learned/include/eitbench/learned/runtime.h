@@ -10,6 +10,8 @@ namespace eitbench {
 std::string resolve_device(const std::string& name, const std::string& source = "device");
 // True when this LibTorch build can use a GPU now.
 bool cuda_available();
+// "LibTorch 1.13.1, CPU" or "LibTorch 2.11.0, CUDA, 1 GPU": what --version reports.
+std::string torch_runtime();
 // LibTorch's intra-op threads (0: leave its default, one per core).
 void set_torch_threads(int threads);
 int torch_threads();
