@@ -321,6 +321,43 @@ TEST_F(Cli, AugmentDataSets) {
   EXPECT_FALSE(fs::exists(path("x.h5")));
 }
 
+// The shape fit writes its circles in the data set's layout, and its images are theirs.
+TEST_F(Cli, ReconstructShapeWritesCirclesInTheDataSetsLayout) {
+  ASSERT_EQ(run("simulate --preset tiny --seed 6 --density coarse --quiet --out " + path("d.h5"))
+                .exit_code,
+            0);
+  const Result r = run("reconstruct --method shape --data " + path("d.h5") +
+                       " --frames 0:3 --png 0 --out " + path("s.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  H5::H5File file(path("s.h5"), H5F_ACC_RDONLY);
+  hsize_t dims[3];
+  file.openDataSet("circles").getSpace().getSimpleExtentDims(dims);
+  ASSERT_EQ(dims[0], 3u);
+  ASSERT_EQ(dims[1], 4u);
+  ASSERT_EQ(dims[2], 4u);
+  std::vector<double> circles(3 * 4 * 4);
+  file.openDataSet("circles").read(circles.data(), H5::PredType::NATIVE_DOUBLE);
+  std::vector<int> count(3);
+  file.openDataSet("circle_count").read(count.data(), H5::PredType::NATIVE_INT);
+  std::vector<float> images(3 * 64 * 64);
+  file.openDataSet("images").read(images.data(), H5::PredType::NATIVE_FLOAT);
+  const Dataset data = read_dataset(path("d.h5"));
+  const PixelGrid grid(64, data.radius);
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_GE(count[i], 0);
+    ASSERT_LE(count[i], 4);
+    std::vector<Circle> found;
+    for (int k = 0; k < 4; ++k) {
+      const double* c = &circles[(i * 4 + k) * 4];
+      EXPECT_EQ(std::isnan(c[0]), k >= count[i]) << "frame " << i << " row " << k;
+      if (k < count[i]) found.push_back({c[0], c[1], c[2], c[3]});
+    }
+    const Eigen::VectorXd drawn = circles_image(grid, found, data.background);
+    for (int p = 0; p < 64 * 64; ++p)
+      ASSERT_NEAR(images[i * 4096 + p], drawn[p], 1e-6) << "frame " << i << " pixel " << p;
+  }
+}
+
 TEST_F(Cli, ReconstructWritesImagesScoresAndPictures) {
   ASSERT_EQ(run("simulate --preset tiny --seed 6 --density coarse --quiet --out " + path("d.h5"))
                 .exit_code,

@@ -80,7 +80,7 @@ TEST_F(RunCli, TinyPresetWritesEveryOutput) {
     EXPECT_GT(std::stod(cells[7]), 0) << line;
     ++rows;
   }
-  EXPECT_EQ(rows, (6 + 4) * 4);
+  EXPECT_EQ(rows, (8 + 4) * 4);  // 8 model-based methods, 4 learned
   EXPECT_EQ(keys.size(), static_cast<std::size_t>(rows)) << "no duplicate rows";
   EXPECT_EQ(snrs, (std::set<std::string>{"inf", "50", "40", "30"}));
 

@@ -33,13 +33,14 @@ struct Args {
   int pngs = 4;
   bool absolute = false;
   std::string neighbours = "pixels";
-  double tolerance = 0;
+  double tolerance = 0, robust = 0;
   std::string split = "test";
 };
 
 void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--method", args->method,
-                  "tikhonov | noser | laplace | tv | gn | greit | dnn (needs --model)")
+                  "tikhonov | noser | laplace | tv | gn | greit | shape (circles fitted by the "
+                  "FEM) | shape-linear (by the Jacobian) | dnn (needs --model)")
       ->capture_default_str()
       ->check(CLI::IsMember(method_names()));
   cmd->add_option("--data", args->data,
@@ -63,7 +64,8 @@ void add_options(CLI::App* cmd, Args* args) {
                   "conductivity the Jacobian is linearised at (default: the data set's, else 1)")
       ->check(kPositive);
   auto* lambda = cmd->add_option("--lambda", args->lambda,
-                                 "regularisation weight (lambda; the TV weight alpha for tv)")
+                                 "regularisation weight (lambda; the TV weight alpha for tv; the "
+                                 "BIC's penalty weight for shape)")
                      ->check(kPositive);
   auto* choose =
       cmd->add_option(
@@ -80,6 +82,10 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--tolerance", args->tolerance,
                   "tv: relative change of x to stop at (default 1e-4); gn: relative decrease of "
                   "the objective (1e-4)")
+      ->check(kPositive);
+  cmd->add_option("--robust", args->robust,
+                  "shape: Huber's loss on each measurement at this multiple of the start's "
+                  "residual RMS (default: none)")
       ->check(kPositive);
   cmd->add_option("--model", args->model, "dnn: the model file made by 'eitbench train'");
   cmd->add_flag("--absolute", args->absolute, "gn: fit the absolute frames, not the differences");
@@ -218,6 +224,7 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   mo.absolute = args->absolute;
   mo.neighbours = args->neighbours;
   mo.tolerance = args->tolerance;
+  mo.robust = args->robust;
   auto method = make_reconstructor(args->method, problem, mo);
   if (mo.choose != "fixed") {
     const FrameSelection tuning = tuning_frames(args, s, mo.choose);
@@ -281,6 +288,7 @@ void write_images(const Args* args, const Selection& s, const Evaluation& result
   file.images = result.images;
   file.frame_index = s.rows;
   file.scores = result.each;
+  file.circles = result.circles;
   file.text = {{"method", args->method},
                {"settings", result.settings},
                {"data", args->data},

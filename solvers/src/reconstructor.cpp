@@ -1,5 +1,7 @@
 #include "eitbench/solvers/reconstructor.h"
 
+#include <stdexcept>
+
 #include <tbb/parallel_for.h>
 
 #include <cmath>
@@ -55,6 +57,27 @@ SampleMatrix Reconstructor::reconstruct_all(const SampleMatrix& frames) const {
     images.row(i) = reconstruct(frames.row(i).transpose()).transpose();
   });
   return images;
+}
+
+std::vector<Circle> Reconstructor::touches(const Eigen::VectorXd&, Eigen::VectorXd&) const {
+  throw std::logic_error(name() + " finds no circles (finds_circles() is false)");
+}
+
+std::vector<std::vector<Circle>> Reconstructor::touches_all(const SampleMatrix& frames,
+                                                            SampleMatrix& images) const {
+  std::vector<std::vector<Circle>> circles(static_cast<std::size_t>(frames.rows()));
+  images.resize(frames.rows(), 0);
+  if (frames.rows() == 0) return circles;
+  Eigen::VectorXd first;
+  circles[0] = touches(frames.row(0).transpose(), first);
+  images.resize(frames.rows(), first.size());
+  images.row(0) = first.transpose();
+  tbb::parallel_for(Eigen::Index(1), frames.rows(), [&](Eigen::Index i) {
+    Eigen::VectorXd image;
+    circles[static_cast<std::size_t>(i)] = touches(frames.row(i).transpose(), image);
+    images.row(i) = image.transpose();
+  });
+  return circles;
 }
 
 std::vector<Eigen::Index> Reconstructor::spread_rows(Eigen::Index rows, Eigen::Index at_most) {

@@ -12,7 +12,10 @@ Evaluation evaluate(const Reconstructor& method, const SampleMatrix& frames,
                     const SampleMatrix& labels, const PixelGrid& grid,
                     const EvaluationOptions& options) {
   Evaluation e;
-  e.images = method.reconstruct_all(frames);
+  if (method.finds_circles())
+    e.circles = method.touches_all(frames, e.images);
+  else
+    e.images = method.reconstruct_all(frames);
   const int count = static_cast<int>(frames.rows());
   const int timed = options.timed_frames < 0 ? count : std::min(options.timed_frames, count);
   for (int i = 0; i < std::min(timed, options.warmup_calls); ++i)

@@ -2,6 +2,8 @@
 
 #include <H5Cpp.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "eitbench/bench/io/atomic_file.h"
@@ -9,6 +11,32 @@
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
+namespace {
+
+constexpr hsize_t kMaxCircles = 4;  // the data set's /circles holds up to 4 a frame
+
+// /circles and /circle_count as the data set has them; a method that found more than 4 keeps
+// its first 4 there (the count says how many it found).
+void write_circles(H5::H5File& file, const std::vector<std::vector<Circle>>& circles) {
+  const hsize_t n = circles.size();
+  std::vector<double> table(n * kMaxCircles * 4, NAN);
+  std::vector<int> count(n);
+  for (hsize_t i = 0; i < n; ++i) {
+    count[i] = static_cast<int>(circles[i].size());
+    for (hsize_t k = 0; k < std::min<hsize_t>(kMaxCircles, circles[i].size()); ++k) {
+      const Circle& c = circles[i][k];
+      std::copy_n(std::array<double, 4>{c.x, c.y, c.r, c.conductivity}.begin(), 4,
+                  table.begin() + static_cast<std::ptrdiff_t>((i * kMaxCircles + k) * 4));
+    }
+  }
+  const hsize_t dims[3] = {n, kMaxCircles, 4};
+  file.createDataSet("circles", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(3, dims))
+      .write(table.data(), H5::PredType::NATIVE_DOUBLE);
+  file.createDataSet("circle_count", H5::PredType::NATIVE_INT, H5::DataSpace(1, &n))
+      .write(count.data(), H5::PredType::NATIVE_INT);
+}
+
+}  // namespace
 
 void write_images_file(const std::string& path, const ImagesFile& c) {
   write_atomically(path, [&](const std::string& temp) {
@@ -41,6 +69,7 @@ void write_images_file(const std::string& path, const ImagesFile& c) {
         set.write(table.data(), H5::PredType::NATIVE_DOUBLE);
         detail::write_attribute(set, "columns", std::string("cc, re, mse, ssim"));
       }
+      if (!c.circles.empty()) write_circles(file, c.circles);
       for (const auto& [key, value] : c.text) detail::write_attribute(file, key, value);
       for (const auto& [key, value] : c.numbers) detail::write_attribute(file, key, value);
     } catch (const H5::Exception& e) {

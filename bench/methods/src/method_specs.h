@@ -10,6 +10,8 @@ MethodSpec laplace();   // tikhonov.cpp
 MethodSpec total_variation();
 MethodSpec gauss_newton();
 MethodSpec greit();
+MethodSpec shape();         // shape.cpp
+MethodSpec shape_linear();  // shape.cpp
 MethodSpec learned();
 
 }  // namespace eitbench::methods

@@ -7,8 +7,9 @@ namespace eitbench {
 
 const std::vector<MethodSpec>& method_registry() {
   static const std::vector<MethodSpec> registry{
-      methods::tikhonov(),     methods::noser(), methods::laplace(), methods::total_variation(),
-      methods::gauss_newton(), methods::greit(), methods::learned()};
+      methods::tikhonov(),        methods::noser(),        methods::laplace(),
+      methods::total_variation(), methods::gauss_newton(), methods::greit(),
+      methods::shape(),           methods::shape_linear(), methods::learned()};
   return registry;
 }
 

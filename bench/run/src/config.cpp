@@ -10,7 +10,7 @@ RunConfig RunConfig::for_preset(const std::string& preset) {
   RunConfig c;
   c.preset = preset;
   c.snrs = {INFINITY, 50, 40, 30};
-  c.methods = {"tikhonov", "noser", "laplace", "greit", "gn", "tv"};
+  c.methods = {"tikhonov", "noser", "laplace", "greit", "gn", "tv", "shape", "shape-linear"};
   c.augments = {"none", "rotations", "d16", "paper"};
   if (preset == "tiny") {  // the test suite's: every code path in seconds
     c.mesh = c.simulation = MeshDensity::coarse;

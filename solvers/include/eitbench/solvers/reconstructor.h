@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "eitbench/jacobian/geometry.h"
 #include "eitbench/jacobian/sample_matrix.h"
 
 namespace eitbench {
@@ -48,6 +49,16 @@ class Reconstructor {
   // Many frames at once: in parallel over frames by default (reconstruct() must be thread-safe,
   // as every const method here is); linear methods use one matrix product.
   virtual SampleMatrix reconstruct_all(const SampleMatrix& frames) const;
+
+  // Whether the method finds the touches as circles (the shape fit): then touches() gives them,
+  // and the touch metrics take them as found instead of looking for blobs in the image.
+  virtual bool finds_circles() const { return false; }
+  // The circles of one frame and, in `image`, the image they draw. Only for a method that
+  // finds_circles(); std::logic_error otherwise.
+  virtual std::vector<Circle> touches(const Eigen::VectorXd& frame, Eigen::VectorXd& image) const;
+  // touches() of every frame (one a row), in parallel: circles per frame, images in `images`.
+  std::vector<std::vector<Circle>> touches_all(const SampleMatrix& frames,
+                                               SampleMatrix& images) const;
 
  protected:
   // The validation sweep of the iterative and trained methods: for each candidate, set(candidate)

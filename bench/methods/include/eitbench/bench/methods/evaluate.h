@@ -23,7 +23,8 @@ struct EvaluationOptions {
 };
 
 struct Evaluation {
-  SampleMatrix images;                               // every frame, by reconstruct_all
+  SampleMatrix images;  // every frame, by reconstruct_all (touches_all for a method of circles)
+  std::vector<std::vector<Circle>> circles;          // per frame, when the method finds_circles()
   ScoreSummary scores;                               // against the labels; count 0 without labels
   std::vector<ImageScores> each;                     // per frame, with labels
   double latency_median_ms = 0, latency_p95_ms = 0;  // 0 when nothing was timed

@@ -22,6 +22,7 @@ struct MethodOptions {
   bool absolute = false;              // gn: absolute frames instead of differences
   std::string neighbours = "pixels";  // laplace: pixels | elements
   double tolerance = 0;               // tv, gn: stopping tolerance (0: the method's default)
+  double robust = 0;  // shape: Huber's loss at this multiple of the start's residual RMS (0: none)
 };
 
 struct MethodSpec {
@@ -40,7 +41,8 @@ struct MethodSpec {
 
 // Every method, in the order the benchmark runs and reports them.
 const std::vector<MethodSpec>& method_registry();
-const std::vector<std::string>& method_names();  // tikhonov noser laplace tv gn greit dnn
+// tikhonov noser laplace tv gn greit shape shape-linear dnn
+const std::vector<std::string>& method_names();
 // Those built on the linear problem (every method but the trained one): the benchmark's --methods.
 std::vector<std::string> model_based_method_names();
 // The spec of `name`; InputError naming --method for an unknown one.

@@ -1,0 +1,151 @@
+#include "shape_fit.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+namespace eitbench::detail {
+namespace {
+
+// The model at the last parameter point asked for: Ceres evaluates every measurement's block at
+// the same point in turn (one thread), so the frame and its Jacobian are computed once per point.
+class SharedEvaluation {
+ public:
+  SharedEvaluation(const ShapeModel& model, const Eigen::VectorXd& frame, int K, bool full)
+      : model_(model), frame_(frame), K_(K), full_(full) {}
+
+  // The residuals (model - frame), and the Jacobian when `jacobian` is set.
+  void at(double const* const* parameters, bool jacobian) {
+    std::vector<double> point;
+    for (int j = 0; j < K_; ++j)
+      point.insert(point.end(), parameters[j], parameters[j] + kCircleParameters);
+    if (point == point_ && (has_jacobian_ || !jacobian)) return;
+    const std::vector<const double*> circles(parameters, parameters + K_);
+    residuals_ = model_.difference(circles, full_, jacobian ? &jacobian_ : nullptr) - frame_;
+    point_ = std::move(point);
+    has_jacobian_ = jacobian;
+  }
+  const Eigen::VectorXd& residuals() const { return residuals_; }
+  const Eigen::MatrixXd& jacobian() const { return jacobian_; }
+
+ private:
+  const ShapeModel& model_;
+  const Eigen::VectorXd& frame_;
+  int K_;
+  bool full_;
+  std::vector<double> point_;
+  bool has_jacobian_ = false;
+  Eigen::VectorXd residuals_;
+  Eigen::MatrixXd jacobian_;
+};
+
+class MeasurementCost final : public ceres::CostFunction {
+ public:
+  MeasurementCost(SharedEvaluation& shared, int row, int K) : shared_(shared), row_(row) {
+    set_num_residuals(1);
+    for (int j = 0; j < K; ++j) mutable_parameter_block_sizes()->push_back(kCircleParameters);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    shared_.at(parameters, jacobians != nullptr);
+    residuals[0] = shared_.residuals()[row_];
+    if (!jacobians) return std::isfinite(residuals[0]);
+    for (std::size_t j = 0; j < parameter_block_sizes().size(); ++j)
+      if (jacobians[j])
+        for (int k = 0; k < kCircleParameters; ++k)
+          jacobians[j][k] = shared_.jacobian()(row_, kCircleParameters * j + k);
+    return std::isfinite(residuals[0]);
+  }
+
+ private:
+  SharedEvaluation& shared_;
+  int row_;
+};
+
+// weight * max(0, |centre| + r - R): zero inside the disk, growing as a circle leaves it.
+class InsideCost final : public ceres::SizedCostFunction<1, kCircleParameters> {
+ public:
+  InsideCost(double radius, double weight) : radius_(radius), weight_(weight) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const double* p = parameters[0];
+    const double rho = std::hypot(p[0], p[1]), excess = rho + p[2] - radius_;
+    residuals[0] = excess > 0 ? weight_ * excess : 0;
+    if (jacobians && jacobians[0]) {
+      const bool on = excess > 0 && rho > 0;
+      jacobians[0][0] = on ? weight_ * p[0] / rho : 0;
+      jacobians[0][1] = on ? weight_ * p[1] / rho : 0;
+      jacobians[0][2] = excess > 0 ? weight_ : 0;
+      jacobians[0][3] = 0;
+    }
+    return true;
+  }
+
+ private:
+  double radius_, weight_;
+};
+
+ceres::Solver::Options solver_options(int max_iterations) {
+  ceres::Solver::Options o;
+  o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  o.linear_solver_type = ceres::DENSE_QR;  // 104 x 4K: dense and small
+  o.max_num_iterations = max_iterations;
+  o.function_tolerance = 1e-6;
+  o.parameter_tolerance = 1e-6;
+  o.num_threads = 1;  // frames run in parallel instead; SharedEvaluation assumes one thread
+  o.logging_type = ceres::SILENT;
+  return o;
+}
+
+}  // namespace
+
+FitOutcome fit_shape(const ShapeModel& model, const Eigen::VectorXd& frame,
+                     std::vector<CircleParameters> start, const FitSettings& settings) {
+  const int K = static_cast<int>(start.size()), m = static_cast<int>(frame.size());
+  FitOutcome out;
+  out.circles = std::move(start);
+  const double R = model.problem().radius;
+  for (auto& c : out.circles) {  // Ceres starts inside the bounds, and inside the disk
+    c[2] = std::clamp(c[2], settings.min_radius, settings.max_radius);
+    c[3] = std::clamp(c[3], settings.min_intensity, settings.max_intensity);
+    const double rho = std::hypot(c[0], c[1]), room = std::max(0.0, R - c[2]);
+    if (rho > room) c[0] *= room / rho, c[1] *= room / rho;
+  }
+  SharedEvaluation shared(model, frame, K, settings.full);
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  po.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  std::vector<double*> blocks;
+  for (auto& c : out.circles) blocks.push_back(c.data());
+  // Huber's scale from the start's residuals: a measurement far off the rest weighs less.
+  double huber = 0;
+  if (settings.robust_scale > 0) {
+    shared.at(blocks.data(), false);
+    huber = settings.robust_scale * std::sqrt(shared.residuals().squaredNorm() / m);
+  }
+  for (int i = 0; i < m; ++i)
+    problem.AddResidualBlock(new MeasurementCost(shared, i, K),
+                             huber > 0 ? new ceres::HuberLoss(huber) : nullptr, blocks);
+  const double weight = 10 * std::max(frame.norm(), 1e-300) / R;
+  for (double* b : blocks) {
+    problem.AddResidualBlock(new InsideCost(R, weight), nullptr, b);
+    problem.SetParameterLowerBound(b, 0, -R), problem.SetParameterUpperBound(b, 0, R);
+    problem.SetParameterLowerBound(b, 1, -R), problem.SetParameterUpperBound(b, 1, R);
+    problem.SetParameterLowerBound(b, 2, settings.min_radius);
+    problem.SetParameterUpperBound(b, 2, settings.max_radius);
+    problem.SetParameterLowerBound(b, 3, settings.min_intensity);
+    problem.SetParameterUpperBound(b, 3, settings.max_intensity);
+  }
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options(settings.max_iterations), &problem, &summary);
+  shared.at(blocks.data(), false);
+  out.rss = shared.residuals().squaredNorm();
+  out.iterations = static_cast<int>(summary.iterations.size());
+  out.converged = summary.termination_type == ceres::CONVERGENCE;
+  return out;
+}
+
+}  // namespace eitbench::detail

@@ -1,0 +1,130 @@
+#include "shape_model.h"
+
+#include <cmath>
+
+namespace eitbench::detail {
+namespace {
+
+Eigen::Matrix2Xd element_centroids(const Mesh& mesh) {
+  Eigen::Matrix2Xd c(2, mesh.num_triangles());
+  for (int t = 0; t < mesh.num_triangles(); ++t) c.col(t) = triangle_centroid(mesh, t);
+  return c;
+}
+
+// The indicator of one circle at one element and its derivatives by d and r.
+struct Indicator {
+  double h, dh_dr;  // dh/dd = -dh_dr
+};
+Indicator indicator(double r, double d, double w) {
+  const double t = std::tanh((r - d) / w);
+  return {0.5 * (1 + t), 0.5 * (1 - t * t) / w};
+}
+
+}  // namespace
+
+ShapeModel::ShapeModel(const LinearProblem& problem, double width)
+    : problem_(problem), centroids_(element_centroids(problem.model->mesh())) {
+  const Mesh& mesh = problem.model->mesh();
+  const double mean_size = std::sqrt(triangle_areas(mesh).cwiseAbs().mean() * 2);
+  width_ = width > 0 ? width : 0.5 * mean_size;
+  const auto background = Eigen::VectorXd::Constant(mesh.num_triangles(), problem.background);
+  const ForwardSolution s0 = problem.model->solve(background);
+  J0_ = problem.model->jacobian(s0, problem.model->protocol().reduced_pairs());
+  v0_ = problem.model->protocol().reduce(problem.model->frame(s0), MeasurementOrder::rotating);
+}
+
+std::vector<int> ShapeModel::support(const std::vector<const double*>& circles) const {
+  std::vector<int> out;
+  for (Eigen::Index t = 0; t < centroids_.cols(); ++t)
+    for (const double* p : circles) {
+      const double reach = p[2] + kReach * width_;
+      const double dx = centroids_(0, t) - p[0], dy = centroids_(1, t) - p[1];
+      if (dx * dx + dy * dy < reach * reach) {
+        out.push_back(static_cast<int>(t));
+        break;
+      }
+    }
+  return out;
+}
+
+namespace {
+std::vector<int> all_elements(Eigen::Index n) {
+  std::vector<int> out(static_cast<std::size_t>(n));
+  for (std::size_t t = 0; t < out.size(); ++t) out[t] = static_cast<int>(t);
+  return out;
+}
+}  // namespace
+
+Eigen::VectorXd ShapeModel::relative_sigma(const std::vector<const double*>& circles) const {
+  return relative_sigma(circles, all_elements(centroids_.cols()));
+}
+
+Eigen::MatrixXd ShapeModel::relative_sigma_jacobian(
+    const std::vector<const double*>& circles) const {
+  return relative_sigma_jacobian(circles, all_elements(centroids_.cols()));
+}
+
+Eigen::VectorXd ShapeModel::relative_sigma(const std::vector<const double*>& circles,
+                                           const std::vector<int>& elements) const {
+  Eigen::VectorXd s = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(elements.size()));
+  for (const double* p : circles)
+    for (Eigen::Index k = 0; k < s.size(); ++k) {
+      const int t = elements[static_cast<std::size_t>(k)];
+      const double d = std::hypot(centroids_(0, t) - p[0], centroids_(1, t) - p[1]);
+      s[k] *= 1 - p[3] * indicator(p[2], d, width_).h;
+    }
+  return s;
+}
+
+Eigen::MatrixXd ShapeModel::relative_sigma_jacobian(const std::vector<const double*>& circles,
+                                                    const std::vector<int>& elements) const {
+  const Eigen::Index n = static_cast<Eigen::Index>(elements.size());
+  const Eigen::Index K = static_cast<Eigen::Index>(circles.size());
+  Eigen::MatrixXd ds = Eigen::MatrixXd::Zero(n, kCircleParameters * K);
+  std::vector<Indicator> h(static_cast<std::size_t>(K));
+  std::vector<double> d(static_cast<std::size_t>(K));
+  for (Eigen::Index row = 0; row < n; ++row) {
+    const int t = elements[static_cast<std::size_t>(row)];
+    for (Eigen::Index j = 0; j < K; ++j) {
+      const double* p = circles[j];
+      d[j] = std::hypot(centroids_(0, t) - p[0], centroids_(1, t) - p[1]);
+      h[j] = indicator(p[2], d[j], width_);
+    }
+    for (Eigen::Index j = 0; j < K; ++j) {
+      double others = 1;  // prod over i != j of (1 - c_i H_i)
+      for (Eigen::Index i = 0; i < K; ++i)
+        if (i != j) others *= 1 - circles[i][3] * h[i].h;
+      const double* p = circles[j];
+      const double c = p[3], dh_dd = -h[j].dh_dr;
+      // d d / d cx = (cx - x) / d: zero at the centre itself, where d has no gradient.
+      const double ux = d[j] > 0 ? (p[0] - centroids_(0, t)) / d[j] : 0.0;
+      const double uy = d[j] > 0 ? (p[1] - centroids_(1, t)) / d[j] : 0.0;
+      const Eigen::Index col = kCircleParameters * j;
+      ds(row, col + 0) = -others * c * dh_dd * ux;
+      ds(row, col + 1) = -others * c * dh_dd * uy;
+      ds(row, col + 2) = -others * c * h[j].dh_dr;
+      ds(row, col + 3) = -others * h[j].h;
+    }
+  }
+  return ds;
+}
+
+Eigen::VectorXd ShapeModel::difference(const std::vector<const double*>& circles, bool full,
+                                       Eigen::MatrixXd* jacobian) const {
+  const double sigma0 = problem_.background;
+  if (!full) {  // J0's columns of the support only: the rest multiply zeros
+    const std::vector<int> near = support(circles);
+    const Eigen::MatrixXd J = J0_(Eigen::all, near);
+    if (jacobian) *jacobian = sigma0 * (J * relative_sigma_jacobian(circles, near));
+    return sigma0 * (J * (relative_sigma(circles, near).array() - 1).matrix());
+  }
+  const Eigen::VectorXd s = relative_sigma(circles);
+  const ForwardModel& model = *problem_.model;
+  const ForwardSolution solution = model.solve(sigma0 * s);
+  if (jacobian)
+    *jacobian = sigma0 * (model.jacobian(solution, model.protocol().reduced_pairs()) *
+                          relative_sigma_jacobian(circles));
+  return model.protocol().reduce(model.frame(solution), MeasurementOrder::rotating) - v0_;
+}
+
+}  // namespace eitbench::detail

@@ -1,0 +1,58 @@
+#pragma once
+// The shape reconstructor's forward map (internal to solvers/): K circular touches on the
+// background, each a smoothed indicator over the reconstruction mesh's elements, and the reduced
+// frame they give, linearised at the background or re-solved by the FEM. Parameters are K blocks
+// of [cx, cy, r, c]: centre and radius in sensor units, c the touch's intensity on the label scale
+// (sigma = sigma_0 (1 - c) inside), so the image they draw is directly comparable with labels.
+#include <Eigen/Core>
+#include <vector>
+
+#include "eitbench/solvers/linear_problem.h"
+
+namespace eitbench::detail {
+
+constexpr int kCircleParameters = 4;  // cx, cy, r, c
+
+class ShapeModel {
+ public:
+  // width: the indicator's transition width (sensor units); 0 takes half the mesh's mean element
+  // size, so that the 12-88 % transition spans about one element.
+  ShapeModel(const LinearProblem& problem, double width);
+
+  const LinearProblem& problem() const { return problem_; }
+  double width() const { return width_; }
+  int measurements() const { return static_cast<int>(J0_.rows()); }
+  const Eigen::VectorXd& reference() const { return v0_; }  // v(sigma_0), reduced
+
+  // s = sigma / sigma_0 per element: prod_j (1 - c_j H_j), H_j = (1 + tanh((r_j - d_j) / w)) / 2
+  // with d_j the element centroid's distance from centre j. The product keeps sigma positive
+  // where touches overlap and equals the sum where they do not.
+  Eigen::VectorXd relative_sigma(const std::vector<const double*>& circles) const;
+  // The same on the listed elements only (rows in that order).
+  Eigen::VectorXd relative_sigma(const std::vector<const double*>& circles,
+                                 const std::vector<int>& elements) const;
+  Eigen::MatrixXd relative_sigma_jacobian(const std::vector<const double*>& circles,
+                                          const std::vector<int>& elements) const;
+  // d s / d p: triangles x 4K, by the chain rule through H.
+  Eigen::MatrixXd relative_sigma_jacobian(const std::vector<const double*>& circles) const;
+
+  // The elements some circle reaches: centroid within r + kReach w of a centre. Beyond, every H
+  // is below 1e-8 (1 - tanh(u) < 2 exp(-2u)), so s = 1 and d s / d p = 0 to that accuracy; the
+  // linear model sums over these elements only (a few hundred of thousands, for small touches).
+  static constexpr double kReach = 9.5;
+  std::vector<int> support(const std::vector<const double*>& circles) const;
+
+  // The reduced difference frame v(sigma) - v(sigma_0) and its Jacobian d/dp (m x 4K, when given):
+  // linear, J0 sigma_0 (s - 1); or full, one FEM solve and the element Jacobian at sigma.
+  Eigen::VectorXd difference(const std::vector<const double*>& circles, bool full,
+                             Eigen::MatrixXd* jacobian) const;
+
+ private:
+  const LinearProblem& problem_;
+  Eigen::Matrix2Xd centroids_;
+  double width_;
+  Eigen::MatrixXd J0_;  // d v / d sigma at sigma_0, reduced rows x triangles
+  Eigen::VectorXd v0_;
+};
+
+}  // namespace eitbench::detail

@@ -1,0 +1,173 @@
+// The shape reconstructor: its derivatives against finite differences, circles recovered from
+// their own frames, and bad input refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "eitbench/jacobian.h"
+#include "eitbench/jacobian/error.h"
+#include "eitbench/solvers.h"
+#include "shape_model.h"  // solvers/src
+#include "test_support.h"
+
+namespace eitbench {
+namespace {
+
+constexpr double kBackground = 0.05;
+
+std::shared_ptr<const LinearProblem> problem(MeshDensity density) {
+  auto model = std::make_shared<const ForwardModel>(generate_disk_mesh({16, density}));
+  return std::make_shared<const LinearProblem>(
+      make_linear_problem(model, kBackground, PixelGrid(64, 1.0)));
+}
+
+const std::shared_ptr<const LinearProblem>& coarse() {
+  static const auto p = problem(MeshDensity::coarse);
+  return p;
+}
+const std::shared_ptr<const LinearProblem>& medium() {
+  static const auto p = problem(MeshDensity::medium);
+  return p;
+}
+
+// Central differences of the frame by each parameter, against the analytic Jacobian, for two
+// overlapping circles (the product form's cross terms) on both forward models.
+TEST(ShapeModel, JacobianMatchesFiniteDifferences) {
+  const detail::ShapeModel model(*coarse(), 0);
+  std::vector<double> params = {0.2, -0.1, 0.3, 0.7, 0.35, 0.05, 0.2, 0.5};
+  for (bool full : {false, true}) {
+    auto frame = [&](const std::vector<double>& p) {
+      return model.difference({p.data(), p.data() + 4}, full, nullptr);
+    };
+    Eigen::MatrixXd J;
+    model.difference({params.data(), params.data() + 4}, full, &J);
+    ASSERT_EQ(J.cols(), 8);
+    for (int k = 0; k < 8; ++k) {
+      const double h = 1e-6;
+      std::vector<double> up = params, down = params;
+      up[k] += h, down[k] -= h;
+      const Eigen::VectorXd fd = (frame(up) - frame(down)) / (2 * h);
+      EXPECT_LT((fd - J.col(k)).norm(), 1e-5 * fd.norm() + 1e-12 * J.norm())
+          << (full ? "full" : "linear") << " parameter " << k;
+    }
+  }
+}
+
+// With no touch the conductivity is the background's; the linear frame is the full one's first-
+// order term, so its relative error grows in proportion to the contrast.
+TEST(ShapeModel, NoTouchIsTheBackgroundAndLinearIsFirstOrder) {
+  const detail::ShapeModel model(*coarse(), 0);
+  EXPECT_EQ(model.relative_sigma({}),
+            Eigen::VectorXd::Ones(coarse()->model->mesh().num_triangles()));
+  std::vector<double> errors;
+  for (double c : {0.02, 0.04}) {
+    const std::vector<double> p = {0.3, 0.2, 0.25, c};
+    const Eigen::VectorXd lin = model.difference({p.data()}, false, nullptr),
+                          full = model.difference({p.data()}, true, nullptr);
+    errors.push_back((lin - full).norm() / full.norm());
+  }
+  std::printf("linearisation error: %.3g at c = 0.02, %.3g at 0.04\n", errors[0], errors[1]);
+  EXPECT_LT(errors[1], 0.05);
+  EXPECT_NEAR(errors[1] / errors[0], 2.0, 0.1);
+}
+
+ShapeOptions options(ShapeForward forward) {
+  ShapeOptions o;
+  o.forward = forward;
+  return o;
+}
+
+// A circle's own frame (the shape model's, full) gives back the circle exactly; so does the
+// linear model on its own linear frame.
+TEST(ShapeReconstructor, RecoversACircleFromItsOwnFrame) {
+  const detail::ShapeModel model(*medium(), 0);
+  const std::vector<double> truth = {0.35, -0.2, 0.18, 0.8};
+  for (ShapeForward forward : {ShapeForward::linear, ShapeForward::full}) {
+    const Eigen::VectorXd frame =
+        model.difference({truth.data()}, forward == ShapeForward::full, nullptr);
+    const ShapeReconstructor shape(medium(), options(forward));
+    const ShapeFit fit = shape.fit_circles(frame);
+    ASSERT_EQ(fit.circles.size(), 1u) << to_string(forward);
+    const Circle& c = fit.circles[0];
+    EXPECT_NEAR(c.x, truth[0], 1e-4) << to_string(forward);
+    EXPECT_NEAR(c.y, truth[1], 1e-4);
+    EXPECT_NEAR(c.r, truth[2], 1e-4);
+    EXPECT_NEAR(1 - c.conductivity / kBackground, truth[3], 1e-3);
+  }
+}
+
+// A hard circle simulated by the FEM (exact element coverage, not the smoothed indicator) on the
+// reconstruction mesh: the full model finds its centre within 2 % of R, and the image it draws
+// correlates with the truth.
+TEST(ShapeReconstructor, FindsAnFemCircle) {
+  const Mesh& mesh = medium()->model->mesh();
+  const std::vector<Circle> truth = {{-0.3, 0.4, 0.2, 0.01}};
+  const ForwardModel& fem = *medium()->model;
+  const Eigen::VectorXd reference =
+      fem.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), kBackground));
+  const Eigen::VectorXd frame = fem.protocol().reduce(
+      fem.frame(conductivity_from_circles(mesh, truth, kBackground)) - reference,
+      MeasurementOrder::rotating);
+  for (ShapeForward forward : {ShapeForward::full, ShapeForward::linear}) {
+    const ShapeReconstructor shape(medium(), options(forward));
+    const ShapeFit fit = shape.fit_circles(frame);
+    ASSERT_EQ(fit.circles.size(), 1u) << to_string(forward);
+    const double error = std::hypot(fit.circles[0].x - truth[0].x, fit.circles[0].y - truth[0].y);
+    std::printf("%s: centre error %.4f R, radius %.3f (true 0.2), intensity %.3f (true 0.8)\n",
+                to_string(forward), error, fit.circles[0].r,
+                1 - fit.circles[0].conductivity / kBackground);
+    EXPECT_LT(error, forward == ShapeForward::full ? 0.02 : 0.05) << to_string(forward);
+  }
+}
+
+// Two touches of different sizes and intensities: the BIC picks K = 2 and each is found.
+TEST(ShapeReconstructor, FindsTwoFemCircles) {
+  const Mesh& mesh = medium()->model->mesh();
+  const std::vector<Circle> truth = {{-0.4, -0.3, 0.15, 0.005}, {0.35, 0.35, 0.22, 0.02}};
+  const ForwardModel& fem = *medium()->model;
+  const Eigen::VectorXd reference =
+      fem.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), kBackground));
+  const Eigen::VectorXd frame = fem.protocol().reduce(
+      fem.frame(conductivity_from_circles(mesh, truth, kBackground)) - reference,
+      MeasurementOrder::rotating);
+  const ShapeFit fit = ShapeReconstructor(medium(), options(ShapeForward::full)).fit_circles(frame);
+  ASSERT_EQ(fit.circles.size(), 2u);
+  for (const Circle& t : truth) {
+    double nearest = INFINITY;
+    for (const Circle& c : fit.circles)
+      nearest = std::min(nearest, std::hypot(c.x - t.x, c.y - t.y));
+    EXPECT_LT(nearest, 0.03) << "touch at " << t.x << ", " << t.y;
+  }
+}
+
+TEST(ShapeReconstructor, NoTouchGivesNoCircles) {
+  const ShapeReconstructor shape(medium(), {});
+  EXPECT_TRUE(shape.fit_circles(Eigen::VectorXd::Zero(104)).circles.empty());
+  EXPECT_EQ(shape.reconstruct(Eigen::VectorXd::Zero(104)).norm(), 0);
+}
+
+TEST(ShapeReconstructor, BadInputIsRefused) {
+  const ShapeReconstructor shape(medium(), {});
+  EXPECT_THROW(shape.fit_circles(Eigen::VectorXd::Zero(103)), InputError);
+  Eigen::VectorXd nan = Eigen::VectorXd::Zero(104);
+  nan[7] = NAN;
+  EXPECT_THROW(shape.fit_circles(nan), InputError);
+  EXPECT_THROW(shape.fit_circles(Eigen::VectorXd::Zero(104), {}, ShapeForward::linear), InputError);
+  EXPECT_THROW(
+      shape.fit_circles(Eigen::VectorXd::Zero(104), std::vector<Circle>(5), ShapeForward::linear),
+      InputError);
+  for (auto bad : std::vector<std::function<void(ShapeOptions&)>>{
+           [](ShapeOptions& o) { o.max_touches = 5; }, [](ShapeOptions& o) { o.max_touches = 0; },
+           [](ShapeOptions& o) { o.min_radius = 0.5, o.max_radius = 0.4; },
+           [](ShapeOptions& o) { o.max_intensity = 1; },
+           [](ShapeOptions& o) { o.robust_scale = -1; },
+           [](ShapeOptions& o) { o.choice = Criterion::gcv; }}) {
+    ShapeOptions o;
+    bad(o);
+    EXPECT_THROW(ShapeReconstructor(medium(), o), InputError);
+  }
+  EXPECT_THROW(parse_shape_forward("exact"), InputError);
+}
+
+}  // namespace
+}  // namespace eitbench
