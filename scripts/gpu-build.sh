@@ -3,10 +3,11 @@
 # "import torch; print(torch.utils.cmake_prefix_path)"). The CPU build, its tests and CI do not
 # use this script. Where SuiteSparse, TBB or OpenCV are not installed, it takes them from the
 # folder scripts/gpu-deps.sh packed (default .gpu/); without Gmsh it reads that folder's meshes,
-# without OpenCV's imgcodecs it draws no figures (`eitbench report` on a full build does).
+# without OpenCV's imgcodecs it draws no figures (`eitbench report` on a full build does), and
+# without Ceres it has no shape fit.
 # Usage: scripts/gpu-build.sh [BUILD_DIR] (default build-gpu); then `source BUILD_DIR/env.sh`.
-# Environment: PYTHON (python3), CXX_STANDARD (17), WITH_GMSH / WITH_FIGURES (ON|OFF: found),
-# EITBENCH_GPU_DEPS (.gpu), EXTRA_CMAKE_ARGS.
+# Environment: PYTHON (python3), CXX_STANDARD (17), WITH_GMSH / WITH_FIGURES / WITH_CERES
+# (ON|OFF; default: whether found), EITBENCH_GPU_DEPS (.gpu), EXTRA_CMAKE_ARGS.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$(realpath -m "${1:-$root/build-gpu}")
@@ -28,15 +29,17 @@ if [ -d "$carried/deps/usr" ]; then
   fi
 fi
 has_header() { echo "#include <$1>" | c++ -E -x c++ - -I/usr/include/opencv4 >/dev/null 2>&1; }
-gmsh=OFF figures=OFF
+gmsh=OFF figures=OFF ceres=OFF
 has_header gmsh.h && gmsh=ON
 has_header opencv2/imgcodecs.hpp && figures=ON
-gmsh=${WITH_GMSH:-$gmsh} figures=${WITH_FIGURES:-$figures}  # to try the other way
+has_header ceres/ceres.h && ceres=ON
+# To try the other way:
+gmsh=${WITH_GMSH:-$gmsh} figures=${WITH_FIGURES:-$figures} ceres=${WITH_CERES:-$ceres}
 
-echo "gpu-build.sh: LibTorch from $torch_prefix; Gmsh $gmsh, figures $figures"
+echo "gpu-build.sh: LibTorch from $torch_prefix; Gmsh $gmsh, figures $figures, Ceres $ceres"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_STANDARD="${CXX_STANDARD:-17}" \
-  -DEITBENCH_WITH_GMSH=$gmsh -DEITBENCH_WITH_FIGURES=$figures \
+  -DEITBENCH_WITH_GMSH=$gmsh -DEITBENCH_WITH_FIGURES=$figures -DEITBENCH_WITH_CERES=$ceres \
   -DEITBENCH_BUILD_TESTS=OFF -DEITBENCH_BUILD_BENCHMARKS=OFF \
   ${libs:+-DCMAKE_EXE_LINKER_FLAGS="-Wl,-rpath-link,$libs"} ${EXTRA_CMAKE_ARGS:-}
 cmake --build "$build" --target eitbench -j "$(nproc)"

@@ -7,6 +7,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev          # dense and sparse linear algebra at every module boundary
   libsuitesparse-dev     # CHOLMOD: the forward model's sparse Cholesky
+  libceres-dev           # nonlinear least squares: the shape fit
   libgmsh-dev            # meshes the disk's fundamental sector
   libopencv-dev          # figures and bilinear image transforms
   libhdf5-dev            # data sets and Jacobians, readable by h5py and MATLAB

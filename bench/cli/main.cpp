@@ -3,9 +3,11 @@
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <map>
 
 #include "commands.h"
+#include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/support/allocator.h"
 #include "eitbench/bench/support/version.h"
@@ -20,9 +22,13 @@ int main(int argc, char** argv) {
       "eitbench: electrical impedance tomography for tactile sensing, toolkit and benchmark"};
   app.set_version_flag("--version", [] {
     // What this build can do: the optional parts (docs/gpu.md) and where training runs.
-    return fmt::format("{}\nGmsh meshing: {}; PNG figures: {}; {}", eitbench::program_version(),
+    const auto& methods = eitbench::method_names();
+    const bool shape = std::find(methods.begin(), methods.end(), "shape") != methods.end();
+    return fmt::format("{}\nGmsh meshing: {}; PNG figures: {}; shape fit (Ceres): {}; {}",
+                       eitbench::program_version(),
                        eitbench::can_generate_disk_mesh() ? "yes" : "no (EITBENCH_MESH_DIR)",
-                       eitbench::can_draw_figures() ? "yes" : "no", eitbench::torch_runtime());
+                       eitbench::can_draw_figures() ? "yes" : "no", shape ? "yes" : "no",
+                       eitbench::torch_runtime());
   });
   app.require_subcommand(1);
   std::map<CLI::App*, std::function<void()>> actions;
