@@ -5,12 +5,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cli_fixture.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/csv.h"
+#include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/jacobian.h"
 
 namespace eitbench {
@@ -356,6 +358,50 @@ TEST_F(Cli, ReconstructShapeWritesCirclesInTheDataSetsLayout) {
     for (int p = 0; p < 64 * 64; ++p)
       ASSERT_NEAR(images[i * 4096 + p], drawn[p], 1e-6) << "frame " << i << " pixel " << p;
   }
+}
+
+// calibrate recovers a sensor from the frame that sensor gives (forward --sensor), and its file
+// sets up forward and reconstruct; a file for another electrode count is refused.
+TEST_F(Cli, CalibrateRecoversTheSensorThatMadeTheFrame) {
+  std::vector<double> z;
+  for (int e = 0; e < 16; ++e) z.push_back(0.01 * (0.5 + 0.1 * e));
+  nlohmann::json truth = {{"format", "eitbench-sensor-1"},
+                          {"electrodes", 16},
+                          {"background", 0.05},
+                          {"contact_impedances", z},
+                          {"current", 1.0}};
+  std::ofstream(path("truth.json")) << truth.dump();
+  const std::string mesh = " --electrodes 16 --density coarse";
+  ASSERT_EQ(run("forward" + mesh + " --sensor " + path("truth.json") +
+                " --conductivity 0.05 --out " + path("ref.csv"))
+                .exit_code,
+            0);
+  const Result r = run("calibrate" + mesh + " --reference " + path("ref.csv") +
+                       " --background 0.1 --out " + path("fit.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const SensorFile fit = read_sensor_file(path("fit.json"));
+  EXPECT_NEAR(fit.background, 0.05, 1e-7);
+  for (int e = 0; e < 16; ++e) EXPECT_NEAR(fit.contact_impedances[e] / z[e], 1, 1e-4) << e;
+  EXPECT_TRUE(fit.converged);
+  // The fitted sensor reproduces the frame.
+  ASSERT_EQ(run("forward" + mesh + " --sensor " + path("fit.json") + " --conductivity 0.05 --out " +
+                path("again.csv"))
+                .exit_code,
+            0);
+  const Eigen::MatrixXd a = read_frames_csv(path("ref.csv")),
+                        b = read_frames_csv(path("again.csv"));
+  EXPECT_LT((a - b).norm(), 1e-6 * a.norm());
+  // Eight electrodes' mesh, sixteen electrodes' sensor: refused, nothing written.
+  const Result bad = run("forward --electrodes 8 --density coarse --sensor " + path("fit.json") +
+                         " --conductivity 1 --out " + path("x.csv"));
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("electrodes"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(path("x.csv")));
+  std::ofstream(path("broken.json")) << "{\"format\": \"eitbench-sensor-1\", \"electrodes\": 16}";
+  const Result broken = run("forward" + mesh + " --sensor " + path("broken.json") +
+                            " --conductivity 1 --out " + path("x.csv"));
+  EXPECT_EQ(broken.exit_code, 2);
+  EXPECT_NE(broken.output.find("background"), std::string::npos) << broken.output;
 }
 
 TEST_F(Cli, ReconstructWritesImagesScoresAndPictures) {

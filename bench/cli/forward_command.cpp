@@ -26,6 +26,7 @@ std::function<void()> add_forward_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "CSV file: the frame on one line")->required();
   return [args, cmd] {
     const Mesh mesh = load_mesh(args->mesh);
+    apply_sensor(args->model, mesh);
     const Eigen::VectorXd sigma = load_conductivity(*cmd, args->sigma, mesh);
     const bool reduced = reduced_values(args->model, mesh.num_electrodes());
     const MeasurementOrder order = parse_order(args->model.order);

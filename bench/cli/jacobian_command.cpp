@@ -40,6 +40,7 @@ std::function<void()> add_jacobian_command(CLI::App& app) {
     if (extension != ".csv" && extension != ".h5" && extension != ".hdf5")
       throw InputError("--out", "", "'" + args->out + "' must end in .h5, .hdf5 or .csv");
     const Mesh mesh = load_mesh(args->mesh);
+    apply_sensor(args->model, mesh);
     const Eigen::VectorXd sigma = load_conductivity(*cmd, args->sigma, mesh);
     const bool reduced = reduced_values(args->model, mesh.num_electrodes());
     const MeasurementOrder order = parse_order(args->model.order);
@@ -59,6 +60,7 @@ std::function<void()> add_jacobian_command(CLI::App& app) {
                                  {"order", reduced ? "reduced" : args->model.order},
                                  {"program", program_version()},
                                  {"mesh", args->mesh.file.empty() ? "generated" : args->mesh.file}};
+      if (!args->model.sensor.empty()) content.text_attributes["sensor"] = args->model.sensor;
       content.number_attributes = {{"electrodes", double(mesh.num_electrodes())},
                                    {"triangles", double(mesh.num_triangles())},
                                    {"current", args->model.forward.current},

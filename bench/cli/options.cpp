@@ -5,6 +5,7 @@
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/csv.h"
+#include "eitbench/bench/io/sensor_file.h"
 
 namespace eitbench::cli {
 namespace {
@@ -92,10 +93,14 @@ Eigen::VectorXd load_conductivity(const CLI::App& app, const ConductivitySource&
 }
 
 void add_model_options(CLI::App& app, ModelSetup& s) {
-  app.add_option("--contact-impedance", s.forward.contact_impedance,
-                 "contact impedance z_c of every electrode")
-      ->capture_default_str()
-      ->check(kPositive);
+  auto* z = app.add_option("--contact-impedance", s.forward.contact_impedance,
+                           "contact impedance z_c of every electrode")
+                ->capture_default_str()
+                ->check(kPositive);
+  auto* sensor = app.add_option("--sensor", s.sensor,
+                                "a calibrated sensor file (eitbench calibrate): its contact "
+                                "impedances, one an electrode, and its current");
+  sensor->excludes(z);
   app.add_option("--current", s.forward.current, "drive current I (finite, non-zero)")
       ->capture_default_str()
       ->check(CLI::Validator(
@@ -114,6 +119,23 @@ void add_model_options(CLI::App& app, ModelSetup& s) {
          "--values", s.values,
          "all L(L-3) values (208 | full) or the L(L-3)/2 reciprocity-reduced ones (104 | reduced)")
       ->capture_default_str();
+}
+
+std::optional<SensorFile> load_sensor(const std::string& path, int electrodes) {
+  if (path.empty()) return std::nullopt;
+  SensorFile sensor = read_sensor_file(path);
+  if (sensor.electrodes != electrodes)
+    throw InputError(path, "electrodes",
+                     "calibrates " + std::to_string(sensor.electrodes) +
+                         " electrodes; the mesh has " + std::to_string(electrodes));
+  return sensor;
+}
+
+void apply_sensor(ModelSetup& s, const Mesh& mesh) {
+  if (const auto sensor = load_sensor(s.sensor, mesh.num_electrodes())) {
+    s.forward.contact_impedances = sensor->contact_impedances;
+    s.forward.current = sensor->current;
+  }
 }
 
 bool reduced_values(const ModelSetup& s, int L) {

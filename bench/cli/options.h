@@ -2,8 +2,10 @@
 // Options that several subcommands share: where the mesh and the conductivity come from, and how
 // the forward model and its output are set up. Names are a contract (issue 2): scripts use them.
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 
+#include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/jacobian.h"
 
 namespace eitbench::cli {
@@ -33,10 +35,16 @@ Eigen::VectorXd load_conductivity(const CLI::App& app, const ConductivitySource&
 
 struct ModelSetup {
   ForwardOptions forward;
+  std::string sensor;  // --sensor: a calibrated sensor file
   std::string order = "rotating";
   std::string values = "full";  // 208 | 104 | full | reduced
 };
 void add_model_options(CLI::App& app, ModelSetup& setup);
+// --sensor's contact impedances and current into setup.forward; InputError naming the file when
+// it calibrates another electrode count than the mesh's.
+void apply_sensor(ModelSetup& setup, const Mesh& mesh);
+// The sensor file at `path` (none for an empty path), checked against the electrode count.
+std::optional<SensorFile> load_sensor(const std::string& path, int electrodes);
 // True for the reciprocity-reduced L(L-3)/2 values; checks --values against L.
 bool reduced_values(const ModelSetup& setup, int electrodes);
 

@@ -34,6 +34,7 @@ struct Args {
   bool absolute = false;
   std::string neighbours = "pixels";
   double tolerance = 0, robust = 0;
+  std::string sensor;
   std::string split = "test";
 };
 
@@ -87,6 +88,9 @@ void add_options(CLI::App* cmd, Args* args) {
                   "shape: Huber's loss on each measurement at this multiple of the start's "
                   "residual RMS (default: none)")
       ->check(kPositive);
+  cmd->add_option("--sensor", args->sensor,
+                  "a calibrated sensor file (eitbench calibrate): the model's contact impedances, "
+                  "current and background conductivity (unless --background)");
   cmd->add_option("--model", args->model, "dnn: the model file made by 'eitbench train'");
   cmd->add_flag("--absolute", args->absolute, "gn: fit the absolute frames, not the differences");
   cmd->add_option("--snr", args->snr,
@@ -212,6 +216,10 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   ForwardOptions forward;
   forward.contact_impedance = s.data.contact_impedance;
   forward.current = s.data.current;
+  if (const auto sensor = load_sensor(args->sensor, mesh.num_electrodes())) {
+    forward.contact_impedances = sensor->contact_impedances;
+    forward.current = sensor->current;
+  }
   const auto model = std::make_shared<const ForwardModel>(
       mesh, forward, args->mesh.file.empty() ? "mesh" : args->mesh.file);
   const auto problem =
@@ -334,7 +342,9 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     if (!args->mesh.file.empty()) mesh_file = read_msh_file(args->mesh.file);
     const Selection s = select_frames(args.get(), mesh_file);
     const Mesh mesh = reconstruction_mesh(args.get(), *cmd, std::move(mesh_file), s.data);
+    const auto sensor = load_sensor(args->sensor, mesh.num_electrodes());
     const double background = cmd->count("--background")    ? args->background
+                              : sensor                      ? sensor->background
                               : s.data.preset == "imported" ? 1.0
                                                             : s.data.background;
     const PixelGrid grid(s.data.image_size, s.data.radius);

@@ -19,7 +19,7 @@ namespace eitbench::cli {
 
 std::function<void()> add_run_command(CLI::App& app) {
   struct Args {
-    std::string preset = "quick", data, reference, out, device;
+    std::string preset = "quick", data, reference, out, device, sensor;
     std::uint64_t seed = 1;
     int threads = 2, electrodes = 16, epochs = 0, patience = -1;
     double learning_rate = 0;
@@ -40,6 +40,9 @@ std::function<void()> add_run_command(CLI::App& app) {
                   "your data set instead of the simulated one: an eitbench HDF5 set with labels "
                   "and splits, or measured frames (with --reference) to rank methods on");
   cmd->add_option("--reference", args->reference, "measured frames: the empty sensor's frame");
+  cmd->add_option("--sensor", args->sensor,
+                  "a calibrated sensor file (eitbench calibrate): the model-based methods' "
+                  "contact impedances, current and background conductivity");
   cmd->add_option("--electrodes", args->electrodes, "electrodes of measured frames (--reference)")
       ->capture_default_str()
       ->check(CLI::Range(4, 256));
@@ -79,6 +82,7 @@ std::function<void()> add_run_command(CLI::App& app) {
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;
     c.reference = args->reference;
+    c.sensor = args->sensor;
     c.electrodes = args->electrodes;
     c.out = args->out.empty() ? "out/" + args->preset : args->out;
     c.seed = args->seed;

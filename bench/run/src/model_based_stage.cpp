@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "eitbench/bench/data/noise.h"
+#include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/bench/methods/evaluate.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/jacobian.h"
@@ -36,9 +37,19 @@ Reconstruction set_up_reconstruction(const Context& context, const RunData& data
   ForwardOptions fo;
   fo.contact_impedance = sensor.contact_impedance;
   fo.current = sensor.current;
+  double background = sensor.background;
+  if (!context.config.sensor.empty()) {  // a calibrated sensor replaces the data set's values
+    const SensorFile calibrated = read_sensor_file(context.config.sensor);
+    if (calibrated.electrodes != sensor.electrodes)
+      throw InputError(context.config.sensor, "electrodes",
+                       "calibrates " + std::to_string(calibrated.electrodes) +
+                           " electrodes; the data have " + std::to_string(sensor.electrodes));
+    fo.contact_impedances = calibrated.contact_impedances;
+    fo.current = calibrated.current;
+    background = calibrated.background;
+  }
   const auto model = std::make_shared<const ForwardModel>(r.mesh, fo);
-  r.problem =
-      std::make_shared<const LinearProblem>(make_linear_problem(model, sensor.background, r.grid));
+  r.problem = std::make_shared<const LinearProblem>(make_linear_problem(model, background, r.grid));
   r.setup_s = seconds_since(t0);
   context.say(fmt::format(
       "reconstruction mesh: {} triangles; Jacobian and pixel map in {:.2f} s; "

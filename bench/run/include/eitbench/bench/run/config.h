@@ -13,7 +13,8 @@ struct RunConfig {
   std::string preset = "quick";  // tiny | quick | standard | paper: the data and the budgets
   std::string data;              // a data set (or measured frames) instead of simulating
   std::string reference;         // measured frames: the empty sensor's frame
-  std::string out;               // the output folder
+  std::string sensor;  // a calibrated sensor file: the reconstruction model's impedances, sigma_0
+  std::string out;     // the output folder
   std::uint64_t seed = 1;
   bool resume = false;  // reuse what an interrupted run in `out` finished
   bool quiet = false;

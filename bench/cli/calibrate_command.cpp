@@ -1,0 +1,85 @@
+// eitbench calibrate: the background conductivity and each electrode's contact impedance fitted
+// to a frame of the untouched sensor, written as a sensor file that forward, jacobian,
+// reconstruct and run take with --sensor.
+#include <fmt/core.h>
+
+#include <memory>
+
+#include "commands.h"
+#include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/io/sensor_file.h"
+#include "eitbench/solvers/calibration.h"
+#include "options.h"
+
+namespace eitbench::cli {
+
+#ifdef EITBENCH_HAVE_CERES
+std::function<void()> add_calibrate_command(CLI::App& app) {
+  struct Args {
+    MeshSource mesh;
+    std::string reference, variable, order = "rotating", out;
+    double background = 1, contact_impedance = 0.01, current = 1;
+  };
+  auto args = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "calibrate",
+      "Fit the background conductivity and each electrode's contact impedance to the empty "
+      "sensor's frame; write a sensor file (--sensor of forward, jacobian, reconstruct, run)");
+  cmd->add_option("--reference", args->reference,
+                  "the untouched sensor's frame, absolute voltages (.csv/.npy/.npz/.mat; the mean "
+                  "of several)")
+      ->required();
+  cmd->add_option("--variable", args->variable, "array or variable in --reference");
+  cmd->add_option("--order", args->order, "order of L(L-3)-value frames")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rotating", "ascending"}));
+  add_mesh_options(*cmd, args->mesh);
+  cmd->add_option("--background", args->background, "the start: conductivity (S/m)")
+      ->capture_default_str()
+      ->check(kPositive);
+  cmd->add_option("--contact-impedance", args->contact_impedance,
+                  "the start: every electrode's contact impedance")
+      ->capture_default_str()
+      ->check(kPositive);
+  cmd->add_option("--current", args->current, "the drive current the frame was measured with")
+      ->capture_default_str();
+  cmd->add_option("--out", args->out, "the sensor file to write (JSON)")->required();
+  return [args] {
+    const Mesh mesh = load_mesh(args->mesh);
+    ImportOptions io;
+    io.electrodes = mesh.num_electrodes();
+    io.order =
+        args->order == "ascending" ? MeasurementOrder::ascending : MeasurementOrder::rotating;
+    io.variable = args->variable;
+    const Measurements m = read_measurements(args->reference, io);
+    const Eigen::VectorXd reference = m.frames.colwise().mean().transpose();  // rotating order
+    ForwardOptions start;
+    start.contact_impedance = args->contact_impedance;
+    start.current = args->current;
+    const Calibration c = calibrate(mesh, start, args->background, reference,
+                                    MeasurementOrder::rotating, {}, args->reference);
+    SensorFile s;
+    s.electrodes = mesh.num_electrodes();
+    s.background = c.background;
+    s.contact_impedances = c.contact_impedances;
+    s.current = args->current;
+    s.reference = args->reference;
+    s.relative_residual = c.relative_residual;
+    s.iterations = c.iterations;
+    s.converged = c.converged;
+    write_sensor_file(args->out, s);
+    fmt::print(
+        "background {:.6g} S/m; contact impedances {:.4g} .. {:.4g}; residual {:.3g} of the "
+        "frame after {} iterations{}\nwrote {}\n",
+        c.background, c.contact_impedances.minCoeff(), c.contact_impedances.maxCoeff(),
+        c.relative_residual, c.iterations, c.converged ? "" : " (NOT converged)", args->out);
+  };
+}
+#else
+std::function<void()> add_calibrate_command(CLI::App& app) {
+  app.add_subcommand("calibrate", "(this build has no Ceres: no calibration)");
+  return [] { throw InputError("calibrate", "", "this build has no Ceres (EITBENCH_WITH_CERES)"); };
+}
+#endif
+
+}  // namespace eitbench::cli

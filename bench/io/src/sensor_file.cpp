@@ -1,0 +1,80 @@
+#include "eitbench/bench/io/sensor_file.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+constexpr const char* kFormat = "eitbench-sensor-1";
+
+double positive(const nlohmann::json& j, const std::string& path, const char* field) {
+  if (!j.contains(field) || !j[field].is_number())
+    throw InputError(path, field, "missing, or not a number");
+  const double v = j[field].get<double>();
+  if (!(v > 0) || !std::isfinite(v)) throw InputError(path, field, "must be positive and finite");
+  return v;
+}
+
+}  // namespace
+
+void write_sensor_file(const std::string& path, const SensorFile& s) {
+  nlohmann::json j = {{"format", kFormat},
+                      {"electrodes", s.electrodes},
+                      {"background", s.background},
+                      {"contact_impedances", std::vector<double>(s.contact_impedances.data(),
+                                                                 s.contact_impedances.data() +
+                                                                     s.contact_impedances.size())},
+                      {"current", s.current},
+                      {"calibration",
+                       {{"reference", s.reference},
+                        {"relative_residual", s.relative_residual},
+                        {"iterations", s.iterations},
+                        {"converged", s.converged}}}};
+  write_text_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+}
+
+SensorFile read_sensor_file(const std::string& path) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(read_file_bytes(path, 1 << 20));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, "", std::string("is not JSON: ") + e.what());
+  }
+  if (!j.is_object() || j.value("format", "") != kFormat)
+    throw InputError(path, "format",
+                     std::string("is not an eitbench sensor file (") + kFormat + ")");
+  SensorFile s;
+  if (!j.contains("electrodes") || !j["electrodes"].is_number_integer())
+    throw InputError(path, "electrodes", "missing, or not an integer");
+  s.electrodes = j["electrodes"].get<int>();
+  if (s.electrodes < 4 || s.electrodes > 256)
+    throw InputError(path, "electrodes", "must lie in 4..256");
+  s.background = positive(j, path, "background");
+  const auto& z = j.contains("contact_impedances") ? j["contact_impedances"] : nlohmann::json();
+  if (!z.is_array() || static_cast<int>(z.size()) != s.electrodes)
+    throw InputError(path, "contact_impedances", "needs one number an electrode");
+  s.contact_impedances.resize(s.electrodes);
+  for (int e = 0; e < s.electrodes; ++e) {
+    if (!z[e].is_number() || !(z[e].get<double>() > 0) || !std::isfinite(z[e].get<double>()))
+      throw InputError(path, "contact_impedances", "must be positive and finite");
+    s.contact_impedances[e] = z[e].get<double>();
+  }
+  if (!j.contains("current") || !j["current"].is_number() || j["current"].get<double>() == 0 ||
+      !std::isfinite(j["current"].get<double>()))
+    throw InputError(path, "current", "must be a finite, non-zero number");
+  s.current = j["current"].get<double>();
+  if (j.contains("calibration") && j["calibration"].is_object()) {
+    const auto& c = j["calibration"];
+    s.reference = c.value("reference", "");
+    s.relative_residual = c.value("relative_residual", 0.0);
+    s.iterations = c.value("iterations", 0);
+    s.converged = c.value("converged", false);
+  }
+  return s;
+}
+
+}  // namespace eitbench
