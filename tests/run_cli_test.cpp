@@ -52,9 +52,10 @@ std::vector<std::string> csv_line(const std::string& line) {
 
 TEST_F(RunCli, TinyPresetWritesEveryOutput) {
   const fs::path dir = run_folder();
-  for (const char* name : {"results.json", "reconstructions.npy", "results.csv", "report.md",
-                           "reconstructions.png", "loss_curves.png", "loss_curves.csv",
-                           "data_efficiency.png", "data_efficiency_re.png", "data.h5"})
+  for (const char* name :
+       {"results.json", "reconstructions.npy", "results.csv", "report.md", "reconstructions.png",
+        "loss_curves.png", "loss_curves.csv", "data_efficiency.png", "data_efficiency_re.png",
+        "touch_centre_errors.png", "data.h5"})
     EXPECT_TRUE(fs::exists(dir / name)) << name;
 
   // results.csv: tidy, one row per method x augmentation x SNR, the columns issue 7 names.
@@ -112,6 +113,17 @@ TEST_F(RunCli, TinyPresetWritesEveryOutput) {
   EXPECT_NE(r.recommendation.find("Not converged:** dnn (none), dnn (rotations)"),
             std::string::npos)
       << r.recommendation;
+  // Every row has touch metrics on the 7 test frames (4 touches each), at a threshold of the
+  // candidates chosen on validation.
+  for (const auto& row : r.rows) {
+    EXPECT_EQ(row.touch.frames, 7) << row.method;
+    EXPECT_EQ(row.touch.true_touches, 28) << row.method;
+    EXPECT_TRUE(row.touch.threshold == 0.3 || row.touch.threshold == 0.4 ||
+                row.touch.threshold == 0.5 || row.touch.threshold == 0.6 ||
+                row.touch.threshold == 0.7)
+        << row.method << " " << row.touch.threshold;
+    EXPECT_NEAR(row.touch.missed_per_frame, 4.0 - row.touch.matched / 7.0, 1e-12) << row.method;
+  }
   // The model-based methods beat chance on the tiny test split (CC > 0.5 noise-free).
   for (const auto& row : r.rows)
     if (row.augment == "-" && std::isinf(row.snr_db)) {
@@ -121,9 +133,10 @@ TEST_F(RunCli, TinyPresetWritesEveryOutput) {
   std::ifstream report(dir / "report.md");
   const std::string text((std::istreambuf_iterator<char>(report)),
                          std::istreambuf_iterator<char>());
-  for (const char* section : {"Which reconstructor to pick", "Table I", "relative improvement",
-                              "## Runtime", "## Training", "**no** (budget)", "## Data efficiency",
-                              "reconstructions.png", "## Configuration"})
+  for (const char* section :
+       {"Which reconstructor to pick", "Table I", "relative improvement", "## Runtime",
+        "## Training", "**no** (budget)", "## Data efficiency", "reconstructions.png", "## Touches",
+        "touch_centre_errors.png", "## Configuration"})
     EXPECT_NE(text.find(section), std::string::npos) << section;
 }
 
@@ -147,6 +160,8 @@ TEST_F(RunCli, ResumeReusesFinishedStagesWithTheSameFigures) {
     } else {
       EXPECT_EQ(x.cc, y.cc) << x.method;
       EXPECT_EQ(x.re, y.re) << x.method;
+      EXPECT_EQ(x.touch.threshold, y.touch.threshold) << x.method;
+      EXPECT_EQ(x.touch.centre_error_median, y.touch.centre_error_median) << x.method;
     }
   }
   EXPECT_LT(std::stod(b.configuration.at("total_seconds")),
@@ -210,6 +225,7 @@ TEST_F(RunCli, MeasuredFramesAreReconstructedWithTheSimulatedPresetsChoices) {
     EXPECT_TRUE(std::isinf(y.snr_db)) << y.method;
     EXPECT_TRUE(std::isnan(y.cc) && std::isnan(y.re)) << y.method << ": scored without labels";
     EXPECT_EQ(y.frames, 0) << y.method;
+    EXPECT_EQ(y.touch.frames, 0) << y.method << ": touches scored without circles";
     EXPECT_GT(y.latency_median_ms, 0) << y.method;
     const ResultRow* x = nullptr;
     for (const ResultRow& row : tiny.rows)
@@ -222,6 +238,8 @@ TEST_F(RunCli, MeasuredFramesAreReconstructedWithTheSimulatedPresetsChoices) {
                          std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("quality cannot be ranked"), std::string::npos);
   EXPECT_EQ(text.find("Pick **"), std::string::npos) << "a pick made without labels";
+  EXPECT_EQ(text.find("## Touches"), std::string::npos);
+  EXPECT_FALSE(fs::exists(path("measured/touch_centre_errors.png")));
 }
 
 TEST_F(RunCli, KilledSimulationLeavesNoFile) {
@@ -258,7 +276,7 @@ TEST_F(RunCli, ReportRedrawsTheRunFromItsStoredResults) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("ms/frame"), std::string::npos) << r.output;  // the summary table
   for (const char* name : {"report.md", "results.csv", "reconstructions.png", "loss_curves.csv",
-                           "loss_curves.png", "data_efficiency.png"}) {
+                           "loss_curves.png", "data_efficiency.png", "touch_centre_errors.png"}) {
     ASSERT_TRUE(fs::exists(copy / name)) << name;
     EXPECT_EQ(file_bytes(copy / name), file_bytes(finished / name)) << name;
   }

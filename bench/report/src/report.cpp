@@ -11,6 +11,7 @@
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/report/efficiency.h"
 #include "eitbench/bench/report/figures.h"
+#include "eitbench/bench/report/touch_report.h"
 
 namespace eitbench {
 namespace {
@@ -71,10 +72,15 @@ std::string recommend(const std::vector<ResultRow>& rows,
   return recommend(rows) + unconverged_note(training);
 }
 
-std::string recommend(const std::vector<ResultRow>& rows) {
+double headline_snr(const std::vector<ResultRow>& rows) {
   const auto snrs = snrs_of(rows);
-  if (snrs.empty()) return "No results.";
-  const double snr = std::find(snrs.begin(), snrs.end(), 40.0) != snrs.end() ? 40.0 : snrs.front();
+  if (snrs.empty()) return NAN;
+  return std::find(snrs.begin(), snrs.end(), 40.0) != snrs.end() ? 40.0 : snrs.front();
+}
+
+std::string recommend(const std::vector<ResultRow>& rows) {
+  if (rows.empty()) return "No results.";
+  const double snr = headline_snr(rows);
   std::vector<const ResultRow*> at;
   for (const auto& r : rows)
     if (r.snr_db == snr || (std::isinf(r.snr_db) && std::isinf(snr))) at.push_back(&r);
@@ -218,6 +224,7 @@ void write_report(const std::string& path, const RunResults& r) {
   write_header(o, r);
   write_quality(o, r, methods, snrs);
   write_augmentation_gain(o, r, methods, snrs);
+  write_touch_section(o, r.rows, headline_snr(r.rows));
   write_runtime(o, r, methods, snrs);
   write_training(o, r);
   write_efficiency_section(o, r.efficiency);

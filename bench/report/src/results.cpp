@@ -60,7 +60,8 @@ json to_json(const ResultRow& x) {
           {"latency_p95_ms", x.latency_p95_ms},
           {"setup_s", x.setup_s},
           {"frames", x.frames},
-          {"settings", x.settings}};
+          {"settings", x.settings},
+          {"touch", to_json(x.touch)}};
 }
 
 ResultRow result_row_from_json(const json& x) {
@@ -79,7 +80,53 @@ ResultRow result_row_from_json(const json& x) {
   row.setup_s = x.at("setup_s").get<double>();
   row.frames = x.at("frames").get<int>();
   row.settings = x.at("settings").get<std::string>();
+  // Rows written before the touch metrics lack them: not scored.
+  if (x.contains("touch")) row.touch = touch_scores_from_json(x.at("touch"));
   return row;
+}
+
+json to_json(const TouchScores& t) {
+  if (t.frames == 0) return nullptr;
+  json by_count = json::array(), quantiles = json::array();
+  for (const auto& c : t.by_count)
+    by_count.push_back({{"touches", c.touches},
+                        {"frames", c.frames},
+                        {"count_accuracy", number(c.count_accuracy)},
+                        {"centre_error_median", number(c.centre_error_median)}});
+  for (double q : t.centre_error_quantiles) quantiles.push_back(number(q));
+  return {{"frames", t.frames},
+          {"threshold", number(t.threshold)},
+          {"count_accuracy", number(t.count_accuracy)},
+          {"centre_error_median", number(t.centre_error_median)},
+          {"centre_error_p90", number(t.centre_error_p90)},
+          {"radius_error_median", number(t.radius_error_median)},
+          {"missed_per_frame", number(t.missed_per_frame)},
+          {"phantom_per_frame", number(t.phantom_per_frame)},
+          {"true_touches", t.true_touches},
+          {"matched", t.matched},
+          {"centre_error_quantiles", quantiles},
+          {"by_count", by_count}};
+}
+
+TouchScores touch_scores_from_json(const json& x) {
+  TouchScores t;
+  if (x.is_null()) return t;
+  t.frames = x.at("frames").get<int>();
+  t.threshold = number(x.at("threshold"));
+  t.count_accuracy = number(x.at("count_accuracy"));
+  t.centre_error_median = number(x.at("centre_error_median"));
+  t.centre_error_p90 = number(x.at("centre_error_p90"));
+  t.radius_error_median = number(x.at("radius_error_median"));
+  t.missed_per_frame = number(x.at("missed_per_frame"));
+  t.phantom_per_frame = number(x.at("phantom_per_frame"));
+  t.true_touches = x.at("true_touches").get<int>();
+  t.matched = x.at("matched").get<int>();
+  for (const auto& q : x.at("centre_error_quantiles"))
+    t.centre_error_quantiles.push_back(number(q));
+  for (const auto& c : x.at("by_count"))
+    t.by_count.push_back({c.at("touches").get<int>(), c.at("frames").get<int>(),
+                          number(c.at("count_accuracy")), number(c.at("centre_error_median"))});
+  return t;
 }
 
 json to_json(const EfficiencyPoint& e) {
@@ -203,7 +250,8 @@ RunResults parse_results_json(const std::string& text, const std::string& path) 
 void write_results_csv(const std::string& path, const std::vector<ResultRow>& rows) {
   write_text_atomically(path, [&](std::ostream& out) {
     out << "method,augment,snr_db,cc,re,ssim,mse,latency_median_ms,latency_p95_ms,setup_s,cc_std,"
-           "re_std,frames,settings\n";
+           "re_std,frames,settings,touch_threshold,count_accuracy,centre_error_median,"
+           "centre_error_p90,radius_error_median,missed_per_frame,phantom_per_frame\n";
     out << std::setprecision(8);
     for (const auto& r : rows) {
       std::string settings = r.settings;
@@ -212,7 +260,14 @@ void write_results_csv(const std::string& path, const std::vector<ResultRow>& ro
       out << r.method << ',' << r.augment << ',' << snr_label(r.snr_db) << ',' << r.cc << ','
           << r.re << ',' << r.ssim << ',' << r.mse << ',' << r.latency_median_ms << ','
           << r.latency_p95_ms << ',' << r.setup_s << ',' << r.cc_std << ',' << r.re_std << ','
-          << r.frames << ",\"" << settings << "\"\n";
+          << r.frames << ",\"" << settings << '"';
+      const TouchScores& t = r.touch;
+      if (t.frames > 0)
+        out << ',' << t.threshold << ',' << t.count_accuracy << ',' << t.centre_error_median << ','
+            << t.centre_error_p90 << ',' << t.radius_error_median << ',' << t.missed_per_frame
+            << ',' << t.phantom_per_frame << '\n';
+      else
+        out << ",,,,,,,\n";  // not scored: empty cells, not numbers
     }
   });
 }

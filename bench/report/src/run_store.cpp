@@ -10,6 +10,7 @@
 #include "eitbench/bench/report/efficiency.h"
 #include "eitbench/bench/report/loss_curves.h"
 #include "eitbench/bench/report/report.h"
+#include "eitbench/bench/report/touch_report.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/pixel_grid.h"
 
@@ -105,6 +106,9 @@ RunResults draw_run_report(const std::string& folder, bool quiet) {
   write_loss_curves((dir / "loss_curves.csv").string(), (dir / "loss_curves.png").string(), curves);
   if (!results.efficiency.empty() && can_draw_figures())
     draw_efficiency_figures(results.efficiency, dir.string());
+  if (has_touch_scores(results.rows) && can_draw_figures())
+    draw_touch_figure(results.rows, headline_snr(results.rows),
+                      (dir / "touch_centre_errors.png").string());
   write_report((dir / "report.md").string(), results);
   return results;
 }

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "eitbench/bench/methods/touches.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/run_store.h"
 #include "eitbench/bench/support/machine.h"
@@ -74,6 +75,20 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   c["hyperparameters"] =
       fmt::format("validation CC at each SNR ({} validation frames; tv and gn sweep {})",
                   data.validation.frames.rows(), config.sweep_frames);
+  if (scores_touches(data)) {
+    const TouchOptions touch;
+    std::string candidates;
+    for (double t : touch.thresholds)
+      candidates += fmt::format("{}{:g}", candidates.empty() ? "" : ", ", t);
+    c["touch_metrics"] = fmt::format(
+        "blobs at a threshold (x the image's in-disk maximum) chosen per method and SNR from "
+        "{{{}}} "
+        "by count accuracy, then median centre error, on {} validation frames; blobs under {:g} "
+        "R^2 dropped; matched within {:g} R",
+        candidates,
+        std::min<Eigen::Index>(config.touch_validation_frames, data.validation.frames.rows()),
+        touch.min_area, touch.gate);
+  }
   c["latency"] = fmt::format("the first {} test frames one at a time, wall clock, {} threads",
                              config.timed_frames, config.threads);
   c["total_seconds"] = fmt::format("{:.1f}", total_s);

@@ -23,7 +23,8 @@ RunConfig RunConfig::for_preset(const std::string& preset) {
     c.validate_every = 64;  // a round an epoch of the 60 training samples
     c.efficiency_sizes = {15, 30, 60};
     c.sweep_frames = 3, c.timed_frames = 3, c.figure_samples = 4;
-  } else if (preset == "quick") {  // under 20 minutes on 2 cores
+    c.touch_validation_frames = 14;  // the whole validation split
+  } else if (preset == "quick") {    // under 20 minutes on 2 cores
     // Every learned model to convergence within the time: the three that answer the paper's
     // questions (rotations alone is in the standard preset).
     c.augments = {"none", "d16", "paper"};
@@ -36,6 +37,7 @@ RunConfig RunConfig::for_preset(const std::string& preset) {
     c.epochs = 300;
     c.efficiency_sizes = {350, 700, 1400, 2800, 5500};
     c.sweep_frames = 20, c.timed_frames = 50;
+    c.touch_validation_frames = 80;
   } else if (preset == "paper") {  // the paper's protocol: GPU advised, resumable
     c.model = "paper";
     c.device = "auto";
@@ -44,6 +46,7 @@ RunConfig RunConfig::for_preset(const std::string& preset) {
     c.epochs = 300, c.batch = 512, c.learning_rate = 1e-3;
     c.efficiency_sizes = {700, 1400, 2800, 5600, 11200, 21833};
     c.sweep_frames = 20, c.timed_frames = 100;
+    c.touch_validation_frames = 200;
   } else {
     throw InputError("--preset", "",
                      "unknown preset '" + preset + "' (tiny, quick, standard, paper)");

@@ -20,6 +20,7 @@ FrameSet rows_of(const Dataset& d, const std::vector<int>& rows) {
   for (std::size_t k = 0; k < rows.size(); ++k) {
     f.frames.row(k) = d.differences.row(rows[k]);
     if (d.has_labels()) f.labels.row(k) = d.labels.row(rows[k]);
+    if (!d.circles.empty()) f.circles.push_back(d.circles[static_cast<std::size_t>(rows[k])]);
   }
   return f;
 }

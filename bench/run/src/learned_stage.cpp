@@ -112,6 +112,7 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
                      reconstruction.grid, config.timed_frames, &images);
     row.method = "dnn", row.augment = augment, row.snr_db = data.snrs[k];
     row.setup_s = summary.seconds;
+    row.touch = touch_scores(context, data, reconstruction, *method, noisy.validation[k], images);
     context.say(fmt::format("dnn {:>9} at {:>3} dB: {}, {:.3g} ms a frame", augment,
                             snr_label(data.snrs[k]), quality(row), row.latency_median_ms));
     if (k == 0) out.method.images = first_images(images, config.figure_samples);

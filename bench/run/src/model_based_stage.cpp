@@ -22,7 +22,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 std::string quality(const ResultRow& row) {
-  return row.frames > 0 ? fmt::format("CC {:.3f}, RE {:.3f}", row.cc, row.re) : "no labels";
+  if (row.frames == 0) return "no labels";
+  std::string text = fmt::format("CC {:.3f}, RE {:.3f}", row.cc, row.re);
+  const TouchScores& t = row.touch;
+  if (t.frames > 0)
+    text += fmt::format("; touches: count {:.0f} %, centre {:.3f} R (threshold {:g})",
+                        100 * t.count_accuracy, t.centre_error_median, t.threshold);
+  return text;
 }
 
 Reconstruction set_up_reconstruction(const Context& context, const RunData& data) {
@@ -127,6 +133,7 @@ MethodResults tune_and_score(const Context& context, const std::string& name, co
         evaluate_row(*method, noisy.test[k], data.labelled ? data.test.labels : SampleMatrix(),
                      reconstruction.grid, config.timed_frames, &images);
     row.method = name, row.snr_db = data.snrs[k], row.setup_s = setup;
+    row.touch = touch_scores(context, data, reconstruction, *method, noisy.validation[k], images);
     context.say(fmt::format("{:>9} at {:>3} dB: {}, {:.3g} ms a frame ({})", name,
                             snr_label(data.snrs[k]), quality(row), row.latency_median_ms,
                             row.settings));

@@ -29,9 +29,11 @@ struct Context {
   void say(const std::string& line) const;
 };
 
-// Frames (difference, reduced layout) and their labels (N x 0 without labels).
+// Frames (difference, reduced layout), their labels (N x 0 without labels) and their circles (the
+// touches' truth; empty without).
 struct FrameSet {
   SampleMatrix frames, labels;
+  std::vector<std::vector<Circle>> circles;
 };
 
 // 1. The data: `data` is evaluated; `source` trains the learned model and tunes hyperparameters.
@@ -104,12 +106,21 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
                                        const RunData& data, const Reconstruction& reconstruction,
                                        const RunResults& main_runs);
 
+// The touch metrics of a method at one SNR (touch_stage.cpp): the blob threshold chosen on the
+// first touch_validation_frames of `validation_frames` as the method reconstructs them, the test
+// images scored with it. Not scored (frames 0) when the test or validation frames lack circles.
+TouchScores touch_scores(const Context& context, const RunData& data,
+                         const Reconstruction& reconstruction, const Reconstructor& method,
+                         const SampleMatrix& validation_frames, const SampleMatrix& test_images);
+bool scores_touches(const RunData& data);
+
 // The row of one evaluation (quality, latency and settings); labels may be empty.
 ResultRow evaluate_row(const Reconstructor& method, const SampleMatrix& frames,
                        const SampleMatrix& labels, const PixelGrid& grid, int timed_frames,
                        SampleMatrix* images = nullptr);
 std::vector<Eigen::VectorXd> first_images(const SampleMatrix& images, int count);
-std::string quality(const ResultRow& row);  // "CC 0.812, RE 0.634" or "no labels", for the log
+// "CC 0.812, RE 0.634" (then the touch metrics when scored) or "no labels", for the log.
+std::string quality(const ResultRow& row);
 
 // A method's results in the stage cache (the rows in results.json's form, the images as float).
 nlohmann::json to_json(const MethodResults& results);

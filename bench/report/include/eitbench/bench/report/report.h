@@ -13,6 +13,9 @@ namespace eitbench {
 // within 0.02 of it. Learned models whose training the budget ended before early stopping did are
 // named as not converged: their figures may understate them.
 std::string recommend(const std::vector<ResultRow>& rows);
+// The SNR the pick and the touch ranking are made at: 40 dB when the rows have it, else the
+// highest (noise-free, or measured frames' own). NaN without rows.
+double headline_snr(const std::vector<ResultRow>& rows);
 std::string recommend(const std::vector<ResultRow>& rows,
                       const std::vector<TrainingSummary>& training);
 void write_report(const std::string& path, const RunResults& results);

@@ -2,6 +2,7 @@
 // The results store: the figures of a benchmark run and their files, results.json (everything, with
 // the configuration, program and machine) and results.csv (tidy: one row per method x augmentation
 // x SNR). One JSON form of each record serves results.json and the run's stage cache.
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -11,6 +12,30 @@
 
 namespace eitbench {
 
+// Touch metrics of one row (docs/benchmark.md#touch-metrics): where the touches are, how many and
+// how large, against the data set's circles. Distances are fractions of the sensor radius R.
+struct TouchCountScores {  // the frames with one true number of touches
+  int touches = 0;         // true touches in each of them
+  int frames = 0;
+  double count_accuracy = NAN, centre_error_median = NAN;  // NaN median: nothing matched
+};
+struct TouchScores {
+  int frames = 0;  // frames scored; 0: not scored (no circles to compare with)
+  // The blob threshold as a fraction of each image's in-disk maximum, chosen on validation frames;
+  // NaN for a method that gives circles directly.
+  double threshold = NAN;
+  double count_accuracy = NAN;  // share of frames with the true number of touches
+  // Over the matched touches (NaN when none matched): centre distance, and |r_found - r_true|.
+  double centre_error_median = NAN, centre_error_p90 = NAN, radius_error_median = NAN;
+  double missed_per_frame = NAN,
+         phantom_per_frame = NAN;  // true touches unmatched, found unmatched
+  int true_touches = 0, matched = 0;
+  // The matched centre errors at 0, 5, ..., 100 % (21 values; empty when none matched): the
+  // distribution the report's figure draws.
+  std::vector<double> centre_error_quantiles;
+  std::vector<TouchCountScores> by_count;  // ascending true count
+};
+
 struct ResultRow {
   std::string method;         // tikhonov | noser | laplace | tv | gn | greit | dnn
   std::string augment = "-";  // dnn: none | rotations | d16 | paper; "-" for model-based methods
@@ -19,6 +44,7 @@ struct ResultRow {
   double latency_median_ms = 0, latency_p95_ms = 0, setup_s = 0;
   int frames = 0;        // frames scored (0: the data have no labels)
   std::string settings;  // hyperparameters and how they were chosen
+  TouchScores touch;     // frames 0 when not scored (no circles; results.json of older runs)
 };
 
 struct TrainingSummary {
@@ -64,6 +90,8 @@ struct RunResults {
 // or mistyped field (parse_results_json turns them into InputError).
 nlohmann::json to_json(const ResultRow& row);
 ResultRow result_row_from_json(const nlohmann::json& j);
+nlohmann::json to_json(const TouchScores& touch);             // null when touch.frames == 0
+TouchScores touch_scores_from_json(const nlohmann::json& j);  // null: not scored
 nlohmann::json to_json(const EfficiencyPoint& point);
 EfficiencyPoint efficiency_point_from_json(const nlohmann::json& j);
 

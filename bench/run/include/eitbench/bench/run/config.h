@@ -39,6 +39,9 @@ struct RunConfig {
   std::vector<int> efficiency_sizes;  // training-set sizes of the data-efficiency sweep
   int sweep_frames = 12;  // validation frames for the iterative methods' hyperparameter sweep
   int timed_frames = 32;  // test frames reconstructed one at a time for the latency figures
+  // Validation frames each method reconstructs at each SNR to choose its touch threshold: TV and
+  // GN take 50-90 ms a frame on 2 cores, so 40 frames x 4 SNRs add about 22 s to the quick run.
+  int touch_validation_frames = 40;
   int figure_samples = 8;
 
   // The preset's data and budgets; InputError naming --preset for an unknown one.
