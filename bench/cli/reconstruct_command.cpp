@@ -16,6 +16,7 @@
 #include "eitbench/bench/methods/metrics.h"
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/registry.h"
+#include "eitbench/bench/methods/touch_metrics.h"
 #include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian.h"
@@ -321,6 +322,17 @@ void print_summary(const Args* args, const Selection& s, const Evaluation& resul
                summary.mean.cc, summary.std.cc, summary.mean.re, summary.std.re, summary.mean.ssim,
                summary.mean.mse,
                std::isfinite(args->snr) ? fmt::format(" at {} dB", args->snr) : "");
+  if (!result.circles.empty() && !s.data.circles.empty()) {  // the shape fit: where, how many
+    std::vector<std::vector<Circle>> truth;
+    for (int row : s.rows) truth.push_back(s.data.circles[static_cast<std::size_t>(row)]);
+    const TouchScores t = score_touches(touches_of(result.circles, s.data.background),
+                                        touches_of(truth, s.data.background), s.data.radius);
+    fmt::print(
+        "  touches: count right in {:.0f} % of frames, centre error median {:.3f} R, p90 "
+        "{:.3f} R; {:.2f} missed and {:.2f} phantom a frame\n",
+        100 * t.count_accuracy, t.centre_error_median, t.centre_error_p90, t.missed_per_frame,
+        t.phantom_per_frame);
+  }
   if (s.data.has_labels() && !result.each.empty()) {  // a mean hides one runaway frame
     const auto worst = std::max_element(result.each.begin(), result.each.end(),
                                         [](const auto& a, const auto& b) { return a.re < b.re; });

@@ -79,7 +79,7 @@ NoisyFrames noisy_copies(const RunConfig& config, const RunData& data) {
 
 ResultRow evaluate_row(const Reconstructor& method, const SampleMatrix& frames,
                        const SampleMatrix& labels, const PixelGrid& grid, int timed_frames,
-                       SampleMatrix* images) {
+                       SampleMatrix* images, std::vector<std::vector<Circle>>* circles) {
   EvaluationOptions options;
   options.timed_frames = timed_frames;
   Evaluation e = evaluate(method, frames, labels, grid, options);
@@ -96,6 +96,7 @@ ResultRow evaluate_row(const Reconstructor& method, const SampleMatrix& frames,
   }
   row.settings = e.settings;
   if (images) *images = std::move(e.images);
+  if (circles) *circles = std::move(e.circles);
   return row;
 }
 
@@ -129,11 +130,15 @@ MethodResults tune_and_score(const Context& context, const std::string& name, co
                 data.validation.labels.topRows(tuning_frames), score);
     const double setup = reconstruction.setup_s + seconds_since(t0);
     SampleMatrix images;
+    std::vector<std::vector<Circle>> circles;
     ResultRow row =
         evaluate_row(*method, noisy.test[k], data.labelled ? data.test.labels : SampleMatrix(),
-                     reconstruction.grid, config.timed_frames, &images);
+                     reconstruction.grid, config.timed_frames, &images, &circles);
     row.method = name, row.snr_db = data.snrs[k], row.setup_s = setup;
-    row.touch = touch_scores(context, data, reconstruction, *method, noisy.validation[k], images);
+    // A method that finds circles is scored on them as found; the rest through their images' blobs.
+    row.touch = method->finds_circles() ? circle_touch_scores(data, reconstruction, circles)
+                                        : touch_scores(context, data, reconstruction, *method,
+                                                       noisy.validation[k], images);
     context.say(fmt::format("{:>9} at {:>3} dB: {}, {:.3g} ms a frame ({})", name,
                             snr_label(data.snrs[k]), quality(row), row.latency_median_ms,
                             row.settings));

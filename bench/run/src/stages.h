@@ -113,11 +113,16 @@ TouchScores touch_scores(const Context& context, const RunData& data,
                          const Reconstruction& reconstruction, const Reconstructor& method,
                          const SampleMatrix& validation_frames, const SampleMatrix& test_images);
 bool scores_touches(const RunData& data);
+// The same for a method that finds circles (the shape fit): its test circles as found, no blobs.
+TouchScores circle_touch_scores(const RunData& data, const Reconstruction& reconstruction,
+                                const std::vector<std::vector<Circle>>& test_circles);
 
 // The row of one evaluation (quality, latency and settings); labels may be empty.
+// `circles` gets the circles of a method that finds them (empty otherwise).
 ResultRow evaluate_row(const Reconstructor& method, const SampleMatrix& frames,
                        const SampleMatrix& labels, const PixelGrid& grid, int timed_frames,
-                       SampleMatrix* images = nullptr);
+                       SampleMatrix* images = nullptr,
+                       std::vector<std::vector<Circle>>* circles = nullptr);
 std::vector<Eigen::VectorXd> first_images(const SampleMatrix& images, int count);
 // "CC 0.812, RE 0.634" (then the touch metrics when scored) or "no labels", for the log.
 std::string quality(const ResultRow& row);

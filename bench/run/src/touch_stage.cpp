@@ -25,4 +25,12 @@ TouchScores touch_scores(const Context& context, const RunData& data,
       touches_of(data.test.circles, data.data.background), reconstruction.grid);
 }
 
+TouchScores circle_touch_scores(const RunData& data, const Reconstruction& reconstruction,
+                                const std::vector<std::vector<Circle>>& test_circles) {
+  if (!scores_touches(data)) return {};
+  const double background = data.data.background;
+  return score_touches(touches_of(test_circles, background),
+                       touches_of(data.test.circles, background), reconstruction.grid.radius());
+}
+
 }  // namespace eitbench::run
