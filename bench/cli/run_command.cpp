@@ -32,7 +32,7 @@ std::function<void()> add_run_command(CLI::App& app) {
       "The benchmark: every reconstructor on one data set, scored at every SNR, with a "
       "report");
   cmd->add_option("--preset", args->preset,
-                  "quick (16 to 20 min on 2 cores) | standard | paper (the paper's protocol; GPU "
+                  "quick (about 20 min on 2 cores) | standard | paper (the paper's protocol; GPU "
                   "advised, resumable) | tiny (seconds, for tests)")
       ->capture_default_str()
       ->check(CLI::IsMember({"tiny", "quick", "standard", "paper"}));
