@@ -14,7 +14,7 @@ tool=${EITBENCH:-$root/build/eitbench}
 packages=(
   libcholmod3 libamd2 libcamd2 libccolamd2 libcolamd2 libsuitesparseconfig5 libmetis5
   libsuitesparse-dev                           # cholmod.h and friends (static libraries dropped)
-  libtbb12 libtbbmalloc2 libtbb-dev            # TBB and its CMake package (relocatable)
+  libtbb12 libtbbmalloc2 libtbbbind-2-5 libtbb-dev  # TBB; its CMake package checks every library
   libopencv-core406 libopencv-imgproc406 libopencv-core-dev libopencv-imgproc-dev
   libglx0 libglvnd0                            # libopencv_core links libGLX
 )
