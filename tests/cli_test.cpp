@@ -404,6 +404,40 @@ TEST_F(Cli, CalibrateRecoversTheSensorThatMadeTheFrame) {
   EXPECT_NE(broken.output.find("background"), std::string::npos) << broken.output;
 }
 
+// From an L x L map (forward --values map) the same sensor comes back, and calibrate says nothing
+// of the impedances being undetermined; from a frame it says so.
+TEST_F(Cli, CalibrateReadsAdjacentMaps) {
+  std::vector<double> z;
+  for (int e = 0; e < 16; ++e) z.push_back(0.01 * (1.5 - 0.05 * e));
+  nlohmann::json truth = {{"format", "eitbench-sensor-1"},
+                          {"electrodes", 16},
+                          {"background", 0.2},
+                          {"contact_impedances", z},
+                          {"current", 1.0}};
+  std::ofstream(path("truth.json")) << truth.dump();
+  const std::string mesh = " --electrodes 16 --density coarse";
+  ASSERT_EQ(run("forward" + mesh + " --sensor " + path("truth.json") +
+                " --conductivity 0.2 --values map --out " + path("map.csv"))
+                .exit_code,
+            0);
+  EXPECT_EQ(read_frames_csv(path("map.csv")).size(), 256);
+  const Result r =
+      run("calibrate" + mesh + " --reference " + path("map.csv") + " --out " + path("fit.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("note:"), std::string::npos) << r.output;
+  const SensorFile fit = read_sensor_file(path("fit.json"));
+  EXPECT_NEAR(fit.background, 0.2, 1e-7);
+  for (int e = 0; e < 16; ++e) EXPECT_NEAR(fit.contact_impedances[e] / z[e], 1, 1e-4) << e;
+  ASSERT_EQ(run("forward" + mesh + " --sensor " + path("truth.json") +
+                " --conductivity 0.2 --out " + path("frame.csv"))
+                .exit_code,
+            0);
+  const Result f =
+      run("calibrate" + mesh + " --reference " + path("frame.csv") + " --out " + path("fit2.json"));
+  ASSERT_EQ(f.exit_code, 0) << f.output;
+  EXPECT_NE(f.output.find("note:"), std::string::npos) << f.output;
+}
+
 TEST_F(Cli, ReconstructWritesImagesScoresAndPictures) {
   ASSERT_EQ(run("simulate --preset tiny --seed 6 --density coarse --quiet --out " + path("d.h5"))
                 .exit_code,

@@ -26,8 +26,9 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
       "Fit the background conductivity and each electrode's contact impedance to the empty "
       "sensor's frame; write a sensor file (--sensor of forward, jacobian, reconstruct, run)");
   cmd->add_option("--reference", args->reference,
-                  "the untouched sensor's frame, absolute voltages (.csv/.npy/.npz/.mat; the mean "
-                  "of several)")
+                  "the untouched sensor's frames, absolute voltages (.csv/.npy/.npz/.mat; the "
+                  "mean of several): an L x L map of every adjacent pair (needed for the contact "
+                  "impedances) or L(L-3) values")
       ->required();
   cmd->add_option("--variable", args->variable, "array or variable in --reference");
   cmd->add_option("--order", args->order, "order of L(L-3)-value frames")
@@ -51,8 +52,19 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
     io.order =
         args->order == "ascending" ? MeasurementOrder::ascending : MeasurementOrder::rotating;
     io.variable = args->variable;
+    io.keep_maps = true;
     const Measurements m = read_measurements(args->reference, io);
-    const Eigen::VectorXd reference = m.frames.colwise().mean().transpose();  // rotating order
+    // A map's pairs that touch a driven electrode carry the contact impedances; without them the
+    // impedances are a guess the noise decides.
+    const bool map = m.maps.size() > 0;
+    const Eigen::VectorXd reference =
+        (map ? m.maps : m.frames).colwise().mean().transpose();  // a map, or rotating order
+    if (!map)
+      fmt::print(stderr,
+                 "note: {} holds L(L-3) frames, which read no current-carrying electrode: the "
+                 "background is well determined, the contact impedances only noise-free. An L x L "
+                 "map (forward --values map) reads them.\n",
+                 args->reference);
     ForwardOptions start;
     start.contact_impedance = args->contact_impedance;
     start.current = args->current;

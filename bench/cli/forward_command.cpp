@@ -28,10 +28,18 @@ std::function<void()> add_forward_command(CLI::App& app) {
     const Mesh mesh = load_mesh(args->mesh);
     apply_sensor(args->model, mesh);
     const Eigen::VectorXd sigma = load_conductivity(*cmd, args->sigma, mesh);
-    const bool reduced = reduced_values(args->model, mesh.num_electrodes());
-    const MeasurementOrder order = parse_order(args->model.order);
+    const int L = mesh.num_electrodes();
     const ForwardModel model(mesh, args->model.forward,
                              args->mesh.file.empty() ? "mesh" : args->mesh.file);
+    if (args->model.values == "map" || args->model.values == std::to_string(L * L)) {
+      const Eigen::VectorXd map = model.adjacent_map(model.solve(sigma));
+      write_frames_csv(args->out, map.transpose());
+      fmt::print("wrote {} values (an L x L map, v(d, m) at d L + m) to {}; |v| max {:.6g}\n",
+                 map.size(), args->out, map.cwiseAbs().maxCoeff());
+      return;
+    }
+    const bool reduced = reduced_values(args->model, L);
+    const MeasurementOrder order = parse_order(args->model.order);
     const Eigen::VectorXd full = model.frame(sigma, order);
     const Eigen::VectorXd frame = reduced ? model.protocol().reduce(full, order) : full;
     write_frames_csv(args->out, frame.transpose());

@@ -117,7 +117,9 @@ void add_model_options(CLI::App& app, ModelSetup& s) {
       ->check(CLI::IsMember({"rotating", "ascending"}));
   app.add_option(
          "--values", s.values,
-         "all L(L-3) values (208 | full) or the L(L-3)/2 reciprocity-reduced ones (104 | reduced)")
+         "all L(L-3) values (208 | full) or the L(L-3)/2 reciprocity-reduced ones (104 | "
+         "reduced); forward also writes every adjacent pair as an L x L map (256 | map), the "
+         "reference calibrate needs")
       ->capture_default_str();
 }
 

@@ -416,6 +416,15 @@ Eigen::VectorXd ForwardModel::frame(const Eigen::VectorXd& sigma, MeasurementOrd
   return v;
 }
 
+Eigen::VectorXd ForwardModel::adjacent_map(const ForwardSolution& s) const {
+  const int L = impl_->mesh.num_electrodes();
+  Eigen::VectorXd v(L * L);
+  for (int d = 0; d < L; ++d)
+    for (int m = 0; m < L; ++m)
+      v[d * L + m] = s.electrode_potentials(m, d) - s.electrode_potentials((m + 1) % L, d);
+  return v;
+}
+
 Eigen::MatrixXd ForwardModel::electrode_currents(const ForwardSolution& s) const {
   const Impl& m = *impl_;
   const int L = m.mesh.num_electrodes();

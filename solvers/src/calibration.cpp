@@ -24,6 +24,7 @@ struct FrameMisfit {
   ForwardOptions forward;
   const Eigen::VectorXd& reference;
   MeasurementOrder order;
+  bool map;      // reference is an L x L adjacent map (ForwardModel::adjacent_map)
   double scale;  // 1 / ||reference||
 
   bool operator()(double const* const* parameters, double* residuals) const {
@@ -34,7 +35,8 @@ struct FrameMisfit {
     for (int e = 0; e < L; ++e) o.contact_impedances[e] = std::exp(p[1 + e]);
     const ForwardModel model(mesh, o);
     const Eigen::VectorXd sigma = Eigen::VectorXd::Constant(mesh.num_triangles(), std::exp(p[0]));
-    const Eigen::VectorXd v = model.frame(sigma, order);
+    const Eigen::VectorXd v =
+        map ? model.adjacent_map(model.solve(sigma)) : model.frame(sigma, order);
     Eigen::Map<Eigen::VectorXd>(residuals, v.size()) = (v - reference) * scale;
     return v.allFinite();
   }
@@ -48,10 +50,12 @@ Calibration calibrate(const Mesh& mesh, const ForwardOptions& forward, double ba
   options.validate();
   forward.validate();
   const int L = mesh.num_electrodes();
-  if (reference.size() != L * (L - 3))
+  const bool map = reference.size() == L * L;
+  if (reference.size() != L * (L - 3) && !map)
     throw InputError(source, "",
                      "has " + std::to_string(reference.size()) + " values; " +
-                         std::to_string(L * (L - 3)) + " expected (L(L-3), absolute)");
+                         std::to_string(L * (L - 3)) + " (L(L-3)) or " + std::to_string(L * L) +
+                         " (an L x L adjacent map) expected, absolute");
   if (!reference.allFinite() || reference.norm() == 0)
     throw InputError(source, "", "needs finite values, not all zero");
   if (!(background > 0) || !std::isfinite(background))
@@ -62,7 +66,7 @@ Calibration calibrate(const Mesh& mesh, const ForwardOptions& forward, double ba
     p[1 + e] = std::log(forward.contact_impedances.size() == L ? forward.contact_impedances[e]
                                                                : forward.contact_impedance);
   auto* cost = new ceres::DynamicNumericDiffCostFunction<FrameMisfit, ceres::CENTRAL>(
-      new FrameMisfit{mesh, forward, reference, order, 1 / reference.norm()});
+      new FrameMisfit{mesh, forward, reference, order, map, 1 / reference.norm()});
   cost->AddParameterBlock(L + 1);
   cost->SetNumResiduals(static_cast<int>(reference.size()));
   ceres::Problem problem;

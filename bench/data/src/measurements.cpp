@@ -129,6 +129,8 @@ Measurements read_measurements(const std::string& path, const ImportOptions& o) 
   const Protocol protocol(L);
   Measurements m;
   m.frames.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(full));
+  if (o.keep_maps && length == square)
+    m.maps.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(square));
   std::string layout;
   double reciprocity = 0;
   for (std::size_t f = 0; f < n; ++f) {
@@ -137,6 +139,7 @@ Measurements read_measurements(const std::string& path, const ImportOptions& o) 
     Eigen::VectorXd rotating;
     if (length == square) {
       layout = "L x L map";
+      if (m.maps.size()) m.maps.row(f) = raw.transpose();
       rotating.resize(full);
       const auto& pairs = protocol.pairs(MeasurementOrder::rotating);
       for (std::size_t i = 0; i < full; ++i)

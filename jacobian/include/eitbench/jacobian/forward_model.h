@@ -51,6 +51,11 @@ class ForwardModel {
   Eigen::VectorXd frame(const Eigen::VectorXd& sigma,
                         MeasurementOrder order = MeasurementOrder::rotating) const;
 
+  // Every adjacent pair under every drive, the three that touch a driven electrode included:
+  // L x L values, v(d, m) = U_m - U_{m+1} at d * L + m (the layout import reads as an L x L map).
+  // Only these see the contact impedances strongly: a driven electrode's potential carries z I/|e|.
+  Eigen::VectorXd adjacent_map(const ForwardSolution& solution) const;
+
   // Net current through each electrode (L x L, column d for drive d), from the CEM's boundary
   // terms.
   Eigen::MatrixXd electrode_currents(const ForwardSolution& solution) const;

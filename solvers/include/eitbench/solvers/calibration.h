@@ -27,7 +27,10 @@ struct Calibration {
   bool converged = false;
 };
 
-// Fits to `reference`, the empty sensor's frame: L(L-3) absolute voltages in `order`. The start is
+// Fits to `reference`, the empty sensor's frame: L(L-3) absolute voltages in `order`, or an L x L
+// adjacent map (ForwardModel::adjacent_map; `order` unused), which also reads the pairs that touch
+// a driven electrode. Only the map determines the contact impedances well: the L(L-3) pairs carry
+// no current, so the impedances move them by a fraction of the noise at 50 dB. The start is
 // `background` and `forward`'s impedances (contact_impedance for every electrode, or
 // contact_impedances); its current is kept. InputError naming `source` for a frame of the wrong
 // length or with a value that is not finite.

@@ -22,10 +22,14 @@ struct ImportOptions {
   MeasurementOrder order = MeasurementOrder::rotating;  // of L(L-3)-value frames
   std::string variable;  // array (.npz) or variable (.mat); default: the only numeric one, else
                          // the first of frames, data, vv, v, voltages, meas
+  // Keep L x L maps whole in Measurements::maps (calibration reads the pairs that touch a driven
+  // electrode); off by default, as the frames need only their L(L-3) pairs.
+  bool keep_maps = false;
 };
 
 struct Measurements {
   SampleMatrix frames;      // N x L(L-3), rotating order
+  SampleMatrix maps;        // N x L*L, v(d, m) at d * L + m: L x L input with keep_maps, else empty
   std::string description;  // format, variable and layout, for people
   bool reduced_input = false;
   double reciprocity_error =
