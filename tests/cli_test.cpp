@@ -360,6 +360,32 @@ TEST_F(Cli, ReconstructShapeWritesCirclesInTheDataSetsLayout) {
   }
 }
 
+// --touches N keeps the split's frames with N true touches: as many images as the data set has
+// such frames; data without circles, or no such frame, is refused.
+TEST_F(Cli, ReconstructTouchesSelectsFramesByTheirTouchCount) {
+  ASSERT_EQ(run("simulate --preset tiny --seed 6 --density coarse --quiet --out " + path("d.h5"))
+                .exit_code,
+            0);
+  const Dataset data = read_dataset(path("d.h5"));
+  hsize_t expected = 0;
+  for (int row : data.indices(Split::train)) expected += data.circles[row].size() == 2;
+  ASSERT_GT(expected, 0u);
+  const Result r = run("reconstruct --method noser --data " + path("d.h5") +
+                       " --split train --touches 2 --png 0 --out " + path("two.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  hsize_t dims[3];
+  H5::H5File(path("two.h5"), H5F_ACC_RDONLY)
+      .openDataSet("images")
+      .getSpace()
+      .getSimpleExtentDims(dims);
+  EXPECT_EQ(dims[0], expected);
+  const Result none = run("reconstruct --method noser --data " + path("d.h5") +
+                          " --split test --touches 1 --png 0 --out " + path("none.h5"));
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.output.find("circle_count"), std::string::npos) << none.output;
+  EXPECT_FALSE(fs::exists(path("none.h5")));
+}
+
 // calibrate recovers a sensor from the frame that sensor gives (forward --sensor), and its file
 // sets up forward and reconstruct; a file for another electrode count is refused.
 TEST_F(Cli, CalibrateRecoversTheSensorThatMadeTheFrame) {

@@ -37,6 +37,7 @@ struct Args {
   double tolerance = 0, robust = 0;
   std::string sensor;
   std::string split = "test";
+  int touches = 0;  // 0: every frame; else only those with this many true touches
 };
 
 void add_options(CLI::App* cmd, Args* args) {
@@ -57,6 +58,10 @@ void add_options(CLI::App* cmd, Args* args) {
                   "without looking at the test frames)")
       ->capture_default_str()
       ->check(CLI::IsMember({"train", "validation", "test"}));
+  cmd->add_option("--touches", args->touches,
+                  "only the frames with this many true touches (a data set with circles), e.g. 1 "
+                  "for the single-touch figures; before --frames")
+      ->check(CLI::Range(1, 4));
   cmd->add_option("--frames", args->frames, "frames A:B of those selected (0-based, B excluded)");
   cmd->add_option("--order", args->order, "order of L(L-3)-value measured frames")
       ->capture_default_str()
@@ -124,6 +129,20 @@ std::pair<int, int> parse_range(const std::string& text, int n) {
   return {a, b};
 }
 
+// The rows of `rows` whose frames have exactly `touches` true circles.
+std::vector<int> with_touches(const Dataset& data, const std::vector<int>& rows, int touches,
+                              const std::string& path) {
+  if (data.circles.empty())
+    throw InputError(path, "circles", "--touches needs a data set with its circles");
+  std::vector<int> kept;
+  for (int r : rows)
+    if (static_cast<int>(data.circles[r].size()) == touches) kept.push_back(r);
+  if (kept.empty())
+    throw InputError(path, "circle_count",
+                     "no frame of the split has " + std::to_string(touches) + " touches");
+  return kept;
+}
+
 // The frames to reconstruct (the test split's, or all measured ones; --frames of those), their
 // labels (N x 0 without) and the data set they came from.
 struct Selection {
@@ -151,6 +170,7 @@ Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) 
   selected = data.indices(split);
   if (selected.empty())
     throw InputError(args->data, "split", "no " + args->split + " frames to reconstruct");
+  if (args->touches > 0) selected = with_touches(data, selected, args->touches, args->data);
   const auto [a, b] = parse_range(args->frames, static_cast<int>(selected.size()));
   selected = std::vector<int>(selected.begin() + a, selected.begin() + b);
   SampleMatrix& frames = s.frames;

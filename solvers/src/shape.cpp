@@ -158,6 +158,39 @@ ShapeFit ShapeReconstructor::fit_circles(const Eigen::VectorXd& frame, std::vect
   return {to_circles(fit.circles, problem_->background), fit.rss, fit.iterations, fit.converged};
 }
 
+namespace {
+
+// The full model's fit from the linear one's circles, then pruned: the linear model's error on a
+// strong touch is explained by extra circles (a phantom a frame on single touches), which the FEM
+// does not need. The weakest circle (intensity times area) goes while the BIC of the full fits says
+// so.
+detail::FitOutcome refine_full(const detail::ShapeModel& model, const Eigen::VectorXd& frame,
+                               detail::FitOutcome best, const detail::FitSettings& full,
+                               double floor, double penalty, int& iterations) {
+  const int m = static_cast<int>(frame.size());
+  best = detail::fit_shape(model, frame, best.circles, full);
+  iterations += best.iterations;
+  while (!best.circles.empty()) {
+    const int K = static_cast<int>(best.circles.size());
+    auto fewer = best.circles;
+    const auto weakest = std::min_element(fewer.begin(), fewer.end(), [](auto& a, auto& b) {
+      return a[3] * a[2] * a[2] < b[3] * b[2] * b[2];
+    });
+    fewer.erase(weakest);
+    detail::FitOutcome candidate;
+    if (fewer.empty())
+      candidate.rss = frame.squaredNorm(), candidate.converged = true;
+    else
+      candidate = detail::fit_shape(model, frame, std::move(fewer), full);
+    iterations += candidate.iterations;
+    if (bic(candidate.rss, floor, m, K - 1, penalty) > bic(best.rss, floor, m, K, penalty)) break;
+    best = std::move(candidate);
+  }
+  return best;
+}
+
+}  // namespace
+
 // Greedy in K, as matching pursuit is: each K starts from the fit with K - 1 circles plus one at
 // the strongest peak of the NOSER image of what that fit leaves unexplained, so a larger K never
 // starts worse than the smaller one ended. Every K runs (stopping at the first that does not lower
@@ -187,11 +220,10 @@ ShapeFit ShapeReconstructor::fit_circles(const Eigen::VectorXd& frame) const {
     const double b = bic(current.rss, floor, m, K, penalty_);
     if (b < best_bic) best_bic = b, best = current;
   }
-  if (options_.forward == ShapeForward::full && !best.circles.empty()) {
-    best = detail::fit_shape(impl_->model, frame, best.circles,
-                             fit_settings(options_, problem_->radius, ShapeForward::full));
-    iterations += best.iterations;
-  }
+  if (options_.forward == ShapeForward::full && !best.circles.empty())
+    best = refine_full(impl_->model, frame, std::move(best),
+                       fit_settings(options_, problem_->radius, ShapeForward::full), floor,
+                       penalty_, iterations);
   return {to_circles(best.circles, problem_->background), best.rss, iterations, best.converged};
 }
 
