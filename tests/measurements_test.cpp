@@ -155,7 +155,7 @@ TEST(Import, RejectsBadFilesNamingFileAndField) {
       {corrupt("frames_rotating.npy", "empty"), "the file is empty", o},
       {corrupt("frames_v5.mat", "empty"), "the file is empty", o},
       {kData + "make_fixtures.py", "unknown file type", o},
-      {kData + "missing.npy", "No such file", o},
+      {kData + "missing.npy", "no such file", o},
   };
   for (const Bad& b : bad) {
     try {

@@ -1,6 +1,8 @@
 // eitbench augment: frames moved by one group element, or expanded by a whole group.
 #include <fmt/core.h>
 
+#include <limits>
+
 #include <memory>
 
 #include "commands.h"
@@ -69,8 +71,16 @@ std::function<void()> add_augment_command(CLI::App& app) {
       return;
     }
     const int L = args->electrodes;
-    const Eigen::MatrixXd frames = read_frames_csv(args->in);
-    const FrameLayout layout = frame_layout(frames.cols(), L, parse_order(args->order), args->in);
+    const MeasurementOrder order = parse_order(args->order);
+    const Eigen::MatrixXd frames = read_frames_csv(args->in, [&](std::size_t width, int line) {
+      try {  // a width no frame has refuses the file at its first line
+        frame_layout(static_cast<Eigen::Index>(width), L, order, args->in);
+      } catch (const InputError& e) {
+        throw InputError(args->in, "line " + std::to_string(line), e.message());
+      }
+      return std::numeric_limits<std::size_t>::max();
+    });
+    const FrameLayout layout = frame_layout(frames.cols(), L, order, args->in);
     const AugmentGroup kind =
         cmd->count("--group") ? parse_group(args->group, "--group") : AugmentGroup::dihedral;
     const std::vector<GroupElement> elements =

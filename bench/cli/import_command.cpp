@@ -48,6 +48,9 @@ std::function<void()> add_import_command(CLI::App& app) {
                  m.reciprocity_error);
     if (args->reference.empty())
       fmt::print("  no --reference: the frames are taken to be differences already\n");
+    if (const int same = frames_without_change(d))
+      fmt::print(stderr, "warning: {} of {} frames equal the reference (no change anywhere)\n",
+                 same, d.size());
     write_dataset(args->out, d);
     fmt::print("wrote {} ({} frames)\n", args->out, d.size());
   };

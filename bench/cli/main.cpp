@@ -7,6 +7,7 @@
 #include <map>
 
 #include "commands.h"
+#include "eitbench/bench/io/output_path.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/support/allocator.h"
@@ -50,7 +51,16 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    for (auto* sub : app.get_subcommands()) actions.at(sub)();
+    for (auto* sub : app.get_subcommands()) {
+      // Every file named on the command line but the outputs (--out, mesh --png) is an input
+      // that no output may replace.
+      std::vector<std::string> files;
+      for (const CLI::Option* option : sub->get_options())
+        if (!option->check_lname("out") && !option->check_lname("png"))
+          files.insert(files.end(), option->results().begin(), option->results().end());
+      eitbench::declare_inputs(files);
+      actions.at(sub)();
+    }
   } catch (const eitbench::cli::RegressionFound&) {
     return 1;
   } catch (const eitbench::InputError& e) {

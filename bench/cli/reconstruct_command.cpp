@@ -162,6 +162,9 @@ Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) 
     o.order = parse_order(args->order);
     o.variable = args->variable;
     data = import_measurements(args->data, args->reference, o);
+    if (const int same = frames_without_change(data))
+      fmt::print(stderr, "warning: {} of {} frames equal the reference (no change anywhere)\n",
+                 same, data.size());
   }
   std::vector<int>& selected = s.rows;
   const Split split = args->split == "train"        ? Split::train
@@ -189,6 +192,7 @@ Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) 
     if (data.has_labels()) labels.row(k) = data.labels.row(selected[k]);
   }
   if (std::isfinite(args->snr)) add_noise(frames, args->snr, args->noise_seed);
+  check_frames(frames, args->data);
   return s;
 }
 
@@ -394,6 +398,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     // The same loop as the benchmark's: every frame timed one at a time, after a warm-up.
     EvaluationOptions timing;
     timing.timed_frames = -1;
+    timing.source = args->data;
     const Evaluation result =
         evaluate(*method, s.frames, s.data.has_labels() ? s.labels : SampleMatrix(), grid, timing);
     write_images(args.get(), s, result, background, setup_s);

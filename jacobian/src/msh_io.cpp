@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>
@@ -13,6 +14,8 @@
 #include <sstream>
 
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/input_file.h"
+#include "eitbench/jacobian/read_budget.h"
 
 namespace eitbench {
 namespace {
@@ -94,15 +97,20 @@ class Tokens {
   std::size_t pos_ = 0;
 };
 
+// Gmsh lets an entity belong to many physical groups; a mesh uses a handful. More is a hostile
+// file (50,000 tags on one entity, copied to each of its 50,000 elements, asked for gigabytes).
+constexpr std::size_t kMaxPhysicalTags = 64;
+
 struct RawElement {
   int dim;
-  std::vector<int> physical;
-  std::vector<long long> nodes;
+  int physical;  // index into RawMesh::physical_lists: an entity's list is shared, not copied
+  std::array<long long, 3> nodes;
 };
 
 struct RawMesh {
   std::map<std::pair<int, int>, std::string> names;  // (dim, physical tag) -> name
   std::map<long long, std::array<double, 2>> nodes;
+  std::vector<std::vector<int>> physical_lists{{}};  // list 0: no physical group
   std::vector<RawElement> elements;
 };
 
@@ -140,6 +148,7 @@ void add_node(Tokens& in, RawMesh& raw, long long tag, double x, double y) {
 }
 
 void read_v2(Tokens& in, RawMesh& raw) {
+  std::map<long long, int> list_of;  // physical tag -> its one-tag list
   while (!in.done()) {
     const std::string section = in.word("section");
     if (section == "$PhysicalNames") {
@@ -159,14 +168,21 @@ void read_v2(Tokens& in, RawMesh& raw) {
         in.integer("$Elements tag");
         const long long type = in.integer("$Elements type");
         const std::size_t tags = in.count("$Elements number of tags", 2);
-        std::vector<long long> tag_values;
-        for (std::size_t k = 0; k < tags; ++k) tag_values.push_back(in.integer("$Elements tags"));
+        long long physical = 0;  // the first tag; the others (entity, partitions) are not used
+        for (std::size_t k = 0; k < tags; ++k) {
+          const long long tag = in.integer("$Elements tags");
+          if (k == 0) physical = tag;
+        }
         const int count = nodes_of_type(type, in, "$Elements");
-        RawElement e{dim_of_type(type), {}, {}};
-        if (!tag_values.empty() && tag_values[0] != 0)
-          e.physical.push_back(static_cast<int>(tag_values[0]));
-        for (int k = 0; k < count; ++k) e.nodes.push_back(in.integer("$Elements node"));
-        raw.elements.push_back(std::move(e));
+        RawElement e{dim_of_type(type), 0, {}};
+        if (physical != 0) {
+          const auto [it, added] =
+              list_of.emplace(physical, static_cast<int>(raw.physical_lists.size()));
+          if (added) raw.physical_lists.push_back({static_cast<int>(physical)});
+          e.physical = it->second;
+        }
+        for (int k = 0; k < count; ++k) e.nodes[k] = in.integer("$Elements node");
+        raw.elements.push_back(e);
       }
       in.expect("$EndElements");
     } else if (!section.empty() && section[0] == '$') {
@@ -178,8 +194,7 @@ void read_v2(Tokens& in, RawMesh& raw) {
 }
 
 void read_v4(Tokens& in, RawMesh& raw) {
-  std::map<std::pair<int, int>, std::vector<int>>
-      entity_physical;  // (dim, entity) -> physical tags
+  std::map<std::pair<int, int>, int> entity_physical;  // (dim, entity) -> physical list
   while (!in.done()) {
     const std::string section = in.word("section");
     if (section == "$PhysicalNames") {
@@ -192,9 +207,16 @@ void read_v4(Tokens& in, RawMesh& raw) {
           const int tag = static_cast<int>(in.integer("$Entities tag"));
           for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) in.real("$Entities bounding box");
           const std::size_t np = in.count("$Entities physical count", 2);
-          auto& phys = entity_physical[{dim, tag}];
+          if (np > kMaxPhysicalTags)
+            in.fail("$Entities physical count",
+                    "entity " + std::to_string(tag) + " belongs to " + std::to_string(np) +
+                        " physical groups, more than the " + std::to_string(kMaxPhysicalTags) +
+                        " a mesh can use");
+          std::vector<int> phys;
           for (std::size_t k = 0; k < np; ++k)
             phys.push_back(static_cast<int>(in.integer("$Entities physical tag")));
+          entity_physical[{dim, tag}] = static_cast<int>(raw.physical_lists.size());
+          raw.physical_lists.push_back(std::move(phys));
           if (dim > 0) {
             const std::size_t nb = in.count("$Entities bounding count", 2);
             for (std::size_t k = 0; k < nb; ++k) in.integer("$Entities bounding tag");
@@ -238,9 +260,9 @@ void read_v4(Tokens& in, RawMesh& raw) {
         const auto it = entity_physical.find({dim, entity});
         for (std::size_t i = 0; i < n; ++i) {
           in.integer("$Elements tag");
-          RawElement e{dim, it == entity_physical.end() ? std::vector<int>{} : it->second, {}};
-          for (int k = 0; k < count; ++k) e.nodes.push_back(in.integer("$Elements node"));
-          raw.elements.push_back(std::move(e));
+          RawElement e{dim, it == entity_physical.end() ? 0 : it->second, {}};
+          for (int k = 0; k < count; ++k) e.nodes[k] = in.integer("$Elements node");
+          raw.elements.push_back(e);
         }
       }
       in.expect("$EndElements");
@@ -312,11 +334,11 @@ Mesh assemble(const RawMesh& raw, Tokens& in) {
   for (const RawElement& el : raw.elements) {
     if (el.dim == 2) {
       bool in_domain = domain.empty();
-      for (int p : el.physical) in_domain |= domain.count(p) > 0;
+      for (int p : raw.physical_lists[el.physical]) in_domain |= domain.count(p) > 0;
       if (in_domain) triangles.push_back({node(el.nodes[0]), node(el.nodes[1]), node(el.nodes[2])});
       continue;
     }
-    for (int p : el.physical) {
+    for (int p : raw.physical_lists[el.physical]) {
       const auto it = electrode_of.find({el.dim, p});
       if (it == electrode_of.end()) continue;
       if (el.dim == 1)
@@ -373,6 +395,12 @@ Mesh read_msh(std::istream& stream, const std::string& source) {
 }
 
 Mesh read_msh_file(const std::string& path) {
+  require_input_file(path);
+  // The reader holds the text twice and a node or element per few bytes of it: rule 2 of
+  // read_budget.h, with the file itself counted against the cap.
+  std::error_code error;
+  const double size = static_cast<double>(std::filesystem::file_size(path, error));
+  ReadBudget(path).take("", 2 * size, "a text of " + byte_size_text(size));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open the file");
   return read_msh(in, path);

@@ -5,6 +5,8 @@
 //  - hangs: an input shorter than 3 bytes never returns.
 //  - overflows: byte 0 declares how many bytes follow, and the target sums that many without
 //    checking: a truncated mutant reads past its buffer, which AddressSanitizer reports.
+//  - bloats: byte 0 declares a size in 4 MiB blocks, which the target allocates and fills without
+//    a budget: a mutant with a large byte 0 takes the peak memory past --rss-limit-mb.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -23,6 +25,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (volatile bool forever = size < 3; forever;) {
     }
     return 0;
+  }
+  if (bug == "bloats") {
+    std::vector<std::vector<char>> blocks(data[0]);  // planted: trusts the declared size
+    for (auto& block : blocks) block.assign(std::size_t(4) << 20, static_cast<char>(size));
+    return blocks.empty() ? 0 : blocks.back()[0];
   }
   const std::vector<std::uint8_t> copy(data, data + size);  // on the heap, where ASan watches
   unsigned sum = 0;

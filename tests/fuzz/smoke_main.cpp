@@ -4,13 +4,16 @@
 // and integers, numbers in text replaced by extreme ones, erased, inserted and duplicated ranges,
 // truncations and splices — libFuzzer's mutations without its coverage feedback. The same
 // --seed gives the same inputs. A finding is an exception other than InputError escaping the
-// target, a fatal signal (with the sanitizers, any report) or one input running past --timeout;
-// the input is written to the findings folder and the exit status is 1.
+// target (std::bad_alloc among them), a fatal signal (with the sanitizers, any report), one input
+// running past --timeout, or the process's peak memory passing --rss-limit-mb (libFuzzer's
+// -rss_limit_mb: a small input that makes a parser allocate gigabytes); the input is written to
+// the findings folder and the exit status is 1.
 //
-// usage: fuzz_smoke_TARGET [--runs N] [--seed S] [--timeout SECONDS] [--findings DIR]
-//                          SEED_FILE_OR_FOLDER...
+// usage: fuzz_smoke_TARGET [--runs N] [--seed S] [--timeout SECONDS] [--rss-limit-mb MB]
+//                          [--findings DIR] SEED_FILE_OR_FOLDER...
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -74,7 +77,7 @@ void on_timeout(int) {
 [[noreturn]] void usage_error(const std::string& what) {
   std::fprintf(stderr,
                "fuzz smoke: %s\nusage: fuzz_smoke_TARGET [--runs N] [--seed S] [--timeout SECONDS] "
-               "[--findings DIR] SEED_FILE_OR_FOLDER...\n",
+               "[--rss-limit-mb MB] [--findings DIR] SEED_FILE_OR_FOLDER...\n",
                what.c_str());
   std::exit(2);
 }
@@ -203,7 +206,7 @@ class Mutator {
 }  // namespace
 
 int main(int argc, char** argv) {
-  long runs = 10000, seed = 1, timeout = 10;
+  long runs = 10000, seed = 1, timeout = 10, rss_limit_mb = 2048;
   fs::path findings = ".";
   std::vector<std::string> seed_args;
   for (int i = 1; i < argc; ++i) {
@@ -218,6 +221,8 @@ int main(int argc, char** argv) {
       seed = parse_count(arg, value());
     else if (arg == "--timeout")
       timeout = std::max(1L, parse_count(arg, value()));
+    else if (arg == "--rss-limit-mb")
+      rss_limit_mb = std::max(1L, parse_count(arg, value()));
     else if (arg == "--findings")
       findings = value();
     else if (arg.rfind("--", 0) == 0)
@@ -266,6 +271,19 @@ int main(int argc, char** argv) {
     ::alarm(0);
     g_current = nullptr;
     ++executions;
+    // The peak only grows: the first input to pass the limit is the finding, and the run ends.
+    rusage usage{};
+    ::getrusage(RUSAGE_SELF, &usage);
+    if (usage.ru_maxrss / 1024 > rss_limit_mb) {
+      const std::string path = crash_path + "-" + std::to_string(k);
+      std::ofstream(path, std::ios::binary) << input;
+      std::fprintf(stderr,
+                   "fuzz smoke: input %ld took peak memory to %ld MB, past --rss-limit-mb %ld; "
+                   "saved as %s\n",
+                   k, usage.ru_maxrss / 1024, rss_limit_mb, path.c_str());
+      ++findings_count;
+      break;
+    }
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <stdexcept>
 
@@ -14,6 +15,8 @@
 #include "eitbench/bench/io/hdf5_attributes.h"
 #include "eitbench/bench/io/wire.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/input_file.h"
+#include "eitbench/jacobian/read_budget.h"
 
 namespace eitbench {
 namespace {
@@ -21,12 +24,12 @@ namespace {
 using detail::h5_type;
 using detail::kDatasetFormatVersion;
 using detail::kMaxCircles;
-constexpr double kMaxBytes = 16e9;  // refuse data sets whose declared size could not be held
 
 class Reader {
  public:
   Reader(const std::string& path) : path_(path) {
     H5::Exception::dontPrint();
+    require_input_file(path);
     if (!is_hdf5_file(path)) throw InputError(path, "", "not an HDF5 file (or unreadable)");
     try {
       file_ = H5::H5File(path, H5F_ACC_RDONLY);
@@ -39,30 +42,53 @@ class Reader {
     return H5Lexists(file_.getId(), name.c_str(), H5P_DEFAULT) > 0;
   }
 
-  // The data set `name` as T, checked to have `dims` (0 in dims: any size, reported back).
-  template <typename T>
-  std::vector<T> array(const std::string& name, std::vector<hsize_t>& dims) const {
+  // The data set `name`, checked to have `dims` (0 in dims: any size, reported back) and to fit
+  // the memory rule (read_budget.h) as `in_memory_size` bytes a value, before anything is read.
+  H5::DataSet checked_set(const std::string& name, std::vector<hsize_t>& dims,
+                          std::size_t in_memory_size) {
     if (!has(name)) throw InputError(path_, name, "the data set is missing");
+    H5::DataSet set = file_.openDataSet(name);
+    H5::DataSpace space = set.getSpace();
+    const int rank = space.getSimpleExtentNdims();
+    std::vector<hsize_t> actual(rank);
+    space.getSimpleExtentDims(actual.data());
+    if (rank != static_cast<int>(dims.size())) fail(name, rank, dims.size(), actual);
+    double elements = 1;
+    for (int k = 0; k < rank; ++k) {
+      if (dims[k] != 0 && dims[k] != actual[k]) fail(name, rank, dims.size(), actual);
+      dims[k] = actual[k];
+      elements *= static_cast<double>(actual[k]);
+    }
+    const H5T_class_t cls = set.getTypeClass();
+    if (cls != H5T_FLOAT && cls != H5T_INTEGER) throw InputError(path_, name, "is not numeric");
+    // Declared against stored bytes: chunks never written (fill values) store nothing.
+    budget_.take_compressed(name, elements * set.getDataType().getSize(),
+                            static_cast<double>(set.getStorageSize()), elements * in_memory_size,
+                            shape(actual) + " values");
+    return set;
+  }
+
+  // The data set `name` as T (see checked_set).
+  template <typename T>
+  std::vector<T> array(const std::string& name, std::vector<hsize_t>& dims) {
     try {
-      H5::DataSet set = file_.openDataSet(name);
-      H5::DataSpace space = set.getSpace();
-      const int rank = space.getSimpleExtentNdims();
-      std::vector<hsize_t> actual(rank);
-      space.getSimpleExtentDims(actual.data());
-      if (rank != static_cast<int>(dims.size())) fail(name, rank, dims.size(), actual);
-      double elements = 1;
-      for (int k = 0; k < rank; ++k) {
-        if (dims[k] != 0 && dims[k] != actual[k]) fail(name, rank, dims.size(), actual);
-        dims[k] = actual[k];
-        elements *= static_cast<double>(actual[k]);
-      }
-      if (elements * sizeof(T) > kMaxBytes)
-        throw InputError(path_, name, "declares " + shape(actual) + ", too large to read");
-      const H5T_class_t cls = set.getTypeClass();
-      if (cls != H5T_FLOAT && cls != H5T_INTEGER) throw InputError(path_, name, "is not numeric");
-      std::vector<T> out(static_cast<std::size_t>(elements));
+      const H5::DataSet set = checked_set(name, dims, sizeof(T));
+      std::vector<T> out(static_cast<std::size_t>(count(dims)));
       if (!out.empty()) set.read(out.data(), h5_type<T>());
       return out;
+    } catch (const H5::Exception& e) {
+      throw InputError(path_, name, "cannot read: " + e.getDetailMsg());
+    }
+  }
+
+  // The data set `name` as rows of `matrix`, read in place (labels: the largest array).
+  void rows(const std::string& name, std::vector<hsize_t>& dims, SampleMatrix& matrix) {
+    try {
+      const H5::DataSet set = checked_set(name, dims, sizeof(double));
+      const double n = count(dims);
+      matrix.resize(static_cast<Eigen::Index>(dims[0]),
+                    static_cast<Eigen::Index>(dims[0] ? n / static_cast<double>(dims[0]) : 0));
+      if (matrix.size()) set.read(matrix.data(), H5::PredType::NATIVE_DOUBLE);
     } catch (const H5::Exception& e) {
       throw InputError(path_, name, "cannot read: " + e.getDetailMsg());
     }
@@ -121,6 +147,11 @@ class Reader {
   const std::string& path() const { return path_; }
 
  private:
+  static double count(const std::vector<hsize_t>& dims) {
+    double n = 1;
+    for (hsize_t d : dims) n *= static_cast<double>(d);
+    return n;
+  }
   static std::string shape(const std::vector<hsize_t>& dims) {
     std::string s;
     for (std::size_t k = 0; k < dims.size(); ++k) s += (k ? " x " : "") + std::to_string(dims[k]);
@@ -140,6 +171,7 @@ class Reader {
   }
   std::string path_;
   H5::H5File file_;
+  ReadBudget budget_{path_};
 };
 
 void check_finite(const Reader& r, const std::string& name, const double* data, std::size_t n) {
@@ -149,7 +181,7 @@ void check_finite(const Reader& r, const std::string& name, const double* data, 
 }
 
 Dataset read_dataset_checked(const std::string& path) {
-  const Reader r(path);
+  Reader r(path);
   Dataset d;
   constexpr double kHuge = 1e300;
   const double electrodes = r.number("electrodes", 0, 4, 256, true);
@@ -199,11 +231,7 @@ Dataset read_dataset_checked(const std::string& path) {
   if (r.has("labels")) {
     const hsize_t side = static_cast<hsize_t>(d.image_size);
     dims = {n, side, side};
-    const std::vector<float> labels = r.array<float>("labels", dims);
-    d.labels =
-        Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-            labels.data(), static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(side * side))
-            .cast<double>();
+    r.rows("labels", dims, d.labels);
     if (!d.labels.allFinite()) throw InputError(path, "labels", "NaN or infinite values");
   }
   if (r.has("circles")) {
@@ -263,6 +291,10 @@ Dataset from_wire(const std::string& bytes) {
 }  // namespace
 
 bool is_hdf5_file(const std::string& path) {
+  // A FIFO or a device would block the signature read, or drain it: only regular files are
+  // looked into, and the reader that follows names what the path is (input_file.h).
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) return false;
   H5E_BEGIN_TRY {
     return H5Fis_hdf5(path.c_str()) > 0;
   }

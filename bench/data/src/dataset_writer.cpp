@@ -10,8 +10,9 @@
 #include "dataset_hdf5.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/io/atomic_file.h"
-#include "eitbench/bench/io/child_read.h"
+#include "eitbench/bench/io/child_write.h"
 #include "eitbench/bench/io/hdf5_attributes.h"
+#include "eitbench/bench/io/output_path.h"
 #include "eitbench/bench/io/wire.h"
 #include "eitbench/jacobian/error.h"
 
@@ -55,6 +56,7 @@ class GrowingArray {
     set_.write(data, type_, memory, file_space);
     rows_ += rows;
   }
+  void close() { set_.close(); }  // throws where the flush fails, unlike the destructor
 
  private:
   H5::DataSet set_;
@@ -64,84 +66,131 @@ class GrowingArray {
 };
 
 using detail::write_attribute;
+using FloatRows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// The file as the writing child holds it (child_write.h): this process never opens it.
+struct OpenFile {
+  H5::H5File file;
+  std::unique_ptr<GrowingArray> differences, frames, split, labels, circles, circle_count;
+};
+
+void create_arrays(OpenFile& w, const Dataset& d, bool labels, bool circles) {
+  const int L = d.electrodes;
+  const hsize_t frame_size = static_cast<hsize_t>(L * (L - 3));
+  detail::write_closed(
+      w.file.createDataSet("reference", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &frame_size)),
+      d.reference.data(), H5::PredType::NATIVE_DOUBLE);
+  w.differences = std::make_unique<GrowingArray>(w.file, "differences", H5::PredType::NATIVE_DOUBLE,
+                                                 std::vector<hsize_t>{frame_size / 2});
+  w.frames = std::make_unique<GrowingArray>(w.file, "frames", H5::PredType::NATIVE_DOUBLE,
+                                            std::vector<hsize_t>{frame_size});
+  w.split = std::make_unique<GrowingArray>(w.file, "split", H5::PredType::NATIVE_INT,
+                                           std::vector<hsize_t>{});
+  const hsize_t side = static_cast<hsize_t>(d.image_size);
+  if (labels)
+    w.labels = std::make_unique<GrowingArray>(w.file, "labels", H5::PredType::NATIVE_FLOAT,
+                                              std::vector<hsize_t>{side, side});
+  if (circles) {
+    w.circles =
+        std::make_unique<GrowingArray>(w.file, "circles", H5::PredType::NATIVE_DOUBLE,
+                                       std::vector<hsize_t>{static_cast<hsize_t>(kMaxCircles), 4});
+    w.circle_count = std::make_unique<GrowingArray>(
+        w.file, "circle_count", H5::PredType::NATIVE_INT, std::vector<hsize_t>{});
+  }
+}
+
+void write_attributes(H5::H5File& file, const Dataset& d) {
+  write_attribute(file, "electrodes", static_cast<long long>(d.electrodes));
+  write_attribute(file, "radius", d.radius);
+  write_attribute(file, "background_conductivity", d.background);
+  write_attribute(file, "contact_impedance", d.contact_impedance);
+  write_attribute(file, "current", d.current);
+  write_attribute(file, "electrode_coverage", d.electrode_coverage);
+  write_attribute(file, "image_size", static_cast<long long>(d.image_size));
+  write_attribute(file, "seed", d.seed);
+  write_attribute(file, "preset", d.preset);
+  write_attribute(file, "simulation_mesh", d.simulation_mesh);
+  write_attribute(file, "simulation_triangles", static_cast<long long>(d.simulation_triangles));
+  write_attribute(file, "protocol", "adjacent drive, adjacent measurement (SPEC section 1)");
+  write_attribute(file, "frame_order", "rotating");
+  write_attribute(file, "difference_layout",
+                  "reduced: v(d,m), d < m, m - d >= 2, (d,m) != (0,L-1), row-major");
+  write_attribute(file, "program", d.program);
+  write_attribute(file, "augmentation", d.augmentation);
+  write_attribute(file, "format_version", static_cast<long long>(kDatasetFormatVersion));
+}
+
+// A block as the child receives it: rows, then each array in the file's own element type.
+void append_block(OpenFile& w, const std::string& bytes) {
+  detail::WireReader r(bytes);
+  const hsize_t n = r.pod<std::uint64_t>();
+  w.differences->append(r.matrix<SampleMatrix>().data(), n);
+  w.frames->append(r.matrix<SampleMatrix>().data(), n);
+  w.split->append(r.vector<int>().data(), n);
+  if (w.labels) w.labels->append(r.matrix<FloatRows>().data(), n);
+  if (w.circles) {
+    w.circles->append(r.vector<double>().data(), n);
+    w.circle_count->append(r.vector<int>().data(), n);
+  }
+}
+
+// Every array first: a file closes (and is flushed) only when nothing in it is open.
+void close(OpenFile& w) {
+  for (auto* a : {&w.differences, &w.frames, &w.split, &w.labels, &w.circles, &w.circle_count})
+    if (*a) (*a)->close();
+  w.file.close();
+}
+
+// Runs a step of the child's work, turning libhdf5's exceptions into the writer's message.
+template <typename F>
+void in_hdf5(const std::string& path, const std::string& what, F&& step) {
+  try {
+    step();
+  } catch (const H5::Exception& e) {
+    throw InputError(path, "", what + ": " + e.getDetailMsg());
+  }
+}
 
 }  // namespace
 
 struct DatasetWriter::Impl {
-  H5::H5File file;
-  std::unique_ptr<GrowingArray> differences, frames, split, labels, circles, circle_count;
+  std::unique_ptr<detail::ChildWriter> child;
   Eigen::Index frame_size = 0, difference_size = 0, pixels = 0;
+  bool labels = false, circles = false;
 };
 
 DatasetWriter::DatasetWriter(const std::string& path, const Dataset& d, bool labels, bool circles)
     : impl_(std::make_unique<Impl>()), path_(path) {
+  Impl& w = *impl_;
+  const int L = d.electrodes;
+  w.frame_size = L * (L - 3);
+  w.difference_size = w.frame_size / 2;
+  w.pixels = static_cast<Eigen::Index>(d.image_size) * d.image_size;
+  w.labels = labels, w.circles = circles;
+  if (d.reference.size() != w.frame_size)
+    throw InputError(path, "reference", "does not fit the electrode count");
   temp_ = temporary_path_for(path);
-  try {
-    H5::Exception::dontPrint();
-    Impl& w = *impl_;
-    w.file = H5::H5File(temp_, H5F_ACC_TRUNC);
-    const int L = d.electrodes;
-    w.frame_size = L * (L - 3);
-    w.difference_size = w.frame_size / 2;
-    w.pixels = static_cast<Eigen::Index>(d.image_size) * d.image_size;
-    if (d.reference.size() != w.frame_size)
-      throw InputError(path, "reference", "does not fit the electrode count");
-    const hsize_t reference_size = static_cast<hsize_t>(w.frame_size);
-    w.file
-        .createDataSet("reference", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &reference_size))
-        .write(d.reference.data(), H5::PredType::NATIVE_DOUBLE);
-    w.differences = std::make_unique<GrowingArray>(
-        w.file, "differences", H5::PredType::NATIVE_DOUBLE,
-        std::vector<hsize_t>{static_cast<hsize_t>(w.difference_size)});
-    w.frames =
-        std::make_unique<GrowingArray>(w.file, "frames", H5::PredType::NATIVE_DOUBLE,
-                                       std::vector<hsize_t>{static_cast<hsize_t>(w.frame_size)});
-    w.split = std::make_unique<GrowingArray>(w.file, "split", H5::PredType::NATIVE_INT,
-                                             std::vector<hsize_t>{});
-    const hsize_t side = static_cast<hsize_t>(d.image_size);
-    if (labels)
-      w.labels = std::make_unique<GrowingArray>(w.file, "labels", H5::PredType::NATIVE_FLOAT,
-                                                std::vector<hsize_t>{side, side});
-    if (circles) {
-      w.circles = std::make_unique<GrowingArray>(
-          w.file, "circles", H5::PredType::NATIVE_DOUBLE,
-          std::vector<hsize_t>{static_cast<hsize_t>(kMaxCircles), 4});
-      w.circle_count = std::make_unique<GrowingArray>(
-          w.file, "circle_count", H5::PredType::NATIVE_INT, std::vector<hsize_t>{});
-    }
-    H5::H5File& file = w.file;
-    write_attribute(file, "electrodes", static_cast<long long>(d.electrodes));
-    write_attribute(file, "radius", d.radius);
-    write_attribute(file, "background_conductivity", d.background);
-    write_attribute(file, "contact_impedance", d.contact_impedance);
-    write_attribute(file, "current", d.current);
-    write_attribute(file, "electrode_coverage", d.electrode_coverage);
-    write_attribute(file, "image_size", static_cast<long long>(d.image_size));
-    write_attribute(file, "seed", d.seed);
-    write_attribute(file, "preset", d.preset);
-    write_attribute(file, "simulation_mesh", d.simulation_mesh);
-    write_attribute(file, "simulation_triangles", static_cast<long long>(d.simulation_triangles));
-    write_attribute(file, "protocol", "adjacent drive, adjacent measurement (SPEC section 1)");
-    write_attribute(file, "frame_order", "rotating");
-    write_attribute(file, "difference_layout",
-                    "reduced: v(d,m), d < m, m - d >= 2, (d,m) != (0,L-1), row-major");
-    write_attribute(file, "program", d.program);
-    write_attribute(file, "augmentation", d.augmentation);
-    write_attribute(file, "format_version", static_cast<long long>(kDatasetFormatVersion));
-  } catch (const H5::Exception& e) {
-    impl_.reset();
-    std::remove(temp_.c_str());
-    throw InputError(path, "", "cannot create the HDF5 file: " + e.getDetailMsg());
-  } catch (...) {
-    impl_.reset();
-    std::remove(temp_.c_str());
-    throw;
-  }
+  auto file = std::make_shared<OpenFile>();  // filled in the child, which has its own copy
+  const std::string temp = temp_;
+  w.child = std::make_unique<detail::ChildWriter>(
+      path,
+      [&d, file, temp, path, labels, circles] {  // runs in the child, at once: `d` is alive
+        H5::Exception::dontPrint();
+        in_hdf5(path, "cannot create the HDF5 file", [&] {
+          file->file = H5::H5File(temp, H5F_ACC_TRUNC);
+          create_arrays(*file, d, labels, circles);
+          write_attributes(file->file, d);
+        });
+      },
+      [=](const std::string& block) {
+        in_hdf5(path, "HDF5 write failed (disk full?)", [&] { append_block(*file, block); });
+      },
+      [=] { in_hdf5(path, "HDF5 write failed", [&] { close(*file); }); });
 }
 
 DatasetWriter::~DatasetWriter() {
   if (committed_) return;
-  impl_.reset();  // closes the file
+  impl_.reset();  // the child abandons the file
   std::remove(temp_.c_str());
 }
 
@@ -152,45 +201,44 @@ void DatasetWriter::append(const Dataset& b) {
       b.frames.rows() != b.differences.rows() || b.split.size() != n ||
       (w.labels && b.labels.cols() != w.pixels) || (w.circles && b.circles.size() != n))
     throw std::invalid_argument("DatasetWriter::append: the block's shapes do not match the file");
-  try {
-    w.differences->append(b.differences.data(), n);
-    w.frames->append(b.frames.data(), n);
-    std::vector<int> split(n);
-    for (hsize_t i = 0; i < n; ++i) split[i] = static_cast<int>(b.split[i]);
-    w.split->append(split.data(), n);
-    if (w.labels) {
-      const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> labels =
-          b.labels.cast<float>();
-      w.labels->append(labels.data(), n);
-    }
-    if (w.circles) {
-      std::vector<double> table(n * kMaxCircles * 4, std::numeric_limits<double>::quiet_NaN());
-      std::vector<int> count(n);
-      for (hsize_t i = 0; i < n; ++i) {
-        count[i] = static_cast<int>(std::min<std::size_t>(b.circles[i].size(), kMaxCircles));
-        for (int k = 0; k < count[i]; ++k) {
-          const Circle& c = b.circles[i][k];
-          double* row = &table[(i * kMaxCircles + k) * 4];
-          row[0] = c.x, row[1] = c.y, row[2] = c.r, row[3] = c.conductivity;
-        }
+  detail::WireWriter out;
+  out.pod<std::uint64_t>(n);
+  out.matrix(b.differences), out.matrix(b.frames);
+  std::vector<int> split(n);
+  for (hsize_t i = 0; i < n; ++i) split[i] = static_cast<int>(b.split[i]);
+  out.vector(split);
+  if (w.labels) out.matrix(FloatRows(b.labels.cast<float>()));
+  if (w.circles) {
+    std::vector<double> table(n * kMaxCircles * 4, std::numeric_limits<double>::quiet_NaN());
+    std::vector<int> count(n);
+    for (hsize_t i = 0; i < n; ++i) {
+      count[i] = static_cast<int>(std::min<std::size_t>(b.circles[i].size(), kMaxCircles));
+      for (int k = 0; k < count[i]; ++k) {
+        const Circle& c = b.circles[i][k];
+        double* row = &table[(i * kMaxCircles + k) * 4];
+        row[0] = c.x, row[1] = c.y, row[2] = c.r, row[3] = c.conductivity;
       }
-      w.circles->append(table.data(), n);
-      w.circle_count->append(count.data(), n);
     }
-  } catch (const H5::Exception& e) {
-    throw InputError(path_, "", "HDF5 write failed (disk full?): " + e.getDetailMsg());
+    out.vector(table), out.vector(count);
+  }
+  try {
+    w.child->send(out.take());
+  } catch (const InputError&) {
+    std::remove(temp_.c_str());
+    throw;
   }
   rows_ += static_cast<long long>(n);
 }
 
 void DatasetWriter::commit() {
   try {
-    impl_->file.close();
-  } catch (const H5::Exception& e) {
-    throw InputError(path_, "", "HDF5 write failed: " + e.getDetailMsg());
+    impl_->child->finish();
+  } catch (const InputError&) {
+    std::remove(temp_.c_str());
+    throw;
   }
   impl_.reset();
-  if (std::rename(temp_.c_str(), path_.c_str()) != 0) {
+  if (std::rename(temp_.c_str(), output_target(path_).c_str()) != 0) {
     std::remove(temp_.c_str());
     throw InputError(path_, "", "cannot move the finished file into place");
   }
@@ -199,7 +247,17 @@ void DatasetWriter::commit() {
 
 void write_dataset(const std::string& path, const Dataset& d) {
   DatasetWriter writer(path, d, d.has_labels(), !d.circles.empty());
-  writer.append(d);
+  constexpr Eigen::Index kBlock = 1024;  // bounds the copy each block makes on its way
+  for (Eigen::Index at = 0; at < d.size(); at += kBlock) {
+    const Eigen::Index n = std::min<Eigen::Index>(kBlock, d.size() - at);
+    Dataset b;
+    b.differences = d.differences.middleRows(at, n);
+    b.frames = d.frames.middleRows(at, n);
+    if (d.has_labels()) b.labels = d.labels.middleRows(at, n);
+    b.split.assign(d.split.begin() + at, d.split.begin() + at + n);
+    if (!d.circles.empty()) b.circles.assign(d.circles.begin() + at, d.circles.begin() + at + n);
+    writer.append(b);
+  }
   writer.commit();
 }
 }  // namespace eitbench

@@ -1,6 +1,7 @@
 #include "eitbench/bench/data/measurements.h"
 
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 
 #include "eitbench/augment/impedance_map.h"
@@ -11,6 +12,7 @@
 #include "eitbench/bench/io/numpy.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/input_file.h"
 
 namespace eitbench {
 namespace {
@@ -22,8 +24,9 @@ std::string lower_extension(const std::string& path) {
 }
 
 // The arrays of a file and how it was read.
-std::vector<detail::NamedArray> read_arrays(const std::string& path, std::string& format,
-                                            bool& columns_first) {
+std::vector<detail::NamedArray> read_arrays(const std::string& path, int electrodes,
+                                            std::string& format, bool& columns_first) {
+  require_input_file(path);
   const std::string ext = lower_extension(path);
   columns_first = false;
   if (ext == ".npy") {
@@ -45,7 +48,13 @@ std::vector<detail::NamedArray> read_arrays(const std::string& path, std::string
   }
   if (ext == ".csv" || ext == ".txt") {
     format = "CSV";
-    const Eigen::MatrixXd m = read_frames_csv(path);
+    // A frame a line, or (a width no frame has) a frame a column of at most L x L lines.
+    const std::size_t L = static_cast<std::size_t>(electrodes), full = L * (L - 3);
+    const Eigen::MatrixXd m = read_frames_csv(path, [&](std::size_t width, int) {
+      return width == full || width == full / 2 || width == L * L
+                 ? std::numeric_limits<std::size_t>::max()
+                 : L * L;
+    });
     detail::NamedArray a;
     a.shape = {static_cast<std::size_t>(m.rows()), static_cast<std::size_t>(m.cols())};
     a.values.resize(m.size());
@@ -94,7 +103,7 @@ Measurements read_measurements(const std::string& path, const ImportOptions& o) 
   if (L < 4 || L > 256) throw InputError("--electrodes", "", "need 4 <= L <= 256");
   std::string format;
   bool columns_first = false;
-  const auto arrays = read_arrays(path, format, columns_first);
+  const auto arrays = read_arrays(path, L, format, columns_first);
   const detail::NamedArray& a = choose(arrays, o.variable, path);
   const std::string field = a.name.empty() ? "frames" : a.name;
   if (a.shape.size() > 2)
@@ -182,6 +191,11 @@ Dataset import_measurements(const Measurements& m, const std::string& reference_
     ro.variable = reference_variable;
     const Measurements r = read_measurements(reference_path, ro);
     d.reference = r.frames.colwise().mean().transpose();
+    // An empty sensor has voltages: a zero reference would pass every frame off as a difference.
+    if (d.reference.cwiseAbs().maxCoeff() == 0)
+      throw InputError(reference_path, ro.variable.empty() ? "frames" : ro.variable,
+                       "is all zero: a reference is the untouched sensor's frame, with its "
+                       "voltages (without a reference, the frames are taken as differences)");
   }
   const Protocol protocol(L);
   d.differences.resize(m.frames.rows(), protocol.reduced_size());
@@ -191,6 +205,13 @@ Dataset import_measurements(const Measurements& m, const std::string& reference_
             .transpose();
   d.split.assign(static_cast<std::size_t>(m.frames.rows()), Split::test);
   return d;
+}
+
+int frames_without_change(const Dataset& data) {
+  int count = 0;
+  for (Eigen::Index i = 0; i < data.differences.rows(); ++i)
+    count += data.differences.row(i).cwiseAbs().maxCoeff() == 0;
+  return count;
 }
 
 ReferenceCalibration calibrate_to_model(const Eigen::VectorXd& measured_reference,

@@ -14,7 +14,10 @@
 #include <random>
 #include <sstream>
 
+#include "eitbench/bench/io/output_path.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/input_file.h"
+#include "eitbench/jacobian/read_budget.h"
 
 namespace eitbench {
 namespace fs = std::filesystem;
@@ -34,9 +37,7 @@ bool process_alive(pid_t pid) {
 }  // namespace
 
 std::string temporary_path_for(const std::string& path) {
-  if (path.empty()) throw InputError("--out", "", "the output path is empty");
-  const fs::path target(path);
-  if (fs::is_directory(target)) throw InputError(path, "", "is a directory, expected a file name");
+  const fs::path target(output_target(path));
   const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   if (!fs::is_directory(dir))
     throw InputError(path, "", "the folder " + dir.string() + " does not exist");
@@ -62,7 +63,7 @@ std::string temporary_path_for(const std::string& path) {
 
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string&)>& write) {
-  const fs::path target(path);
+  const fs::path target(output_target(path));
   const fs::path temp = temporary_path_for(path);
   try {
     write(temp.string());
@@ -86,20 +87,26 @@ void write_text_atomically(const std::string& path,
     if (!out)
       throw InputError(path, "", "cannot create the file: " + std::string(std::strerror(errno)));
     write(out);
-    out.flush();
+    out.close();  // a full disk may show only here, when the last buffer is written
     if (!out) throw InputError(path, "", "writing failed (disk full?)");
   });
 }
 
 std::string read_file_bytes(const std::string& path, long long max_bytes) {
+  require_input_file(path);
   std::error_code error;
   const auto size = std::filesystem::file_size(path, error);
   if (error) throw InputError(path, "", "cannot read the file: " + error.message());
   if (size == 0) throw InputError(path, "", "the file is empty");
+  if (max_bytes < 0) max_bytes = static_cast<long long>(read_limit_bytes());
   if (static_cast<long long>(size) > max_bytes)
     throw InputError(path, "",
-                     "the file is " + std::to_string(size) + " bytes, more than the " +
-                         std::to_string(max_bytes) + " allowed");
+                     "the file is " + byte_size_text(static_cast<double>(size)) +
+                         ", more than the " + byte_size_text(static_cast<double>(max_bytes)) +
+                         " allowed" +
+                         (max_bytes == static_cast<long long>(read_limit_bytes())
+                              ? " (EITBENCH_READ_LIMIT raises it)"
+                              : ""));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open the file: " + std::string(std::strerror(errno)));
   std::string bytes(size, '\0');

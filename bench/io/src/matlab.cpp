@@ -2,6 +2,7 @@
 // v7.3 (HDF5 with a 512-byte header; arrays stored transposed). Numeric matrices are read;
 // structs, cells and text are listed by name so the message can say what the file holds.
 #include <H5Cpp.h>
+#include <fmt/core.h>
 
 #include <cstring>
 
@@ -9,6 +10,7 @@
 #include "eitbench/bench/io/matlab.h"
 #include "eitbench/bench/io/wire.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/read_budget.h"
 #include "inflate.h"
 
 namespace eitbench::detail {
@@ -31,7 +33,6 @@ enum : std::uint32_t {
   miUTF16,
   miUTF32
 };
-constexpr std::size_t kLimit = std::size_t(1) << 34;  // decompressed bytes we accept
 
 std::uint32_t u32(const std::string& b, std::size_t at) {
   std::uint32_t v;
@@ -147,7 +148,7 @@ const char* class_name(int c) {
 }
 
 NamedArray read_matrix(const std::string& b, std::size_t begin, std::size_t end,
-                       const std::string& source) {
+                       const std::string& source, ReadBudget& budget) {
   std::string m = b.substr(begin, end - begin);
   std::size_t at = 0;
   const Element flags = next_element(m, at, source, "array flags");
@@ -183,6 +184,7 @@ NamedArray read_matrix(const std::string& b, std::size_t begin, std::size_t end,
                      "unsupported numeric storage type " + std::to_string(real.type));
   if (count * size != static_cast<double>(real.size))
     throw InputError(source, a.name, "data size does not match its dimensions");
+  budget.take(a.name, count * sizeof(double), fmt::format("{:.0f} values", count));
   const std::size_t n = static_cast<std::size_t>(count);
   std::vector<double> column(n);
   for (std::size_t i = 0; i < n; ++i)
@@ -198,16 +200,24 @@ NamedArray read_matrix(const std::string& b, std::size_t begin, std::size_t end,
   return a;
 }
 
+// The variables of `b` from `at` on. A compressed variable is inflated once, against what is left
+// of the budget; MATLAB never nests one in another, and a file that does (8,000 layers kept 2.4 GB
+// alive through the recursion) is refused at the second layer.
 void read_elements(const std::string& b, std::size_t at, const std::string& source,
-                   std::vector<NamedArray>& out) {
+                   std::vector<NamedArray>& out, ReadBudget& budget, bool inside_compressed) {
   while (at + 8 <= b.size()) {
     const Element e = next_element(b, at, source, "data element");
     if (e.type == miCOMPRESSED) {
+      if (inside_compressed)
+        throw InputError(source, "compressed variable",
+                         "holds another compressed element: MATLAB never nests them");
       const std::string inner =
-          inflate(b.data() + e.begin, e.size, false, kLimit, source, "compressed variable");
-      read_elements(inner, 0, source, out);
+          inflate(b.data() + e.begin, e.size, false, static_cast<std::size_t>(budget.left()),
+                  source, "compressed variable");
+      budget.take("compressed variable", static_cast<double>(inner.size()));
+      read_elements(inner, 0, source, out, budget, true);
     } else if (e.type == miMATRIX) {
-      if (e.size > 0) out.push_back(read_matrix(b, e.begin, e.begin + e.size, source));
+      if (e.size > 0) out.push_back(read_matrix(b, e.begin, e.begin + e.size, source, budget));
     }
   }
 }
@@ -223,15 +233,23 @@ std::vector<NamedArray> read_mat_v5(const std::string& b, const std::string& sou
                          ? "big-endian .mat files are not supported"
                          : "not a level-5 MAT file (bad endian indicator)");
   std::vector<NamedArray> out;
-  read_elements(b, 128, source, out);
+  ReadBudget budget(source);
+  read_elements(b, 128, source, out, budget, false);
   if (out.empty()) throw InputError(source, "variables", "the file holds no variables");
   return out;
 }
 
 namespace {
 
+std::string hdf5_shape_text(const std::vector<hsize_t>& dims) {
+  std::string text;
+  for (hsize_t d : dims) text += (text.empty() ? "" : " x ") + std::to_string(d);
+  return text + " values";
+}
+
 std::vector<NamedArray> read_mat_v73_here(const std::string& path) {
   std::vector<NamedArray> out;
+  ReadBudget budget(path);
   try {
     H5::Exception::dontPrint();
     H5::H5File file(path, H5F_ACC_RDONLY);
@@ -259,7 +277,9 @@ std::vector<NamedArray> read_mat_v73_here(const std::string& path) {
       }
       double n = 1;
       for (hsize_t d : dims) n *= static_cast<double>(d);
-      if (n > double(std::size_t(1) << 31)) throw InputError(path, name, "too large to read");
+      budget.take_compressed(name, n * set.getDataType().getSize(),
+                             static_cast<double>(set.getStorageSize()), n * sizeof(double),
+                             hdf5_shape_text(dims));
       // MATLAB's r x c matrix is an HDF5 array of c x r: its bytes are the matrix column by column.
       std::vector<double> column(static_cast<std::size_t>(n));
       if (!column.empty()) set.read(column.data(), H5::PredType::NATIVE_DOUBLE);

@@ -1,6 +1,9 @@
 // NumPy .npy and .npz (a ZIP archive of .npy files, stored or deflated, with zip64 fields).
 
+#include <fmt/core.h>
 #include <zlib.h>
+
+#include <algorithm>
 
 #include <cstring>
 #include <fstream>
@@ -10,12 +13,11 @@
 
 #include "eitbench/bench/io/numpy.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/read_budget.h"
 #include "inflate.h"
 
 namespace eitbench::detail {
 namespace {
-
-constexpr std::size_t kMaxElements = std::size_t(1) << 31;  // 16 GB of doubles
 
 // Text from a binary header, fit for a message: control bytes become '?'.
 std::string printable(std::string text) {
@@ -64,6 +66,12 @@ std::string header_value(const std::string& header, const std::string& key,
 }  // namespace
 
 NamedArray read_npy(const std::string& b, const std::string& source, const std::string& name) {
+  ReadBudget budget(source);
+  return read_npy(b, source, name, budget);
+}
+
+NamedArray read_npy(const std::string& b, const std::string& source, const std::string& name,
+                    ReadBudget& budget) {
   const std::string field = name.empty() ? "header" : name;
   if (b.size() < 10 || b.compare(0, 6, "\x93NUMPY") != 0)
     throw InputError(source, field, "not a NumPy .npy array (bad magic)");
@@ -109,10 +117,11 @@ NamedArray read_npy(const std::string& b, const std::string& source, const std::
     throw InputError(source, "descr", "dtype '" + descr + "' is not a supported numeric type");
   a.kind = descr;
   const std::size_t data_at = header_at + header_len;
-  if (count > static_cast<double>(kMaxElements) ||
-      count * size > static_cast<double>(b.size() - data_at))
+  if (count * size > static_cast<double>(b.size() - data_at))
     throw InputError(source, "shape",
                      "declares more data than the file holds (truncated or corrupt)");
+  budget.take(name.empty() ? "shape" : name, count * sizeof(double),
+              fmt::format("{:.0f} values", count));
   const std::size_t n = static_cast<std::size_t>(count);
   a.values.resize(n);
   const char* p = b.data() + data_at;
@@ -140,7 +149,18 @@ NamedArray read_npy(const std::string& b, const std::string& source, const std::
   return a;
 }
 
-std::vector<NamedArray> read_npz(const std::string& b, const std::string& source) {
+namespace {
+
+// One member of a zip archive, as its central directory describes it.
+struct ZipMember {
+  std::string name;
+  int method;
+  std::uint32_t crc;
+  std::uint64_t stored, size, local, data;  // compressed and declared sizes; offsets
+};
+
+// The central directory, every member's header and bounds checked; nothing is inflated yet.
+std::vector<ZipMember> zip_directory(const std::string& b, const std::string& source) {
   // End of central directory: the last PK\5\6 within the final 64 KiB + 22 bytes.
   if (b.size() < 22) throw InputError(source, "zip", "too short to be a .npz archive");
   std::size_t eocd = std::string::npos;
@@ -160,53 +180,95 @@ std::vector<NamedArray> read_npz(const std::string& b, const std::string& source
     entries = le(b, at + 32, 8);
     cd_offset = le(b, at + 48, 8);
   }
-  std::vector<NamedArray> arrays;
+  if (entries > b.size() / 46)  // each directory entry takes 46 bytes at least
+    throw InputError(source, "zip", "the directory lists more members than the file can hold");
+  std::vector<ZipMember> members;
   std::size_t at = cd_offset;
   for (std::uint64_t e = 0; e < entries; ++e) {
     if (at + 46 > b.size() || le(b, at, 4) != 0x02014b50)
       throw InputError(source, "zip", "corrupt ZIP directory");
-    const int method = static_cast<int>(le(b, at + 10, 2));
-    const std::uint32_t crc = static_cast<std::uint32_t>(le(b, at + 16, 4));
-    std::uint64_t csize = le(b, at + 20, 4), usize = le(b, at + 24, 4), local = le(b, at + 42, 4);
+    ZipMember m;
+    m.method = static_cast<int>(le(b, at + 10, 2));
+    m.crc = static_cast<std::uint32_t>(le(b, at + 16, 4));
+    m.stored = le(b, at + 20, 4), m.size = le(b, at + 24, 4), m.local = le(b, at + 42, 4);
     const std::size_t name_len = le(b, at + 28, 2), extra_len = le(b, at + 30, 2),
                       comment_len = le(b, at + 32, 2);
     if (at + 46 + name_len + extra_len > b.size())
       throw InputError(source, "zip", "corrupt ZIP directory");
-    const std::string name = b.substr(at + 46, name_len);
+    m.name = b.substr(at + 46, name_len);
     for (std::size_t x = at + 46 + name_len;
          x + 4 <= at + 46 + name_len + extra_len;) {  // zip64 sizes
       const std::size_t id = le(b, x, 2), len = le(b, x + 2, 2);
       std::size_t f = x + 4;
       if (id == 0x0001) {
-        if (usize == 0xFFFFFFFF && f + 8 <= x + 4 + len) usize = le(b, f, 8), f += 8;
-        if (csize == 0xFFFFFFFF && f + 8 <= x + 4 + len) csize = le(b, f, 8), f += 8;
-        if (local == 0xFFFFFFFF && f + 8 <= x + 4 + len) local = le(b, f, 8);
+        if (m.size == 0xFFFFFFFF && f + 8 <= x + 4 + len) m.size = le(b, f, 8), f += 8;
+        if (m.stored == 0xFFFFFFFF && f + 8 <= x + 4 + len) m.stored = le(b, f, 8), f += 8;
+        if (m.local == 0xFFFFFFFF && f + 8 <= x + 4 + len) m.local = le(b, f, 8);
       }
       x += 4 + len;
     }
     at += 46 + name_len + extra_len + comment_len;
-    if (local + 30 > b.size() || le(b, local, 4) != 0x04034b50)
-      throw InputError(source, name, "corrupt ZIP entry");
-    const std::size_t data = local + 30 + le(b, local + 26, 2) + le(b, local + 28, 2);
-    if (data > b.size() || csize > b.size() - data)
-      throw InputError(source, name, "the archive is truncated");
-    if (usize > (std::size_t(1) << 34))
-      throw InputError(source, name, "declares " + std::to_string(usize) + " bytes, too large");
-    std::string content;
-    if (method == 0)
-      content = b.substr(data, csize);
-    else if (method == 8)
-      content = inflate(b.data() + data, csize, true, usize, source, name);
-    else
-      throw InputError(source, name,
-                       "compression method " + std::to_string(method) + " is not supported");
-    if (content.size() != usize || crc32(0, reinterpret_cast<const Bytef*>(content.data()),
-                                         static_cast<uInt>(content.size())) != crc)
-      throw InputError(source, name, "the entry is corrupt (size or CRC mismatch)");
-    std::string array_name = name;
+    if (m.local > b.size() || b.size() - m.local < 30 || le(b, m.local, 4) != 0x04034b50)
+      throw InputError(source, m.name, "corrupt ZIP entry");
+    m.data = m.local + 30 + le(b, m.local + 26, 2) + le(b, m.local + 28, 2);
+    if (m.data > b.size() || m.stored > b.size() - m.data)
+      throw InputError(source, m.name, "the archive is truncated");
+    members.push_back(std::move(m));
+  }
+  return members;
+}
+
+// Every member names its own bytes: no two share a name or a byte of the file. An archive whose
+// directory points many entries at one member would be decoded as many times (2,000 copies of
+// one 8 MB member asked for 16 GB).
+void check_distinct(std::vector<const ZipMember*> members, const std::string& source) {
+  std::sort(members.begin(), members.end(),
+            [](const ZipMember* a, const ZipMember* b) { return a->local < b->local; });
+  for (std::size_t k = 1; k < members.size(); ++k)
+    if (members[k]->local < members[k - 1]->data + members[k - 1]->stored)
+      throw InputError(source, members[k]->name,
+                       "overlaps the member '" + members[k - 1]->name +
+                           "' in the file: a ZIP member has bytes of its own");
+  std::sort(members.begin(), members.end(),
+            [](const ZipMember* a, const ZipMember* b) { return a->name < b->name; });
+  for (std::size_t k = 1; k < members.size(); ++k)
+    if (members[k]->name == members[k - 1]->name)
+      throw InputError(source, members[k]->name, "appears twice in the archive");
+}
+
+}  // namespace
+
+std::vector<NamedArray> read_npz(const std::string& b, const std::string& source) {
+  const std::vector<ZipMember> members = zip_directory(b, source);
+  std::vector<const ZipMember*> pointers;
+  for (const ZipMember& m : members) pointers.push_back(&m);
+  check_distinct(pointers, source);
+  ReadBudget budget(source);
+  for (const ZipMember& m : members) {  // every declared size, before anything is inflated
+    if (m.method == 0 && m.size != m.stored)
+      throw InputError(source, m.name, "a stored member's sizes differ (corrupt)");
+    if (m.method != 0 && m.method != 8)
+      throw InputError(source, m.name,
+                       "compression method " + std::to_string(m.method) + " is not supported");
+    if (m.method == 8)
+      budget.take_compressed(m.name, static_cast<double>(m.size), static_cast<double>(m.stored),
+                             static_cast<double>(m.size),
+                             "a member of " + std::to_string(m.size) + " bytes");
+  }
+  std::vector<NamedArray> arrays;
+  for (const ZipMember& m : members) {
+    const std::string content =
+        m.method == 0 ? b.substr(m.data, m.stored)
+                      : inflate(b.data() + m.data, m.stored, true, m.size, source, m.name);
+    if (content.size() != m.size || crc32(0, reinterpret_cast<const Bytef*>(content.data()),
+                                          static_cast<uInt>(content.size())) != m.crc)
+      throw InputError(source, m.name,
+                       "inflates to " + std::to_string(content.size()) + " bytes, declared " +
+                           std::to_string(m.size) + ", or fails its CRC: the entry is corrupt");
+    std::string array_name = m.name;
     if (array_name.size() > 4 && array_name.compare(array_name.size() - 4, 4, ".npy") == 0)
       array_name.resize(array_name.size() - 4);
-    arrays.push_back(read_npy(content, source, array_name));
+    arrays.push_back(read_npy(content, source, array_name, budget));
   }
   if (arrays.empty()) throw InputError(source, "zip", "the archive holds no arrays");
   return arrays;

@@ -12,6 +12,7 @@
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/touch_report.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/input_file.h"
 #include "eitbench/jacobian/pixel_grid.h"
 
 namespace eitbench {
@@ -89,7 +90,7 @@ void write_run_store(const std::string& folder, const RunResults& results,
 
 RunResults draw_run_report(const std::string& folder, bool quiet) {
   const fs::path dir(folder);
-  if (!fs::is_directory(dir)) throw InputError(folder, "", "is not a folder of a benchmark run");
+  require_input_folder(folder);
   const RunResults results = read_results_json((dir / "results.json").string());
   const fs::path images = dir / "reconstructions.npy";
   if (!can_draw_figures()) {

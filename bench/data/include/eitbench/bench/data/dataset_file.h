@@ -34,7 +34,8 @@ class DatasetWriter {
 };
 // Reads and checks shapes, values and attributes; InputError names the file and the data set.
 Dataset read_dataset(const std::string& path);
-// True when the file is HDF5 (by its signature, whatever its name).
+// True when the path is a regular file with HDF5's signature (whatever its name); false for
+// FIFOs, devices and folders, which it does not open.
 bool is_hdf5_file(const std::string& path);
 
 }  // namespace eitbench

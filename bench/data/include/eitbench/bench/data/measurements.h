@@ -50,6 +50,10 @@ Dataset import_measurements(const Measurements& frames, const std::string& refer
                             const ImportOptions& options,
                             const std::string& reference_variable = "");
 
+// The frames whose difference from the reference is zero everywhere (a frame equal to the
+// reference, or a copy of it): worth a warning, as every method draws them as no touch.
+int frames_without_change(const Dataset& data);
+
 // Measured frames in a model's units. A measured frame is in the instrument's units (its current,
 // its gain, volts or millivolts); a model trained or tuned on simulated frames expects the
 // simulation's. The factor is the least-squares fit of the measured empty-sensor frame to the

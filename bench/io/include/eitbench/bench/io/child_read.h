@@ -18,7 +18,8 @@ namespace eitbench::detail {
 // child can be made, `read` runs here.
 std::string read_in_child(const std::string& path, const std::function<std::string()>& read);
 
-// The time a child may take: the base (20 s unless set) and a second for each 5 MB of the file.
+// The time a child may take: the base (20 s unless set) and a second for each 5 MB the file
+// occupies on disk (not its apparent size, which a sparse file inflates), at most 120 s more.
 double child_read_limit(const std::string& path);
 // For the fuzz targets, whose driver counts 10 s as a hang.
 void set_child_read_base_limit(double seconds);

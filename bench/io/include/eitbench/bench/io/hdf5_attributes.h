@@ -1,6 +1,6 @@
 #pragma once
-// Internal: scalar HDF5 attributes as every eitbench file writes them. Strings are variable-length
-// UTF-8, which h5py reads as str and MATLAB's h5readatt as char.
+// Internal: scalar HDF5 attributes as every eitbench file writes them (strings are variable-length
+// UTF-8, which h5py reads as str and MATLAB's h5readatt as char), and data sets written and closed.
 #include <H5Cpp.h>
 
 #include <cstdint>
@@ -24,6 +24,14 @@ inline void write_attribute(H5::H5Object& at, const std::string& name, long long
 inline void write_attribute(H5::H5Object& at, const std::string& name, std::uint64_t value) {
   at.createAttribute(name, H5::PredType::NATIVE_UINT64, H5::DataSpace(H5S_SCALAR))
       .write(H5::PredType::NATIVE_UINT64, &value);
+}
+
+// Writes `data` into `set` and closes it here, where a failure throws. A DataSet's destructor only
+// prints what fails (a full disk found when its last chunk is flushed), and the file would pass
+// for complete: every writer closes its data sets, then its file, explicitly.
+inline void write_closed(H5::DataSet set, const void* data, const H5::PredType& type) {
+  set.write(data, type);
+  set.close();
 }
 
 }  // namespace eitbench::detail

@@ -20,6 +20,8 @@ struct EvaluationOptions {
   // its kernels and memory pools for the batch-of-one shape) that a sensor streaming frames pays
   // once.
   int warmup_calls = 3;
+  // Where the frames came from, for the messages (a file name).
+  std::string source = "frames";
 };
 
 struct Evaluation {
@@ -31,8 +33,14 @@ struct Evaluation {
   std::string settings;                              // the method's, after fitting
 };
 
+// A frame whose sum of squares is not finite makes every method's arithmetic meaningless (NaN
+// images, or a Gauss-Newton that gives up with zeros): InputError(source, "frame i") naming its
+// range of values. Callers check before they tune a method on the frames; evaluate checks again.
+void check_frames(const SampleMatrix& frames, const std::string& source);
+
 // Reconstructs `frames` (one a row) and scores the images against `labels` when it has a row per
-// frame. Throws std::runtime_error naming the method when a timed image is not finite.
+// frame. InputError(options.source, "frame i") for a frame whose sum of squares is not finite,
+// and for any image that is not finite, naming the method and the frame's range of values.
 Evaluation evaluate(const Reconstructor& method, const SampleMatrix& frames,
                     const SampleMatrix& labels, const PixelGrid& grid,
                     const EvaluationOptions& options = {});
