@@ -2,12 +2,16 @@
 // running anything again (after a change to the report, or for a run copied from elsewhere).
 #include <fmt/core.h>
 
+#include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "commands.h"
+#include "eitbench/bench/io/folder_lock.h"
 #include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/run_store.h"
+#include "eitbench/jacobian/input_file.h"
 
 namespace eitbench::cli {
 
@@ -25,6 +29,11 @@ std::function<void()> add_report_command(CLI::App& app) {
       ->required();
   cmd->add_flag("--quiet", args->quiet, "no summary table");
   return [args] {
+    require_input_folder(args->folder);
+    // Not while a run (or another report) writes there; a folder that is no run is left as it is.
+    std::optional<FolderLock> lock;
+    if (std::filesystem::exists(std::filesystem::path(args->folder) / "results.json"))
+      lock.emplace(args->folder);
     const RunResults results = draw_run_report(args->folder, args->quiet);
     if (!args->quiet)
       fmt::print("{}\n{}\n\nwrote {}/report.md, results.csv{}\n", summary_table(results),

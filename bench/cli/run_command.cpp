@@ -51,7 +51,8 @@ std::function<void()> add_run_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--resume", args->resume,
                 "reuse what an interrupted run in --out finished (data, methods, models, "
-                "checkpoints)");
+                "checkpoints) when it was made for the same data and options: another data set "
+                "in --out stops the run, a stage made with other options is made again");
   cmd->add_option("--methods", args->methods, "model-based methods (default: all six)")
       ->delimiter(',')
       ->check(CLI::IsMember(model_based_method_names()));

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "eitbench/bench/io/folder_lock.h"
 #include "eitbench/bench/methods/touches.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/run_store.h"
@@ -95,6 +96,22 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   return c;
 }
 
+// The fingerprint of the whole run (results.json): everything its stages' provenances hold.
+std::string run_fingerprint(const RunConfig& config, const RunData& data) {
+  Provenance p = data.provenance;
+  for (const auto& [key, value] : training_provenance(config, data)) p["training: " + key] = value;
+  std::string list;
+  for (const auto& m : config.methods) list += m + " ";
+  p["methods"] = list;
+  list.clear();
+  for (const auto& a : config.augments) list += a + " ";
+  p["augments"] = list;
+  list.clear();
+  for (int n : config.efficiency_sizes) list += std::to_string(n) + " ";
+  p["efficiency sizes"] = list;
+  return fingerprint(p);
+}
+
 }  // namespace
 }  // namespace run
 
@@ -102,7 +119,11 @@ RunResults run_benchmark(const RunConfig& config) {
   using namespace run;
   const auto t_start = std::chrono::steady_clock::now();
   const fs::path out = output_folder(config);
-  const Context context{config, out, StageCache(out / "stages", config.resume)};
+  const FolderLock lock(out.string());  // one writer per output folder
+  const Context context{
+      config, out, StageCache(out / "stages", config.resume, [&config](const std::string& line) {
+        if (!config.quiet) fmt::print("{}\n", line), std::fflush(stdout);
+      })};
   set_torch_threads(config.threads);
   // The float32 GEMM peak that training throughput is compared with, measured first: after the
   // model-based stage (TBB and CHOLMOD's threads) the same product ran at half the speed.
@@ -142,6 +163,7 @@ RunResults run_benchmark(const RunConfig& config) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   results.machine = describe_machine();
   results.configuration = describe_run(config, data, reconstruction, learned, parameters, total_s);
+  results.configuration["fingerprint"] = run_fingerprint(config, data);
   results.recommendation = recommend(results.rows, results.training);
   write_run_store(out.string(), results, figure, reconstruction.grid.size());
   return draw_run_report(out.string());

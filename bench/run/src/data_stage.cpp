@@ -6,6 +6,7 @@
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/support/progress.h"
+#include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
 #include "stages.h"
 
@@ -25,16 +26,36 @@ FrameSet rows_of(const Dataset& d, const std::vector<int>& rows) {
   return f;
 }
 
-// The preset's simulated set in <out>/data.h5, read back when resuming the same preset and seed.
+// What a simulated set must be to serve this run: "" when `d` is it, else the differences.
+std::string simulation_differs(const Dataset& d, const RunConfig& config) {
+  const std::string mesh =
+      "disk L=" + std::to_string(config.electrodes) + " " + to_string(config.simulation);
+  std::string diff;
+  auto differs = [&](const std::string& what, const std::string& has, const std::string& asked) {
+    if (has != asked)
+      diff += fmt::format("{}{} {} (this run: {})", diff.empty() ? "" : ", ", what, has, asked);
+  };
+  differs("preset", d.preset, config.preset);
+  differs("seed", std::to_string(d.seed), std::to_string(config.seed));
+  differs("simulation mesh", d.simulation_mesh, mesh);
+  differs("program", d.program, program_version());
+  return diff;
+}
+
+// The preset's simulated set in <out>/data.h5. A resumed run reads it back, and stops when it is
+// not the set this run would simulate: every finished stage of the folder was made from it.
 Dataset simulated(const Context& context) {
   const RunConfig& config = context.config;
   const std::string path = (context.out / "data.h5").string();
   if (config.resume && fs::exists(path)) {
     Dataset d = read_dataset(path);
-    if (d.preset == config.preset && d.seed == config.seed) {
-      context.say(fmt::format("data: {} samples from {} (resumed)", d.size(), path));
-      return d;
-    }
+    if (const std::string diff = simulation_differs(d, config); !diff.empty())
+      throw InputError(path, "",
+                       "holds another data set than this run asks for: " + diff +
+                           ". --resume continues a run on the same data: choose a new --out, "
+                           "or leave out --resume to start this folder afresh");
+    context.say(fmt::format("data: {} samples from {} (resumed)", d.size(), path));
+    return d;
   }
   SimulationOptions s;
   s.preset = config.preset;
@@ -82,6 +103,24 @@ void calibrate_to_source(const Context& context, RunData& r) {
         "measurement order (--order of eitbench import)");
 }
 
+// What every stage's results depend on, besides its own settings.
+Provenance common_provenance(const RunConfig& config, const RunData& r) {
+  std::string snrs;
+  for (double v : r.snrs) snrs += (snrs.empty() ? "" : " ") + fmt::format("{:g}", v);
+  return {{"program", program_version()},
+          {"data", content_hash(r.data)},
+          {"training data", r.own_training ? "the data" : content_hash(r.source)},
+          {"sensor", file_hash(config.sensor)},
+          {"mesh", to_string(config.mesh)},
+          {"snrs", snrs},
+          {"seed", std::to_string(config.seed)},
+          {"threads", std::to_string(config.threads)},
+          {"timed frames", std::to_string(config.timed_frames)},
+          {"sweep frames", std::to_string(config.sweep_frames)},
+          {"touch validation frames", std::to_string(config.touch_validation_frames)},
+          {"figure samples", std::to_string(config.figure_samples)}};
+}
+
 }  // namespace
 
 std::string describe(const ReferenceCalibration& c) {
@@ -126,6 +165,7 @@ RunData load_data(const Context& context) {
   if (!r.own_training) calibrate_to_source(context, r);
   // Measured frames carry their own noise: they are evaluated as they are.
   r.snrs = r.data.preset == "imported" ? std::vector<double>{INFINITY} : config.snrs;
+  r.provenance = common_provenance(config, r);
   return r;
 }
 

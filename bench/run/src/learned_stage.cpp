@@ -44,13 +44,17 @@ TrainingSummary training_summary(const LearnedModel& model, const std::string& p
 
 namespace {
 
-// The model in <out>/models/dnn_<augment>.pt: read back when resuming, trained otherwise (from its
-// checkpoint when one is left).
+// The model in <out>/models/dnn_<augment>.pt: read back when resuming a run that trained it for
+// the same data and options, trained otherwise (from its checkpoint when one is left).
 LearnedModel trained_model(const Context& context, const std::string& augment,
-                           const LearnedSetup& setup, const Dataset& source) {
+                           const LearnedSetup& setup, const RunData& data) {
   const RunConfig& config = context.config;
+  const Dataset& source = data.source;
   const std::string path = model_path(context, augment);
-  if (config.resume && fs::exists(path)) {
+  Provenance provenance = training_provenance(config, data);
+  provenance["augment"] = augment;
+  const bool claimed = context.cache.claim_model("dnn " + augment, path, provenance);
+  if (claimed && fs::exists(path)) {
     context.say(fmt::format("dnn {}: resumed from {}", augment, path));
     return read_model_file(path);
   }
@@ -59,7 +63,7 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
   o.epochs = config.epochs;
   TrainingRun run;
   run.out = path;
-  run.resume = config.resume && fs::exists(checkpoint_path(path));
+  run.resume = claimed && fs::exists(checkpoint_path(path));
   run.quiet = config.quiet;
   run.label = "dnn " + augment;
   run.curves = false;
@@ -74,6 +78,22 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
 }
 
 }  // namespace
+
+Provenance training_provenance(const RunConfig& config, const RunData& data) {
+  return {{"program", data.provenance.at("program")},
+          {"training data",
+           data.own_training ? data.provenance.at("data") : data.provenance.at("training data")},
+          {"model", config.model},
+          {"epochs", std::to_string(config.epochs)},
+          {"batch", std::to_string(config.batch)},
+          {"learning rate", fmt::format("{:g}", config.learning_rate)},
+          {"schedule", config.schedule},
+          {"validate every", std::to_string(config.validate_every)},
+          {"patience", std::to_string(config.patience)},
+          {"min improvement", fmt::format("{:g}", config.min_improvement)},
+          {"seed", std::to_string(config.seed)},
+          {"device", resolve_device(config.device, "--device")}};
+}
 
 LearnedSetup learned_setup(const RunConfig& config, const Dataset& source) {
   LearnedSetup s;
@@ -97,7 +117,7 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
                            const Reconstruction& reconstruction, const NoisyFrames& noisy) {
   const RunConfig& config = context.config;
   LearnedResults out;
-  const LearnedModel model = trained_model(context, augment, setup, data.source);
+  const LearnedModel model = trained_model(context, augment, setup, data);
   out.training = training_summary(model, model_path(context, augment), setup);
   const TrainingSummary& summary = out.training;
   if (model.info().electrodes != data.data.electrodes)

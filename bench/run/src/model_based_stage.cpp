@@ -153,13 +153,16 @@ MethodResults tune_and_score(const Context& context, const std::string& name, co
 MethodResults run_model_based(const Context& context, const std::string& name, const RunData& data,
                               const Reconstruction& reconstruction, const NoisyFrames& noisy) {
   const std::string stage = "method_" + name;
+  Provenance provenance = data.provenance;
+  provenance["method"] = name;
   MethodResults out;
-  if (context.cache.find(stage, [&](const nlohmann::json& j) { out = method_results_from(j); })) {
+  if (context.cache.find(stage, provenance,
+                         [&](const nlohmann::json& j) { out = method_results_from(j); })) {
     context.say(fmt::format("{}: resumed", name));
     return out;
   }
   out = tune_and_score(context, name, data, reconstruction, noisy);
-  context.cache.save(stage, to_json(out));
+  context.cache.save(stage, provenance, to_json(out));
   return out;
 }
 

@@ -1,32 +1,87 @@
 #include "stage_cache.h"
 
 #include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/methods/training_run.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench::run {
 namespace fs = std::filesystem;
+namespace {
 
-StageCache::StageCache(fs::path folder, bool resume) : folder_(std::move(folder)), resume_(resume) {
+// The provenance a record holds; empty when the record is missing, unreadable or from before
+// records had one.
+Provenance read_provenance(const nlohmann::json& record) {
+  Provenance p;
+  if (record.is_object() && record.contains("provenance") && record["provenance"].is_object())
+    for (const auto& [key, value] : record["provenance"].items())
+      if (value.is_string()) p[key] = value.get<std::string>();
+  return p;
+}
+
+nlohmann::json read_record(const fs::path& path) {
+  try {
+    return nlohmann::json::parse(read_file_bytes(path.string(), 1LL << 30));
+  } catch (const nlohmann::json::exception&) {
+  } catch (const InputError&) {
+  }
+  return nlohmann::json();
+}
+
+std::string why_again(const Provenance& stored, const Provenance& wanted) {
+  return stored.empty() ? "it has no record of what made it"
+                        : "it was made with other " + differing_parts(stored, wanted);
+}
+
+}  // namespace
+
+StageCache::StageCache(fs::path folder, bool resume, Say say)
+    : folder_(std::move(folder)), resume_(resume), say_(std::move(say)) {
   fs::create_directories(folder_);
 }
 
-bool StageCache::find(const std::string& name,
+bool StageCache::find(const std::string& name, const Provenance& wanted,
                       const std::function<void(const nlohmann::json&)>& decode) const {
   const fs::path p = folder_ / (name + ".json");
   if (!resume_ || !fs::exists(p)) return false;
+  const nlohmann::json record = read_record(p);
+  const Provenance stored = read_provenance(record);
+  if (stored != wanted) {
+    say_(name + ": made again: " + why_again(stored, wanted));
+    return false;
+  }
   try {
-    decode(nlohmann::json::parse(read_file_bytes(p.string(), 1LL << 30)));
+    decode(record.at("value"));
     return true;
   } catch (const nlohmann::json::exception&) {
-    return false;
   } catch (const InputError&) {
-    return false;  // unreadable or empty: the stage runs again
   }
+  say_(name + ": made again: its record cannot be read");
+  return false;
 }
 
-void StageCache::save(const std::string& name, const nlohmann::json& value) const {
+void StageCache::save(const std::string& name, const Provenance& provenance,
+                      const nlohmann::json& value) const {
+  const nlohmann::json record = {{"provenance", provenance}, {"value", value}};
   write_text_atomically((folder_ / (name + ".json")).string(),
-                        [&](std::ostream& o) { o << value.dump() << '\n'; });
+                        [&](std::ostream& o) { o << record.dump() << '\n'; });
+}
+
+bool StageCache::claim_model(const std::string& label, const std::string& model_path,
+                             const Provenance& wanted) const {
+  const fs::path record = model_path + ".provenance.json";
+  const bool left = fs::exists(model_path) || fs::exists(checkpoint_path(model_path));
+  if (resume_ && fs::exists(record)) {
+    const Provenance stored = read_provenance(read_record(record));
+    if (stored == wanted) return true;
+    if (left) say_(label + ": trained again: " + why_again(stored, wanted));
+  } else if (resume_ && left) {
+    say_(label + ": trained again: " + why_again({}, wanted));
+  }
+  fs::remove(model_path);
+  fs::remove(checkpoint_path(model_path));
+  const nlohmann::json j = {{"provenance", wanted}};
+  write_text_atomically(record.string(), [&](std::ostream& o) { o << j.dump() << '\n'; });
+  return false;
 }
 
 }  // namespace eitbench::run

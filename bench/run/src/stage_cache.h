@@ -1,25 +1,40 @@
 #pragma once
 // Internal: the finished stages of a run, one JSON file each under <out>/stages/, so that
-// --resume skips them. A stage file that cannot be read or decoded is run again.
+// --resume skips them. Each file records the provenance of what it holds (provenance.h), and is
+// reused only when that matches this run's; otherwise the stage is made again and the log says
+// which parts differ. A stage file that cannot be read or decoded is made again too.
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "provenance.h"
+
 namespace eitbench::run {
 
 class StageCache {
  public:
-  StageCache(std::filesystem::path folder, bool resume);
-  // Decodes the stage `name` through `decode` when the run resumes and the stage finished;
-  // false otherwise (also when decode throws a JSON error: an older or damaged file).
-  bool find(const std::string& name,
+  using Say = std::function<void(const std::string&)>;
+  StageCache(std::filesystem::path folder, bool resume, Say say);
+  // Decodes the stage `name` through `decode` when the run resumes, the stage finished and its
+  // provenance is `wanted`; false otherwise.
+  bool find(const std::string& name, const Provenance& wanted,
             const std::function<void(const nlohmann::json&)>& decode) const;
-  void save(const std::string& name, const nlohmann::json& value) const;  // atomic
+  void save(const std::string& name, const Provenance& provenance,
+            const nlohmann::json& value) const;  // atomic
+
+  // A trained model's file and its checkpoint, with a record beside them of what they are
+  // trained for (<model>.provenance.json). True when the run resumes and the record matches:
+  // the model, if finished, and the checkpoint, if any, are this run's. Otherwise both are
+  // removed (saying why) and the record is written anew before training starts, so that nothing
+  // made for another configuration is ever picked up.
+  bool claim_model(const std::string& label, const std::string& model_path,
+                   const Provenance& wanted) const;
 
  private:
   std::filesystem::path folder_;
   bool resume_;
+  Say say_;
 };
 
 }  // namespace eitbench::run

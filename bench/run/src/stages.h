@@ -48,6 +48,7 @@ struct RunData {
   ReferenceCalibration calibration;  // of the test frames, when !own_training
   std::vector<double> snrs;          // the SNRs evaluated (the data's own for measured frames)
   std::string data_path;             // where the evaluated data came from
+  Provenance provenance;             // what every stage's results depend on (provenance.h)
   // The sensor the methods are set up for: that of the data that tune and train them.
   const Dataset& sensor() const { return own_training ? data : source; }
 };
@@ -93,6 +94,8 @@ struct LearnedSetup {
   double gemm_flops = 0;  // float32 matrix-product FLOP/s of this machine (CPU; 0: not measured)
 };
 LearnedSetup learned_setup(const RunConfig& config, const Dataset& source);
+// What a trained model depends on: the training data and every training option.
+Provenance training_provenance(const RunConfig& config, const RunData& data);
 // How a model was trained, from the record its file keeps (path names it in errors): history,
 // best round, convergence, throughput and its fraction of the GEMM peak.
 TrainingSummary training_summary(const LearnedModel& model, const std::string& path,

@@ -51,10 +51,13 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
   o.steps = steps;
   if (p.budget == "equal_steps") o.patience = 0;  // exactly those steps (the best round kept)
   TrainingRun run;
-  run.out = (context.out / "models" / (name + ".pt")).string();
-  run.resume = context.config.resume && fs::exists(checkpoint_path(run.out));
-  run.quiet = context.config.quiet;
   run.label = fmt::format("sweep {} {} n={}", p.augment, p.budget, p.train_size);
+  run.out = (context.out / "models" / (name + ".pt")).string();
+  Provenance provenance = training_provenance(context.config, data);
+  provenance["point"] = name, provenance["steps"] = std::to_string(steps);
+  run.resume = context.cache.claim_model(run.label, run.out, provenance) &&
+               fs::exists(checkpoint_path(run.out));
+  run.quiet = context.config.quiet;
   run.curves = false;
   TrainingResult r =
       train_and_save(setup.network, o, labelled_frames(data.source, Split::train, p.train_size),
@@ -84,10 +87,13 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
     p.augment = augment, p.budget = budget, p.train_size = n;
     if (n == train_count && budget == "converged" && from_main_run(main_runs, p)) return p;
     const std::string name = fmt::format("efficiency_{}_{}_{}", augment, budget, n);
-    if (!context.cache.find(name,
+    Provenance provenance = data.provenance;  // the test frames it is scored on, too
+    for (const auto& [key, value] : training_provenance(config, data)) provenance[key] = value;
+    provenance["steps"] = std::to_string(steps);
+    if (!context.cache.find(name, provenance,
                             [&](const nlohmann::json& j) { p = efficiency_point_from_json(j); })) {
       train_point(context, setup, data, reconstruction, steps, name, p);
-      context.cache.save(name, to_json(p));
+      context.cache.save(name, provenance, to_json(p));
     }
     return p;
   };

@@ -1,0 +1,86 @@
+#include "provenance.h"
+
+#include <fmt/core.h>
+
+#include <cstring>
+#include <fstream>
+
+#include "eitbench/jacobian/random.h"
+
+namespace eitbench::run {
+namespace {
+
+class Hasher {
+ public:
+  void add(std::uint64_t bits) { h_ = mix64(h_ ^ bits); }
+  void add(double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    add(bits);
+  }
+  void add(const std::string& text) {
+    add(static_cast<std::uint64_t>(text.size()));
+    std::uint64_t word = 0;
+    for (std::size_t k = 0; k < text.size(); ++k) {
+      word = (word << 8) | static_cast<unsigned char>(text[k]);
+      if (k % 8 == 7) add(word), word = 0;
+    }
+    add(word);
+  }
+  template <typename Matrix>
+  void add_matrix(const Matrix& m) {
+    add(static_cast<std::uint64_t>(m.rows())), add(static_cast<std::uint64_t>(m.cols()));
+    for (Eigen::Index k = 0; k < m.size(); ++k) add(static_cast<double>(m.data()[k]));
+  }
+  std::string hex() const { return fmt::format("{:016x}", h_); }
+
+ private:
+  std::uint64_t h_ = 0x9e3779b97f4a7c15ull;
+};
+
+}  // namespace
+
+std::string fingerprint(const Provenance& p) {
+  Hasher h;
+  for (const auto& [key, value] : p) h.add(key), h.add(value);
+  return h.hex();
+}
+
+std::string differing_parts(const Provenance& stored, const Provenance& wanted) {
+  std::vector<std::string> parts;
+  for (const auto& [key, value] : wanted) {
+    const auto it = stored.find(key);
+    if (it == stored.end() || it->second != value) parts.push_back(key);
+  }
+  for (const auto& [key, value] : stored)
+    if (!wanted.count(key)) parts.push_back(key);
+  std::string text;
+  for (const std::string& p : parts) text += (text.empty() ? "" : ", ") + p;
+  return text;
+}
+
+std::string content_hash(const Dataset& d) {
+  Hasher h;
+  h.add(static_cast<std::uint64_t>(d.electrodes)), h.add(d.radius), h.add(d.background);
+  h.add(d.contact_impedance), h.add(d.current), h.add(d.electrode_coverage);
+  h.add(static_cast<std::uint64_t>(d.image_size));
+  h.add_matrix(d.reference), h.add_matrix(d.frames), h.add_matrix(d.differences);
+  h.add_matrix(d.labels);
+  h.add(static_cast<std::uint64_t>(d.circles.size()));
+  for (const auto& list : d.circles) {
+    h.add(static_cast<std::uint64_t>(list.size()));
+    for (const Circle& c : list) h.add(c.x), h.add(c.y), h.add(c.r), h.add(c.conductivity);
+  }
+  for (Split s : d.split) h.add(static_cast<std::uint64_t>(s));
+  return h.hex();
+}
+
+std::string file_hash(const std::string& path) {
+  if (path.empty()) return "";
+  std::ifstream in(path, std::ios::binary);
+  Hasher h;
+  h.add(std::string(std::istreambuf_iterator<char>(in), {}));
+  return h.hex();
+}
+
+}  // namespace eitbench::run

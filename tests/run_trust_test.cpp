@@ -1,0 +1,189 @@
+// Runs that cannot lie: --resume reuses only what was made for the same data and options, one
+// writer per output folder, and a write that fails (disk full, a file-size limit) ends in exit 2
+// and its message, with nothing partial left and an existing output untouched.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <fstream>
+
+#include "cli_fixture.h"
+#include "eitbench/bench/report/results.h"
+
+namespace eitbench {
+namespace {
+
+// A small run: one model-based method, one learned model, two epochs (about 10 s). Its log says
+// what it resumes and what it makes again; kQuiet is the same run without a log.
+const std::string kSmall = "run --preset tiny --methods tikhonov --augment none --epochs 2";
+const std::string kQuiet = kSmall + " --quiet";
+
+std::string text_of(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+class RunTrust : public Cli {};
+
+// The measured failure: a tiny run's folder resumed by the quick preset re-simulated its data and
+// then reused every tiny stage and model. Now the folder's data set is checked first.
+TEST_F(RunTrust, ResumeOntoAnotherPresetsDataStops) {
+  ASSERT_EQ(run(kQuiet + " --out " + path("x")).exit_code, 0);
+  const std::string results = text_of(path("x/results.json"));
+  const Result r = run("run --preset quick --quiet --resume --out " + path("x"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("data.h5"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("preset tiny (this run: quick)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("choose a new --out"), std::string::npos) << r.output;
+  EXPECT_EQ(text_of(path("x/results.json")), results);
+}
+
+// Other options on the same data: every stage they touch is made again, none is reused, and the
+// run's fingerprint changes; the same options resume everything.
+TEST_F(RunTrust, ResumeWithOtherOptionsMakesStagesAgain) {
+  ASSERT_EQ(run(kQuiet + " --out " + path("x")).exit_code, 0);
+  const RunResults first = read_results_json(path("x/results.json"));
+  const std::string other =
+      "run --preset tiny --methods tikhonov --augment none --epochs 3 --threads 1";
+  const Result r = run(other + " --resume --out " + path("x"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("method_tikhonov: made again: it was made with other threads"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("dnn none: trained again: it was made with other epochs"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("resumed from"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("tikhonov: resumed"), std::string::npos) << r.output;
+  const RunResults second = read_results_json(path("x/results.json"));
+  EXPECT_NE(first.configuration.at("fingerprint"), second.configuration.at("fingerprint"));
+  const Result again = run(other + " --resume --out " + path("x"));
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("tikhonov: resumed"), std::string::npos) << again.output;
+  EXPECT_NE(again.output.find("dnn none: resumed from"), std::string::npos) << again.output;
+  EXPECT_EQ(read_results_json(path("x/results.json")).configuration.at("fingerprint"),
+            second.configuration.at("fingerprint"));
+}
+
+// A user's data set replaced by another between two runs: the stages are made again from it.
+TEST_F(RunTrust, ResumeOnOtherUserDataMakesStagesAgain) {
+  ASSERT_EQ(run("simulate --preset tiny --quiet --seed 1 --out " + path("a.h5")).exit_code, 0);
+  ASSERT_EQ(run("simulate --preset tiny --quiet --seed 2 --out " + path("b.h5")).exit_code, 0);
+  ASSERT_EQ(run(kQuiet + " --data " + path("a.h5") + " --out " + path("x")).exit_code, 0);
+  const Result r = run(kSmall + " --resume --data " + path("b.h5") + " --out " + path("x"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("method_tikhonov: made again: it was made with other data"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("dnn none: trained again: it was made with other training data"),
+            std::string::npos)
+      << r.output;
+}
+
+// True while some process holds the folder's lock (the file keeps the last holder's PID after
+// it ends, so only the lock itself tells).
+bool locked(const std::string& lock_file) {
+  const int fd = ::open(lock_file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool held = ::flock(fd, LOCK_EX | LOCK_NB) != 0;
+  ::close(fd);
+  return held;
+}
+
+// A second writer into a folder, and a report of it, are refused with the holder's PID while the
+// first runs; the lock dies with its holder, even by SIGKILL.
+TEST_F(RunTrust, OneWriterPerFolder) {
+  ASSERT_EQ(run(kQuiet + " --out " + path("x")).exit_code, 0);
+  Result second{-1, ""}, report{-1, ""};
+  // Resumed with another epoch budget, it trains again: long enough to be caught at work.
+  const std::string longer =
+      "run --preset tiny --quiet --methods tikhonov --augment none --epochs 50 --resume";
+  ASSERT_TRUE(kill_when(longer + " --out " + path("x"), [&] {
+    if (!locked(path("x/.eitbench.lock"))) return false;
+    second = run(kQuiet + " --out " + path("x"));
+    report = run("report --quiet " + path("x"));
+    return true;
+  }));
+  EXPECT_EQ(second.exit_code, 2) << second.output;
+  EXPECT_NE(second.output.find("another eitbench (PID "), std::string::npos) << second.output;
+  EXPECT_EQ(report.exit_code, 2) << report.output;
+  EXPECT_NE(report.output.find("is writing to this folder"), std::string::npos) << report.output;
+  EXPECT_FALSE(locked(path("x/.eitbench.lock")));
+  const Result after = run(kQuiet + " --out " + path("x"));  // the killed run held it
+  EXPECT_EQ(after.exit_code, 0) << after.output;
+}
+
+// Commands whose writes are limited to `kib` KiB a file (RLIMIT_FSIZE through ulimit -f, in
+// 512-byte blocks, with SIGXFSZ ignored): a write past it fails with EFBIG, as on a full disk.
+class WriteFailures : public Cli {
+ protected:
+  Result limited(const std::string& args, int kib) const {
+    const std::string log = path("log.txt");
+    const std::string command = "sh -c \"trap '' XFSZ; ulimit -f " + std::to_string(kib * 2) +
+                                "; exec " + EITBENCH_CLI + " " + args + "\" > " + log + " 2>&1";
+    const int status = std::system(command.c_str());
+    return {WEXITSTATUS(status), text_of(log)};
+  }
+  // Exit 2 naming a file of the test's folder, no crash, nothing partial left, and an existing
+  // `file` as it was.
+  void expect_clean_failure(const std::string& args, const std::string& file, int kib) {
+    const bool existed = fs::exists(file);
+    const std::string before = existed ? text_of(file) : "";
+    const Result r = limited(args, kib);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find("error: " + dir_.string()), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("Segmentation"), std::string::npos) << r.output;
+    EXPECT_EQ(fs::exists(file), existed) << file;
+    if (existed) {
+      EXPECT_EQ(text_of(file), before) << file;
+    }
+    for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
+      EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
+          << entry.path() << " left by " << args;
+    }
+  }
+};
+
+TEST_F(WriteFailures, EveryWriterExitsCleanly) {
+  ASSERT_EQ(run("simulate --preset tiny --quiet --out " + path("t.h5")).exit_code, 0);
+  ASSERT_EQ(run(kQuiet + " --out " + path("x")).exit_code, 0);
+  ASSERT_EQ(
+      run("train --data " + path("t.h5") + " --steps 1 --quiet --out " + path("m.pt")).exit_code,
+      0);
+  // HDF5: a data set (streamed through the writing child), images, a Jacobian.
+  expect_clean_failure("simulate --preset tiny --quiet --out " + path("d.h5"), path("d.h5"), 64);
+  expect_clean_failure("simulate --preset tiny --quiet --out " + path("t.h5"), path("t.h5"), 64);
+  expect_clean_failure(
+      "reconstruct --method noser --png 0 --data " + path("t.h5") + " --out " + path("images.h5"),
+      path("images.h5"), 8);
+  expect_clean_failure("jacobian --conductivity 1 --out " + path("j.h5"), path("j.h5"), 64);
+  // CSV, a model and its checkpoint, PNG, the run's store and report.
+  expect_clean_failure("forward --conductivity 1 --out " + path("f.csv"), path("f.csv"), 1);
+  expect_clean_failure("train --data " + path("t.h5") + " --steps 1 --quiet --out " + path("m.pt"),
+                       path("m.pt"), 64);
+  expect_clean_failure("mesh --density coarse --png " + path("mesh.png"), path("mesh.png"), 4);
+  expect_clean_failure("report --quiet " + path("x"), path("x/report.md"), 4);
+  expect_clean_failure(kQuiet + " --resume --out " + path("x"), path("x/results.json"), 4);
+}
+
+// The measured case, on a real full disk: a 3 MB tmpfs in a mount namespace of its own. Skipped
+// where this process may not mount (not root, or no namespaces).
+TEST_F(WriteFailures, SimulateOntoAFullDisk) {
+  const std::string mount = path("small");
+  fs::create_directories(mount);
+  const std::string command = "unshare -m sh -c 'mount -t tmpfs -o size=3m tmpfs " + mount +
+                              " && " + EITBENCH_CLI + " simulate --preset quick --quiet --out " +
+                              mount + "/d.h5; echo \"exit $?\"; ls -A " + mount + "' > " +
+                              path("log.txt") + " 2>&1";
+  std::system(command.c_str());
+  const std::string log = text_of(path("log.txt"));
+  if (log.find("exit ") == std::string::npos) GTEST_SKIP() << "cannot mount a tmpfs: " << log;
+  EXPECT_NE(log.find("exit 2"), std::string::npos) << log;
+  EXPECT_NE(log.find("disk full?"), std::string::npos) << log;
+  EXPECT_EQ(log.find("d.h5\n", log.find("exit 2")), std::string::npos) << "a file was left:\n"
+                                                                       << log;
+}
+
+}  // namespace
+}  // namespace eitbench
