@@ -77,14 +77,16 @@ ShapeOptions options(ShapeForward forward) {
   return o;
 }
 
-// A circle's own frame (the shape model's, full) gives back the circle exactly; so does the
-// linear model on its own linear frame.
+// A circle's own frame gives back the circle exactly: the full model's, and the linear model's
+// made with the circle's Born intensity 2c / (2 - c), which the linear fit maps back to c.
 TEST(ShapeReconstructor, RecoversACircleFromItsOwnFrame) {
   const detail::ShapeModel model(*medium(), 0);
   const std::vector<double> truth = {0.35, -0.2, 0.18, 0.8};
   for (ShapeForward forward : {ShapeForward::linear, ShapeForward::full}) {
+    std::vector<double> made = truth;
+    if (forward == ShapeForward::linear) made[3] = 2 * truth[3] / (2 - truth[3]);
     const Eigen::VectorXd frame =
-        model.difference({truth.data()}, forward == ShapeForward::full, nullptr);
+        model.difference({made.data()}, forward == ShapeForward::full, nullptr);
     const ShapeReconstructor shape(medium(), options(forward));
     const ShapeFit fit = shape.fit_circles(frame);
     ASSERT_EQ(fit.circles.size(), 1u) << to_string(forward);
@@ -92,7 +94,7 @@ TEST(ShapeReconstructor, RecoversACircleFromItsOwnFrame) {
     EXPECT_NEAR(c.x, truth[0], 1e-4) << to_string(forward);
     EXPECT_NEAR(c.y, truth[1], 1e-4);
     EXPECT_NEAR(c.r, truth[2], 1e-4);
-    EXPECT_NEAR(1 - c.conductivity / kBackground, truth[3], 1e-3);
+    EXPECT_NEAR(1 - c.conductivity / kBackground, truth[3], 1e-3) << to_string(forward);
   }
 }
 
@@ -109,7 +111,9 @@ Eigen::VectorXd fem_frame(const std::vector<Circle>& circles) {
 }
 
 // A hard circle simulated by the FEM: the full model finds its centre within 2 % of R, the linear
-// one within 5 %.
+// one within 1 % (measured 0.0013 R and 0.0019 R). The linear fit's radius and intensity come
+// within 0.025 R and 0.1 of the truth only through the Born mapping (measured 0.187 and 0.857):
+// bounded at the physical range, the intensity was pinned near 1 and the radius grew instead.
 TEST(ShapeReconstructor, FindsAnFemCircle) {
   const std::vector<Circle> truth = {{-0.3, 0.4, 0.2, 0.01}};
   const Eigen::VectorXd frame = fem_frame(truth);
@@ -121,7 +125,9 @@ TEST(ShapeReconstructor, FindsAnFemCircle) {
     std::printf("%s: centre error %.4f R, radius %.3f (true 0.2), intensity %.3f (true 0.8)\n",
                 to_string(forward), error, fit.circles[0].r,
                 1 - fit.circles[0].conductivity / kBackground);
-    EXPECT_LT(error, forward == ShapeForward::full ? 0.02 : 0.05) << to_string(forward);
+    EXPECT_LT(error, forward == ShapeForward::full ? 0.02 : 0.01) << to_string(forward);
+    EXPECT_NEAR(fit.circles[0].r, 0.2, 0.025) << to_string(forward);
+    EXPECT_NEAR(1 - fit.circles[0].conductivity / kBackground, 0.8, 0.1) << to_string(forward);
   }
 }
 

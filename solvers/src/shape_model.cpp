@@ -70,25 +70,31 @@ Eigen::VectorXd ShapeModel::relative_sigma(const std::vector<const double*>& cir
   for (const double* p : circles)
     for (Eigen::Index k = 0; k < s.size(); ++k) {
       const int t = elements[static_cast<std::size_t>(k)];
-      const double d = std::hypot(centroids_(0, t) - p[0], centroids_(1, t) - p[1]);
-      s[k] *= 1 - p[3] * indicator(p[2], d, width_).h;
+      s[k] *= 1 - p[3] * indicator(p[2], distance(t, p), width_).h;
     }
   return s;
 }
 
 Eigen::MatrixXd ShapeModel::relative_sigma_jacobian(const std::vector<const double*>& circles,
-                                                    const std::vector<int>& elements) const {
+                                                    const std::vector<int>& elements,
+                                                    Eigen::VectorXd* s) const {
   const Eigen::Index n = static_cast<Eigen::Index>(elements.size());
   const Eigen::Index K = static_cast<Eigen::Index>(circles.size());
   Eigen::MatrixXd ds = Eigen::MatrixXd::Zero(n, kCircleParameters * K);
+  if (s) s->resize(n);
   std::vector<Indicator> h(static_cast<std::size_t>(K));
   std::vector<double> d(static_cast<std::size_t>(K));
   for (Eigen::Index row = 0; row < n; ++row) {
     const int t = elements[static_cast<std::size_t>(row)];
     for (Eigen::Index j = 0; j < K; ++j) {
       const double* p = circles[j];
-      d[j] = std::hypot(centroids_(0, t) - p[0], centroids_(1, t) - p[1]);
+      d[j] = distance(t, p);
       h[j] = indicator(p[2], d[j], width_);
+    }
+    if (s) {
+      double product = 1;
+      for (Eigen::Index j = 0; j < K; ++j) product *= 1 - circles[j][3] * h[j].h;
+      (*s)[row] = product;
     }
     for (Eigen::Index j = 0; j < K; ++j) {
       double others = 1;  // prod over i != j of (1 - c_i H_i)
@@ -115,8 +121,12 @@ Eigen::VectorXd ShapeModel::difference(const std::vector<const double*>& circles
   if (!full) {  // J0's columns of the support only: the rest multiply zeros
     const std::vector<int> near = support(circles);
     const Eigen::MatrixXd J = J0_(Eigen::all, near);
-    if (jacobian) *jacobian = sigma0 * (J * relative_sigma_jacobian(circles, near));
-    return sigma0 * (J * (relative_sigma(circles, near).array() - 1).matrix());
+    Eigen::VectorXd s;
+    if (jacobian)
+      *jacobian = sigma0 * (J * relative_sigma_jacobian(circles, near, &s));
+    else
+      s = relative_sigma(circles, near);
+    return sigma0 * (J * (s.array() - 1).matrix());
   }
   const Eigen::VectorXd s = relative_sigma(circles);
   const ForwardModel& model = *problem_.model;

@@ -5,6 +5,7 @@
 // of [cx, cy, r, c]: centre and radius in sensor units, c the touch's intensity on the label scale
 // (sigma = sigma_0 (1 - c) inside), so the image they draw is directly comparable with labels.
 #include <Eigen/Core>
+#include <cmath>
 #include <vector>
 
 #include "eitbench/solvers/linear_problem.h"
@@ -31,8 +32,11 @@ class ShapeModel {
   // The same on the listed elements only (rows in that order).
   Eigen::VectorXd relative_sigma(const std::vector<const double*>& circles,
                                  const std::vector<int>& elements) const;
+  // d s / d p on the listed elements; `s`, when given, gets relative_sigma there too, from the same
+  // indicator values (the transcendental functions are half of a linear fit's time).
   Eigen::MatrixXd relative_sigma_jacobian(const std::vector<const double*>& circles,
-                                          const std::vector<int>& elements) const;
+                                          const std::vector<int>& elements,
+                                          Eigen::VectorXd* s = nullptr) const;
   // d s / d p: triangles x 4K, by the chain rule through H.
   Eigen::MatrixXd relative_sigma_jacobian(const std::vector<const double*>& circles) const;
 
@@ -48,6 +52,12 @@ class ShapeModel {
                              Eigen::MatrixXd* jacobian) const;
 
  private:
+  // The distance from element t's centroid to the centre of circle p (sqrt, not hypot: the
+  // values are of order 1, and hypot's care for overflow cost a twentieth of a fit).
+  double distance(Eigen::Index t, const double* p) const {
+    const double dx = centroids_(0, t) - p[0], dy = centroids_(1, t) - p[1];
+    return std::sqrt(dx * dx + dy * dy);
+  }
   const LinearProblem& problem_;
   Eigen::Matrix2Xd centroids_;
   double width_;
