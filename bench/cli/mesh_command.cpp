@@ -37,6 +37,11 @@ std::function<void()> add_mesh_command(CLI::App& app) {
     fmt::print(
         "angles: smallest {:.2f} deg, largest {:.2f} deg; areas {:.3g} .. {:.3g} (total {:.6f})\n",
         q.min_angle_deg, q.max_angle_deg, q.min_area, q.max_area, areas.sum());
+    if (mesh.reoriented > 0)
+      fmt::print(
+          "orientation: {} of {} triangles were clockwise in {} and were turned "
+          "counter-clockwise (the same geometry)\n",
+          mesh.reoriented, q.triangles, args->mesh.file);
     if (!args->out.empty()) {
       write_text_atomically(args->out, [&](std::ostream& out) {
         write_msh(out, mesh, args->format == "2.2" ? MshVersion::v22 : MshVersion::v41);

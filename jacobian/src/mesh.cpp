@@ -80,8 +80,11 @@ MeshQuality measure_quality(const Mesh& mesh) {
 
 void normalize_mesh(Mesh& mesh) {
   const Eigen::VectorXd area = triangle_areas(mesh);
-  if (mesh.num_triangles() > 0 && (area.array() < 0).all())
-    mesh.triangles.col(1).swap(mesh.triangles.col(2));
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    if (area[t] < 0) {
+      std::swap(mesh.triangles(t, 1), mesh.triangles(t, 2));
+      ++mesh.reoriented;
+    }
 
   std::vector<int> used(mesh.num_nodes(), 0);
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
@@ -138,6 +141,24 @@ void check_areas(const Mesh& mesh, const std::string& source) {
       throw InputError(source, "triangle " + std::to_string(t),
                        "is inverted (clockwise while others are counter-clockwise)");
   }
+}
+
+// Counter-clockwise triangles that share an edge cross it in opposite directions; two that cross
+// it the same way lie on the same side of it, one over the other (a folded mesh, whose inverted
+// element normalize_mesh turned round).
+void check_folds(const Mesh& mesh, const std::string& source) {
+  std::map<std::pair<int, int>, int> crossed_by;  // directed edge -> triangle
+  for (int t = 0; t < mesh.num_triangles(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::pair<int, int> edge{mesh.triangles(t, k), mesh.triangles(t, (k + 1) % 3)};
+      const auto [it, added] = crossed_by.emplace(edge, t);
+      if (!added)
+        throw InputError(source, "triangle " + std::to_string(t),
+                         "overlaps triangle " + std::to_string(it->second) +
+                             " (both lie on the same side of their edge " +
+                             std::to_string(edge.first) + "-" + std::to_string(edge.second) +
+                             "): the mesh folds over itself");
+    }
 }
 
 // One piece, every node used (union-find over the triangles' edges).
@@ -206,6 +227,7 @@ void check_electrodes(const Mesh& mesh, const EdgeCounts& edges, const std::stri
 void validate_mesh(const Mesh& mesh, const std::string& source) {
   check_indices(mesh, source);
   check_areas(mesh, source);
+  check_folds(mesh, source);
   const auto edges = edge_counts(mesh.triangles);
   for (const auto& [edge, count] : edges)
     if (count > 2)

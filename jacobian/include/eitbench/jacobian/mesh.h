@@ -24,6 +24,9 @@ struct Mesh {
   Points nodes;
   Triangles triangles;
   std::vector<Electrode> electrodes;  // electrode e at index e, counter-clockwise
+  // Triangles a reader found clockwise and turned (EIDORS's meshes mix both orientations): what
+  // `eitbench mesh --mesh FILE` reports. The geometry is the same either way.
+  int reoriented = 0;
 
   int num_nodes() const { return static_cast<int>(nodes.rows()); }
   int num_triangles() const { return static_cast<int>(triangles.rows()); }
@@ -45,13 +48,15 @@ Eigen::Vector2d triangle_centroid(const Mesh& mesh, int t);
 MeshQuality measure_quality(const Mesh& mesh);
 
 // Checks what the solver relies on and throws InputError(source, field, ...) otherwise: indices in
-// range, every triangle with positive area, every electrode non-empty and on the boundary, no two
-// electrodes sharing a node, one connected piece. `source` names the file for the message.
+// range, every triangle counter-clockwise with positive area, no two triangles overlapping (an
+// edge crossed twice in the same direction: a folded mesh), every electrode non-empty and on the
+// boundary, no two electrodes sharing a node, one connected piece. `source` names the file.
 void validate_mesh(const Mesh& mesh, const std::string& source);
 
-// Makes every triangle counter-clockwise when all are clockwise (a surface meshed with its normal
-// along -z), and drops nodes that no triangle uses, renumbering electrodes to match.
-// A mesh with mixed orientation is left for validate_mesh to reject.
+// Turns every clockwise triangle counter-clockwise (counted in mesh.reoriented: a surface meshed
+// with its normal along -z, or EIDORS's mixed orientation), and drops nodes that no triangle uses,
+// renumbering electrodes to match. A triangle that was clockwise because the mesh folds over
+// itself then overlaps its neighbour, which validate_mesh refuses.
 void normalize_mesh(Mesh& mesh);
 
 }  // namespace eitbench
