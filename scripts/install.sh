@@ -16,6 +16,7 @@ packages=(
   libopenblas0-openmp    # the fast BLAS: ATLAS is 1.5-3x slower, pthread OpenBLAS fights OpenMP
   nlohmann-json3-dev     # the learned model's metadata and checkpoints
   libcli11-dev libfmt-dev libtbb-dev
+  gnuplot-nox            # the line plots (loss curves, data efficiency, touches); no X11
   libgtest-dev libbenchmark-dev
 )
 
@@ -34,8 +35,11 @@ fi
 echo "install.sh: installing ${#missing[@]} packages: ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 apt-get update -q
-# libgmsh-dev without its recommends (the Gmsh GUI); everything else as Debian recommends.
-others=()
-for p in "${missing[@]}"; do [ "$p" = libgmsh-dev ] || others+=("$p"); done
+# libgmsh-dev and gnuplot-nox without their recommends (the Gmsh GUI, gnuplot's manuals);
+# everything else as Debian recommends.
+others=() lean=()
+for p in "${missing[@]}"; do
+  case "$p" in libgmsh-dev | gnuplot-nox) lean+=("$p") ;; *) others+=("$p") ;; esac
+done
 if [ ${#others[@]} -gt 0 ]; then apt-get install -y -q "${others[@]}"; fi
-if [[ " ${missing[*]} " == *" libgmsh-dev "* ]]; then apt-get install -y -q --no-install-recommends libgmsh-dev; fi
+if [ ${#lean[@]} -gt 0 ]; then apt-get install -y -q --no-install-recommends "${lean[@]}"; fi

@@ -57,6 +57,11 @@ TEST_F(RunCli, TinyPresetWritesEveryOutput) {
         "loss_curves.png", "loss_curves.csv", "data_efficiency.png", "data_efficiency_re.png",
         "touch_centre_errors.png", "data.h5"})
     EXPECT_TRUE(fs::exists(dir / name)) << name;
+  // Each line plot is gnuplot's, with its data, its script and an SVG beside it.
+  for (const char* plot :
+       {"loss_curves", "data_efficiency", "data_efficiency_re", "touch_centre_errors"})
+    for (const char* ext : {".dat", ".gp", ".svg"})
+      EXPECT_TRUE(fs::exists(dir / (std::string(plot) + ext))) << plot << ext;
 
   // results.csv: tidy, one row per method x augmentation x SNR, the columns issue 7 names.
   std::ifstream csv(dir / "results.csv");
@@ -290,6 +295,28 @@ TEST_F(RunCli, ReportRedrawsTheRunFromItsStoredResults) {
   fs::remove(copy / "reconstructions.png");
   EXPECT_EQ(run("report " + copy.string()).exit_code, 0);
   EXPECT_FALSE(fs::exists(copy / "reconstructions.png"));
+  // Without gnuplot the line plots are left as data and scripts, and the report says how to draw
+  // them; a gnuplot that fails is an error that leaves none of its files.
+  for (const char* name : {"loss_curves.png", "loss_curves.svg", "loss_curves.dat"})
+    fs::remove(copy / name);
+  const std::string cli = EITBENCH_CLI;
+  const std::string log = path("gnuplot.log");
+  const int none = std::system(
+      ("PATH=/nonexistent " + cli + " report " + copy.string() + " > " + log + " 2>&1").c_str());
+  EXPECT_EQ(WEXITSTATUS(none), 0) << file_bytes(log);
+  EXPECT_NE(file_bytes(log).find("gnuplot is not installed"), std::string::npos) << file_bytes(log);
+  EXPECT_TRUE(fs::exists(copy / "loss_curves.dat"));
+  EXPECT_TRUE(fs::exists(copy / "loss_curves.gp"));
+  EXPECT_FALSE(fs::exists(copy / "loss_curves.png"));
+  const int failing = std::system(
+      ("EITBENCH_GNUPLOT=/bin/false " + cli + " report " + copy.string() + " > " + log + " 2>&1")
+          .c_str());
+  EXPECT_EQ(WEXITSTATUS(failing), 2) << file_bytes(log);
+  EXPECT_NE(file_bytes(log).find("gnuplot (/bin/false) failed"), std::string::npos)
+      << file_bytes(log);
+  EXPECT_FALSE(fs::exists(copy / "loss_curves.png"));
+  for (const auto& entry : fs::directory_iterator(copy))
+    EXPECT_EQ(entry.path().filename().string().find(".gnuplot"), std::string::npos) << entry.path();
   // Not a run: a message naming the file, exit 2, nothing written.
   const fs::path empty = path("empty");
   fs::create_directories(empty);
@@ -324,7 +351,8 @@ TEST(Results, JsonRoundTrip) {
   t.fraction_of_gemm_peak = 0.375;
   t.history.push_back({1, 1, 4, 64, 0.5, 0.25, 1e-3, 1.0, 64.0});
   r.training = {t};
-  r.efficiency = {{"none", "converged", 15, 6, 2, 0.01, 0.5, 0.9, true, 90, 2, 1e3, 0.25}};
+  r.efficiency = {
+      {"none", "converged", 15, 6, 2, 0.01, 0.5, 0.9, true, 90, 2, 1e3, 0.25, 0.125, 0.0625, 7}};
   r.recommendation = "Pick tv";
   const std::string path = (fs::temp_directory_path() / "eitbench_results_roundtrip.json").string();
   write_results_json(path, r);
@@ -350,6 +378,9 @@ TEST(Results, JsonRoundTrip) {
   EXPECT_TRUE(back.efficiency[0].converged);
   EXPECT_EQ(back.efficiency[0].samples_seen, 90);
   EXPECT_EQ(back.efficiency[0].fraction_of_gemm_peak, 0.25);
+  EXPECT_EQ(back.efficiency[0].cc_std, 0.125);
+  EXPECT_EQ(back.efficiency[0].re_std, 0.0625);
+  EXPECT_EQ(back.efficiency[0].frames, 7);
   EXPECT_EQ(back.recommendation, r.recommendation);
 }
 

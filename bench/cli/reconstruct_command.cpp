@@ -306,10 +306,13 @@ void write_pngs(const Args* args, const Selection& s, const Evaluation& result, 
       std::vector<double> truth(n), recon(n);
       for (int j = 0; j < n; ++j)
         truth[j] = s.labels(k, row * n + j), recon[j] = images(k, row * n + j);
-      f.series = {{{}, truth, "truth", {40, 160, 40}}, {{}, recon, args->method, {200, 90, 20}}};
+      f.series.resize(2);
+      f.series[0].y = truth, f.series[0].label = "truth", f.series[0].colour = {40, 160, 40};
+      f.series[1].y = recon, f.series[1].label = args->method;
     } else {
       const Eigen::VectorXd dv = s.frames.row(k).transpose();
-      f.series = {{{}, std::vector<double>(dv.data(), dv.data() + dv.size()), "dv", {200, 90, 20}}};
+      f.series.resize(1);
+      f.series[0].y.assign(dv.data(), dv.data() + dv.size()), f.series[0].label = "dv";
     }
     draw_sample_png(f, fmt::format("{}_{}.png", stem, k));
   }

@@ -55,8 +55,9 @@ std::function<void()> add_show_command(CLI::App& app) {
     f.x_label = "measurement (d < m)";
     f.y_label = "dv (V)";
     const Eigen::VectorXd dv = d.differences.row(i).transpose();
-    f.series.push_back(
-        {{}, std::vector<double>(dv.data(), dv.data() + dv.size()), "dv", {200, 90, 20}});
+    PlotSeries series;
+    series.y.assign(dv.data(), dv.data() + dv.size()), series.label = "dv";
+    f.series.push_back(series);
     draw_sample_png(f, args->out);
     fmt::print("wrote {}\n", args->out);
   };

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "eitbench/bench/report/figures.h"
+#include "eitbench/bench/report/gnuplot.h"
 
 namespace eitbench {
 namespace {
@@ -17,11 +18,12 @@ struct Line {
   const char* augment;
   const char* budget;
   const char* label;
-  std::array<int, 3> colour;
+  const char* key;  // the method's colour in every figure
+  bool dashed;
 };
-constexpr Line kLines[] = {{"none", "converged", "none, converged", {200, 90, 20}},
-                           {"d16", "converged", "d16, converged", {40, 160, 40}},
-                           {"d16", "equal_steps", "d16, none's steps", {130, 200, 230}}};
+constexpr Line kLines[] = {{"none", "converged", "none, converged", "dnn (none)", false},
+                           {"d16", "converged", "d16, converged", "dnn (d16)", false},
+                           {"d16", "equal_steps", "d16, none's steps", "dnn (d16)", true}};
 
 const EfficiencyPoint* find(const std::vector<EfficiencyPoint>& points, const std::string& augment,
                             const std::string& budget, int n) {
@@ -30,22 +32,30 @@ const EfficiencyPoint* find(const std::vector<EfficiencyPoint>& points, const st
   return nullptr;
 }
 
-void draw_metric(const std::vector<EfficiencyPoint>& points, bool cc, const std::string& path) {
+// Error bars: the standard error of the mean over the test frames, where the run kept it.
+bool draw_metric(const std::vector<EfficiencyPoint>& points, bool cc, const std::string& path) {
   LinePlot plot;
-  plot.title = cc ? "test CC against training-set size" : "test RE against training-set size";
+  plot.title = cc ? "test CC against training-set size (mean +- standard error over test frames)"
+                  : "test RE against training-set size (mean +- standard error over test frames)";
   plot.x_label = "training frames (before augmentation)";
-  plot.y_label = cc ? "CC" : "RE";
+  plot.y_label = cc ? "CC (correlation with the true image)" : "RE (relative error)";
   plot.log_x = true;
   for (const Line& line : kLines) {
     PlotSeries s;
-    s.label = line.label;
-    s.colour = line.colour;
+    s.label = line.label, s.key = line.key, s.dashed = line.dashed, s.points = true;
+    bool bars = true;
     for (const auto& p : points)
-      if (p.augment == line.augment && p.budget == line.budget)
-        s.x.push_back(p.train_size), s.y.push_back(cc ? p.cc : p.re);
+      if (p.augment == line.augment && p.budget == line.budget) {
+        const double mean = cc ? p.cc : p.re, sd = cc ? p.cc_std : p.re_std;
+        const double se = p.frames > 0 ? sd / std::sqrt(double(p.frames)) : 0.0;
+        s.x.push_back(p.train_size), s.y.push_back(mean);
+        s.low.push_back(mean - se), s.high.push_back(mean + se);
+        bars = bars && p.frames > 0;
+      }
+    if (!bars) s.low.clear(), s.high.clear();
     if (!s.x.empty()) plot.series.push_back(s);
   }
-  draw_plot_png(plot, path);
+  return write_plot(plot, path);
 }
 
 std::set<int> sizes_of(const std::vector<EfficiencyPoint>& points) {
@@ -100,11 +110,11 @@ void write_efficiency_section(std::ostream& o, const std::vector<EfficiencyPoint
     << "![Test RE against training-set size](data_efficiency_re.png)\n";
 }
 
-void draw_efficiency_figures(const std::vector<EfficiencyPoint>& points,
+bool draw_efficiency_figures(const std::vector<EfficiencyPoint>& points,
                              const std::string& folder) {
   const std::filesystem::path dir(folder);
-  draw_metric(points, true, (dir / "data_efficiency.png").string());
-  draw_metric(points, false, (dir / "data_efficiency_re.png").string());
+  const bool cc = draw_metric(points, true, (dir / "data_efficiency.png").string());
+  return draw_metric(points, false, (dir / "data_efficiency_re.png").string()) && cc;
 }
 
 }  // namespace eitbench

@@ -138,6 +138,9 @@ json to_json(const EfficiencyPoint& e) {
           {"test_mse", number(e.test_mse)},
           {"cc", number(e.cc)},
           {"re", number(e.re)},
+          {"cc_std", number(e.cc_std)},
+          {"re_std", number(e.re_std)},
+          {"frames", e.frames},
           {"converged", e.converged},
           {"samples_seen", e.samples_seen},
           {"best_epoch", e.best_epoch},
@@ -161,6 +164,10 @@ EfficiencyPoint efficiency_point_from_json(const json& e) {
   p.best_epoch = e.value("best_epoch", 0);
   p.training_samples_per_second = e.value("training_samples_per_second", 0.0);
   p.fraction_of_gemm_peak = e.value("fraction_of_gemm_peak", 0.0);
+  // And these, before the figures drew error bars.
+  p.cc_std = e.contains("cc_std") ? number(e.at("cc_std")) : 0.0;
+  p.re_std = e.contains("re_std") ? number(e.at("re_std")) : 0.0;
+  p.frames = e.value("frames", 0);
   return p;
 }
 

@@ -104,12 +104,20 @@ RunResults draw_run_report(const std::string& folder, bool quiet) {
   write_results_csv((dir / "results.csv").string(), results.rows);
   std::vector<std::pair<std::string, std::vector<TrainingRecord>>> curves;
   for (const auto& t : results.training) curves.emplace_back(t.augment, t.history);
-  write_loss_curves((dir / "loss_curves.csv").string(), (dir / "loss_curves.png").string(), curves);
-  if (!results.efficiency.empty() && can_draw_figures())
-    draw_efficiency_figures(results.efficiency, dir.string());
-  if (has_touch_scores(results.rows) && can_draw_figures())
-    draw_touch_figure(results.rows, headline_snr(results.rows),
-                      (dir / "touch_centre_errors.png").string());
+  // The line plots are gnuplot's: without it their data and scripts are written all the same.
+  bool drawn = write_loss_curves((dir / "loss_curves.csv").string(),
+                                 (dir / "loss_curves.png").string(), curves);
+  if (!results.efficiency.empty())
+    drawn = draw_efficiency_figures(results.efficiency, dir.string()) && drawn;
+  if (has_touch_scores(results.rows))
+    drawn = draw_touch_figure(results.rows, headline_snr(results.rows),
+                              (dir / "touch_centre_errors.png").string()) &&
+            drawn;
+  if (!drawn && !quiet)
+    fmt::print(
+        "gnuplot is not installed: the line plots are left as data (.dat) and scripts (.gp) in {}; "
+        "`apt-get install gnuplot-nox`, then `eitbench report {}` (or `gnuplot NAME.gp` there)\n",
+        folder, folder);
   write_report((dir / "report.md").string(), results);
   return results;
 }

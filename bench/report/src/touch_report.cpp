@@ -8,6 +8,7 @@
 #include <set>
 
 #include "eitbench/bench/report/figures.h"
+#include "eitbench/bench/report/gnuplot.h"
 
 namespace eitbench {
 namespace {
@@ -171,21 +172,16 @@ void write_touch_section(std::ostream& o, const std::vector<ResultRow>& rows, do
        "method](touch_centre_errors.png)\n";
 }
 
-void draw_touch_figure(const std::vector<ResultRow>& rows, double snr, const std::string& path) {
-  static const std::array<int, 3> colours[] = {
-      {200, 90, 20}, {40, 160, 40}, {30, 30, 200}, {160, 40, 160}, {20, 160, 200},
-      {90, 90, 90},  {0, 110, 230}, {150, 150, 0}, {60, 60, 140},  {120, 200, 120}};
+bool draw_touch_figure(const std::vector<ResultRow>& rows, double snr, const std::string& path) {
   LinePlot plot;
   plot.title = "share of true touches found within a centre distance, " + dB(snr);
-  plot.x_label = "centre error (x R)";
+  plot.x_label = "centre error (x R, the sensor radius)";
   plot.y_label = "share of true touches";
-  std::size_t k = 0;
   for (const ResultRow* r : scored_at(rows, snr)) {
     const TouchScores& t = r->touch;
     if (t.centre_error_quantiles.empty() || t.true_touches == 0) continue;
     PlotSeries s;
-    s.label = label(*r);
-    s.colour = colours[k++ % 10];
+    s.label = s.key = label(*r);
     const double share = static_cast<double>(t.matched) / t.true_touches;
     s.x.push_back(0), s.y.push_back(0);  // from the origin: no touch is found within 0
     for (std::size_t q = 0; q < t.centre_error_quantiles.size(); ++q) {
@@ -194,7 +190,7 @@ void draw_touch_figure(const std::vector<ResultRow>& rows, double snr, const std
     }
     plot.series.push_back(s);
   }
-  draw_plot_png(plot, path);
+  return write_plot(plot, path);
 }
 
 }  // namespace eitbench

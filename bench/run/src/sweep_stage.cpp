@@ -35,6 +35,7 @@ bool from_main_run(const RunResults& main_runs, EfficiencyPoint& p) {
         if (t.augment == p.augment) {
           copy_training(t, p.train_size, p);
           p.test_mse = row.mse, p.cc = row.cc, p.re = row.re;
+          p.cc_std = row.cc_std, p.re_std = row.re_std, p.frames = row.frames;
           return true;
         }
   return false;
@@ -67,6 +68,7 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
   const ResultRow row =
       evaluate_row(*method, data.test.frames, data.test.labels, reconstruction.grid, 0);
   p.test_mse = row.mse, p.cc = row.cc, p.re = row.re;
+  p.cc_std = row.cc_std, p.re_std = row.re_std, p.frames = row.frames;
   context.say(fmt::format("data efficiency: {} {}, n={}: {} steps{}, test CC {:.3f}, RE {:.3f}",
                           p.augment, p.budget, p.train_size, p.steps,
                           p.converged ? " (converged)" : "", p.cc, p.re));

@@ -14,7 +14,9 @@ namespace eitbench {
 std::string efficiency_headline(const std::vector<EfficiencyPoint>& points);
 // report.md's section: the headline, the table, the figures.
 void write_efficiency_section(std::ostream& out, const std::vector<EfficiencyPoint>& points);
-// data_efficiency.png (CC) and data_efficiency_re.png (RE) in `folder`.
-void draw_efficiency_figures(const std::vector<EfficiencyPoint>& points, const std::string& folder);
+// data_efficiency.png (CC) and data_efficiency_re.png (RE) in `folder`, drawn by gnuplot with
+// their data and scripts beside them (gnuplot.h); false when gnuplot is missing (data and scripts
+// only).
+bool draw_efficiency_figures(const std::vector<EfficiencyPoint>& points, const std::string& folder);
 
 }  // namespace eitbench

@@ -16,11 +16,16 @@ bool can_draw_figures();
 // The mesh's triangles, its electrodes in colour with their numbers, and the centre node, as a PNG.
 void draw_mesh_png(const Mesh& mesh, const std::string& path, int pixels = 900);
 
-// One curve of a line plot; colour as {blue, green, red}.
+// One curve of a line plot; colour as {blue, green, red} (OpenCV's plots), or by `key` in gnuplot's
+// (gnuplot.h: one colour per method across every figure).
 struct PlotSeries {
   std::vector<double> x, y;  // x empty: 0, 1, 2, ...
   std::string label;
   std::array<int, 3> colour{200, 90, 20};
+  std::string key;                // the series' method ("dnn (d16)"); empty: the label
+  bool dashed = false;            // a second line of the same method (training loss, equal steps)
+  bool points = false;            // mark each point
+  std::vector<double> low, high;  // error bars, one a point (empty: none)
 };
 
 // An image of an n x n pixel field (row-major, row 0 at the top) with a colour bar, beside a line

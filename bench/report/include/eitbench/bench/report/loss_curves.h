@@ -9,8 +9,9 @@
 
 namespace eitbench {
 
-// The loss curves of one run or several (label each), as CSV rows and a PNG.
-void write_loss_curves(
+// The loss curves of one run or several (label each), as CSV rows and a figure drawn by gnuplot
+// (gnuplot.h; its .dat and .gp beside it). False when gnuplot is missing (CSV, data, script).
+bool write_loss_curves(
     const std::string& csv_path, const std::string& png_path,
     const std::vector<std::pair<std::string, std::vector<TrainingRecord>>>& runs);
 

@@ -75,6 +75,8 @@ struct EfficiencyPoint {
   long long samples_seen = 0;
   int best_epoch = 0;
   double training_samples_per_second = 0, fraction_of_gemm_peak = 0;
+  double cc_std = 0, re_std = 0;  // over the test frames (0 in runs from before they were kept)
+  int frames = 0;                 // test frames scored
 };
 
 struct RunResults {

@@ -18,7 +18,8 @@ std::string touch_ranking(const std::vector<ResultRow>& rows, double snr);
 // report.md's section; nothing without touch scores.
 void write_touch_section(std::ostream& out, const std::vector<ResultRow>& rows, double snr);
 // touch_centre_errors.png: for each method at `snr`, the share of true touches found within a
-// centre distance, against that distance (x R), from the stored quantiles.
-void draw_touch_figure(const std::vector<ResultRow>& rows, double snr, const std::string& path);
+// centre distance, against that distance (x R), from the stored quantiles; drawn by gnuplot with
+// its data and script beside it (gnuplot.h), false when gnuplot is missing.
+bool draw_touch_figure(const std::vector<ResultRow>& rows, double snr, const std::string& path);
 
 }  // namespace eitbench
