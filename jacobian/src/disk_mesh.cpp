@@ -18,41 +18,15 @@
 
 #include "eitbench/jacobian/disk_mesh.h"
 #include "eitbench/jacobian/error.h"
+#include "gmsh_session.h"
 
 namespace eitbench {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-struct SizeSet {
-  double centre;    // element size at the centre
-  double boundary;  // on the rim, away from electrode edges
-  double edge;      // at the electrode edges, where the CEM current density is singular
-};
-
-SizeSet sizes_for(MeshDensity density) {
-  switch (density) {
-    case MeshDensity::coarse:
-      return {0.4, 0.2, 0.085};
-    case MeshDensity::medium:
-      return {0.095, 0.05, 0.018};
-    case MeshDensity::fine:
-      return {0.036, 0.019, 0.0065};
-  }
-  throw std::logic_error("unknown mesh density");
-}
-
-// Gmsh keeps global state: one mesher at a time, and always finalised.
-std::mutex gmsh_mutex;
-
-struct GmshSession {
-  GmshSession() {
-    gmsh::initialize(0, nullptr, false);
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::option::setNumber("General.Verbosity", 0);
-  }
-  ~GmshSession() { gmsh::finalize(); }
-};
+using detail::GmshSession;
+using detail::SizeSet;
 
 // A mesh of the sector in polar form, so that its images can be computed exactly.
 struct SectorMesh {
@@ -66,7 +40,7 @@ SectorMesh mesh_sector(const DiskMeshOptions& o, const SizeSet& h, double a, dou
   const double gap = kPi / o.electrodes;                          // sector angle
   const double half = kPi * o.electrode_coverage / o.electrodes;  // half the electrode's angle
 
-  std::lock_guard<std::mutex> lock(gmsh_mutex);
+  std::lock_guard<std::mutex> lock(detail::gmsh_mutex());
   GmshSession session;
   gmsh::model::add("sector");
   namespace geo = gmsh::model::geo;
@@ -298,7 +272,7 @@ Mesh generate_disk_mesh(const DiskMeshOptions& o) {
 
   const double R = o.radius;
   const double gap = kPi / L;
-  SizeSet h = sizes_for(o.density);
+  SizeSet h = detail::sizes_for(o.density);
   h = {h.centre * R * o.size_factor, h.boundary * R * o.size_factor, h.edge * R * o.size_factor};
   // At least one segment across each half electrode, so narrow electrodes are still resolved.
   h.edge = std::min(h.edge, R * kPi * o.electrode_coverage / L);

@@ -4,4 +4,5 @@
 #include "eitbench/augment/augmented_set.h"
 #include "eitbench/augment/impedance_map.h"
 #include "eitbench/augment/label_transform.h"
+#include "eitbench/augment/sensor_group.h"
 #include "eitbench/augment/symmetry.h"
