@@ -296,10 +296,14 @@ void require_sensor_symmetries(const std::vector<GroupElement>& elements, const 
     for (int e = 0; e < L; ++e) {
       const int j = wrap(g.mirror ? -e - g.rotation : e - g.rotation, L);
       if (const auto why = electrode_mismatch(l, *map, e, j, group.tolerance))
-        throw InputError(source, "electrode_" + std::to_string(e),
-                         head + fmt::format(": moved so that electrode 0 lands on electrode {}, "
-                                            "electrode {} should land on electrode {}, but {}",
-                                            target, e, j, *why));
+        throw InputError(
+            source, "electrode_" + std::to_string(e),
+            head +
+                fmt::format(": moved so that electrode 0's centre lands on electrode {}'s, ",
+                            target) +
+                (e == 0 ? "electrode 0 itself does not: "
+                        : fmt::format("electrode {} should land on electrode {}, but ", e, j)) +
+                *why);
     }
     const auto why = boundary_mismatch(l, *map, group.tolerance);
     throw InputError(source, "boundary",

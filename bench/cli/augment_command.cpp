@@ -4,6 +4,7 @@
 #include <limits>
 
 #include <memory>
+#include <optional>
 
 #include "commands.h"
 #include "eitbench/augment.h"
@@ -12,13 +13,15 @@
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/csv.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/msh_io.h"
 
 namespace eitbench::cli {
 
 std::function<void()> add_augment_command(CLI::App& app) {
   struct Args {
-    std::string in, out, group, element, order = "rotating", split = "train";
+    std::string in, out, group, element, order = "rotating", split = "train", mesh;
     int electrodes = 16;
+    SymmetrySearchOptions symmetry;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -37,7 +40,8 @@ std::function<void()> add_augment_command(CLI::App& app) {
   auto* group = cmd->add_option(
       "--group", args->group,
       "rotations | mirror | d16 | paper: each frame becomes |G| lines (rot:0..L-1, then "
-      "mirror:0..L-1), identity first");
+      "mirror:0..L-1), identity first; auto (with --mesh, its default): the sensor's own group, "
+      "found from the mesh");
   auto* element = cmd->add_option(
       "--element", args->element,
       "rot:S (rotation by S electrode steps: the touch turns by -S) or mirror:S (the mirror "
@@ -46,13 +50,29 @@ std::function<void()> add_augment_command(CLI::App& app) {
   cmd->add_option("--order", args->order, "order of full frames: rotating | ascending")
       ->capture_default_str()
       ->check(CLI::IsMember({"rotating", "ascending"}));
-  cmd->add_option("--electrodes", args->electrodes, "electrodes L")
+  auto* electrodes = cmd->add_option("--electrodes", args->electrodes, "electrodes L")
+                         ->capture_default_str()
+                         ->check(CLI::Range(4, 256));
+  cmd->add_option("--mesh", args->mesh,
+                  "CSV frames: the sensor's Gmsh mesh; its symmetry group is found and every "
+                  "element used must be in it")
+      ->excludes(electrodes);
+  cmd->add_option("--symmetry-tolerance", args->symmetry.relative_tolerance,
+                  "with --mesh: points match within this fraction of the median boundary segment")
       ->capture_default_str()
-      ->check(CLI::Range(4, 256));
+      ->check(CLI::Range(1e-6, 1.0));
   return [args, cmd] {
-    if (!cmd->count("--group") && !cmd->count("--element"))
-      throw InputError("augment", "", "give --group or --element");
+    if (args->group == "auto" && args->mesh.empty())
+      throw InputError("--group", "", "auto needs --mesh: the group is found from the sensor");
+    if (!cmd->count("--group") && !cmd->count("--element")) {
+      if (args->mesh.empty()) throw InputError("augment", "", "give --group or --element");
+      args->group = "auto";
+    }
     if (is_hdf5_file(args->in)) {
+      if (!args->mesh.empty())
+        throw InputError("--mesh", "",
+                         "applies to CSV frames: a data set is augmented by the group of the "
+                         "sensor it was simulated on");
       FileAugmentOptions o;
       o.group =
           cmd->count("--group") ? parse_group(args->group, "--group") : AugmentGroup::dihedral;
@@ -70,7 +90,9 @@ std::function<void()> add_augment_command(CLI::App& app) {
                  cmd->count("--group") ? args->group : args->element);
       return;
     }
-    const int L = args->electrodes;
+    std::optional<Mesh> mesh;
+    if (!args->mesh.empty()) mesh = read_msh_file(args->mesh);
+    const int L = mesh ? mesh->num_electrodes() : args->electrodes;
     const MeasurementOrder order = parse_order(args->order);
     const Eigen::MatrixXd frames = read_frames_csv(args->in, [&](std::size_t width, int line) {
       try {  // a width no frame has refuses the file at its first line
@@ -81,12 +103,25 @@ std::function<void()> add_augment_command(CLI::App& app) {
       return std::numeric_limits<std::size_t>::max();
     });
     const FrameLayout layout = frame_layout(frames.cols(), L, order, args->in);
+    const bool by_group = !args->group.empty(), automatic = args->group == "auto";
     const AugmentGroup kind =
-        cmd->count("--group") ? parse_group(args->group, "--group") : AugmentGroup::dihedral;
-    const std::vector<GroupElement> elements =
-        cmd->count("--group")
-            ? group_elements(kind, L)
-            : std::vector<GroupElement>{parse_element(args->element, L, "--element")};
+        by_group && !automatic ? parse_group(args->group, "--group") : AugmentGroup::dihedral;
+    std::vector<GroupElement> elements =
+        by_group ? (automatic ? std::vector<GroupElement>{} : group_elements(kind, L))
+                 : std::vector<GroupElement>{parse_element(args->element, L, "--element")};
+    if (mesh) {
+      const SensorGroup group = find_sensor_group(*mesh, args->symmetry, args->mesh);
+      if (automatic)
+        elements = group.frame_elements();
+      else if (kind == AugmentGroup::paper)
+        throw InputError("--group", "",
+                         "paper is the paper's column-reversal variant, not a symmetry of any "
+                         "sensor: give auto or a group of the sensor");
+      else
+        require_sensor_symmetries(elements, *mesh, group, args->mesh);
+      fmt::print("{}: symmetry group {} ({} element{})\n", args->mesh, group.name(), group.order(),
+                 group.order() == 1 ? ": the frames are copied as they are" : "s");
+    }
     const FrameSymmetry symmetry(L);
     const Eigen::Index k = static_cast<Eigen::Index>(elements.size());
     Eigen::MatrixXd out(frames.rows() * k, frames.cols());
@@ -96,7 +131,7 @@ std::function<void()> add_augment_command(CLI::App& app) {
             symmetry.apply(kind, elements[e], frames.row(i).transpose(), layout).transpose();
     write_frames_csv(args->out, out);
     fmt::print("wrote {} frames ({} x {}, {} layout) to {}\n", out.rows(), frames.rows(),
-               cmd->count("--group") ? args->group : args->element, to_string(layout), args->out);
+               by_group ? args->group : args->element, to_string(layout), args->out);
   };
 }
 

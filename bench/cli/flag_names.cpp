@@ -22,6 +22,13 @@ Table operator+(Table a, const Table& b) {
 const Table kMesh = {{"DiskMeshOptions", "electrodes", "--electrodes"},
                      {"DiskMeshOptions", "radius", "--radius"},
                      {"MeshDensity", "name", "--density"}};
+// add_shape_options (options.cpp).
+const Table kShape = {{"ShapeMeshOptions", "electrodes", "--electrodes"},
+                      {"ShapeMeshOptions", "width", "--width"},
+                      {"ShapeMeshOptions", "height", "--height"},
+                      {"ShapeMeshOptions", "electrode_coverage", "--electrode-coverage"},
+                      {"ShapeMeshOptions", "electrode_positions", "--electrode-positions"},
+                      {"SensorShape", "name", "--shape"}};
 const Table kCoverage = {{"DiskMeshOptions", "electrode_coverage", "--electrode-coverage"}};
 // add_model_options (options.cpp).
 const Table kModel = {{"ForwardOptions", "current", "--current"},
@@ -59,14 +66,15 @@ const Table kTraining = {{"TrainingOptions", "steps", "--steps"},
 
 const std::map<std::string, Table>& tables() {
   static const std::map<std::string, Table> by_command = {
-      {"mesh", kMesh + kCoverage},
-      {"forward", kMesh + kCoverage + kModel},
+      {"mesh", kMesh + kCoverage + kShape},
+      {"forward", kMesh + kCoverage + kShape + kModel},
       {"jacobian", kMesh + kCoverage + kModel + Table{{"PixelGrid", "size", "--pixels"}}},
       {"simulate",
        {{"DiskMeshOptions", "electrodes", "--electrodes"},
         {"MeshDensity", "name", "--density"},
         {"ForwardOptions", "contact_impedance", "--contact-impedance"}}},
-      {"augment", kOrder},
+      {"augment",
+       kOrder + Table{{"SymmetrySearchOptions", "relative_tolerance", "--symmetry-tolerance"}}},
       {"import", kOrder},
       {"info", kOrder},
       {"reconstruct", kMesh + kOrder + kSolvers},

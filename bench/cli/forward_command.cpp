@@ -21,6 +21,7 @@ std::function<void()> add_forward_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "forward", "Simulate the measured voltages of a conductivity (complete electrode model)");
   add_mesh_options(*cmd, args->mesh);
+  add_shape_options(*cmd, args->mesh);
   add_conductivity_options(*cmd, args->sigma);
   add_model_options(*cmd, args->model);
   cmd->add_option("--out", args->out, "CSV file: the frame on one line")->required();

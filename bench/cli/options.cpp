@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/csv.h"
@@ -33,7 +34,7 @@ void add_mesh_options(CLI::App& app, MeshSource& s) {
   auto* mesh = app.add_option("--mesh", s.file,
                               "Gmsh mesh (.msh 2.2 or 4.1, ASCII) with electrode_0.. groups");
   auto* electrodes =
-      app.add_option("--electrodes", s.disk.electrodes, "electrodes L of a generated disk mesh")
+      app.add_option("--electrodes", s.disk.electrodes, "electrodes L of a generated mesh")
           ->capture_default_str()
           ->check(CLI::Range(4, 256));
   auto* density = app.add_option("--density", s.density, "coarse | medium | fine (generated mesh)")
@@ -49,10 +50,63 @@ void add_mesh_options(CLI::App& app, MeshSource& s) {
   for (auto* o : {electrodes, density, coverage, radius}) mesh->excludes(o);
 }
 
+void add_shape_options(CLI::App& app, MeshSource& s) {
+  auto* mesh = app.get_option("--mesh");
+  auto* shape = app.add_option("--shape", s.shape,
+                               "generate this sensor: disk | rectangle | ellipse (default: the "
+                               "D_L-symmetric disk of --radius)")
+                    ->check(CLI::IsMember({"disk", "rectangle", "ellipse"}));
+  auto* width = app.add_option("--width", s.other.width,
+                               "--shape: the rectangle's width or the ellipse's axis along x")
+                    ->capture_default_str()
+                    ->check(kPositive);
+  auto* height = app.add_option("--height", s.other.height,
+                                "--shape: the rectangle's height or the ellipse's axis along y")
+                     ->capture_default_str()
+                     ->check(kPositive);
+  auto* positions = app.add_option(
+      "--electrode-positions", s.positions,
+      "--shape: electrode centres as fractions of the perimeter, counter-clockwise from the +x "
+      "axis, \"f0,f1,...\" (default: (e + 1/2) / L; on a disk e / L)");
+  for (auto* o : {shape, width, height, positions}) mesh->excludes(o);
+  for (auto* o : {width, height, positions}) o->needs(shape);
+  app.get_option("--radius")->excludes(width)->excludes(height);
+}
+
+namespace {
+
+std::vector<double> parse_positions(const std::string& text) {
+  std::vector<double> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    double v = NAN;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+    }
+    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos)
+      throw InputError("--electrode-positions", "", "'" + item + "' is not a number");
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
 Mesh load_mesh(MeshSource& s) {
   if (!s.file.empty()) return read_msh_file(s.file);
   s.disk.density = parse_density(s.density);
-  return generate_disk_mesh(s.disk);
+  if (s.shape.empty()) return generate_disk_mesh(s.disk);
+  ShapeMeshOptions& o = s.other;
+  o.shape = parse_shape(s.shape);
+  o.electrodes = s.disk.electrodes;
+  o.density = s.disk.density;
+  o.electrode_coverage = s.disk.electrode_coverage;
+  if (o.shape == SensorShape::disk) o.width = o.height = 2 * s.disk.radius;
+  if (!s.positions.empty()) o.electrode_positions = parse_positions(s.positions);
+  return generate_shape_mesh(o);
 }
 
 void add_conductivity_options(CLI::App& app, ConductivitySource& s) {

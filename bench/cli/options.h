@@ -7,6 +7,7 @@
 
 #include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/jacobian.h"
+#include "eitbench/jacobian/shape_mesh.h"
 
 namespace eitbench::cli {
 
@@ -19,9 +20,15 @@ struct MeshSource {
   std::string file;  // --mesh
   DiskMeshOptions disk;
   std::string density = "medium";
+  // --shape and its sizes (add_shape_options): empty for the symmetric disk of `disk`.
+  std::string shape;
+  ShapeMeshOptions other;
+  std::string positions;  // --electrode-positions "f0,f1,..."
 };
 void add_mesh_options(CLI::App& app, MeshSource& source);
-Mesh load_mesh(MeshSource& source);  // a Gmsh file or a generated disk
+// --shape, --width, --height, --electrode-positions: for commands that work on any sensor.
+void add_shape_options(CLI::App& app, MeshSource& source);
+Mesh load_mesh(MeshSource& source);  // a Gmsh file, a generated shape or a generated disk
 
 struct ConductivitySource {
   double uniform = 0;       // --conductivity
