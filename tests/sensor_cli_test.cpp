@@ -54,6 +54,13 @@ TEST_F(SensorCli, MeshReportsTheGroupOfEachShape) {
             std::string::npos)
       << bad.output;
   EXPECT_NE(run("mesh --width 3").exit_code, 0);  // a size without a shape
+  const Result cache = run("mesh --shape rectangle --cache " + path("cache"));
+  EXPECT_EQ(cache.exit_code, 2);
+  EXPECT_EQ(cache.output.find("symmetry:"), std::string::npos) << "refused before meshing";
+  // The medium square: its mirror's axis is at 0 deg up to round-off, printed as 0.
+  const Result medium = run("mesh --shape rectangle");
+  EXPECT_NE(medium.output.find("mirror:1   mirror, axis at 0 deg "), std::string::npos)
+      << medium.output;
 }
 
 TEST_F(SensorCli, AugmentExpandsByTheSensorsGroupAndRefusesOthers) {

@@ -207,8 +207,9 @@ void SymmetrySearchOptions::validate() const {
 std::string Isometry::describe() const {
   const double turn = turn_of(*this) * 180 / kPi;
   const double angle = is_reflection() ? 0.5 * turn : turn, full = is_reflection() ? 180 : 360;
+  const bool zero = angle < 1e-6 || full - angle < 1e-6;  // round-off about the +x axis
   return fmt::format(is_reflection() ? "mirror, axis at {:.4g} deg" : "rotation by {:.4g} deg",
-                     full - angle < 1e-6 ? 0.0 : angle);
+                     zero ? 0.0 : angle);
 }
 
 bool SensorGroup::has_reflections() const {

@@ -63,6 +63,8 @@ std::function<void()> add_mesh_command(CLI::App& app) {
                   "also write the generated mesh into this folder under its options' name, "
                   "where a build without Gmsh reads it (EITBENCH_MESH_DIR)");
   return [args] {
+    if (!args->cache.empty() && (!args->mesh.file.empty() || !args->mesh.shape.empty()))
+      throw InputError("--cache", "", "keeps the generated symmetric disks only");
     const Mesh mesh = load_mesh(args->mesh);
     const MeshQuality q = measure_quality(mesh);
     const auto areas = triangle_areas(mesh);
@@ -85,8 +87,6 @@ std::function<void()> add_mesh_command(CLI::App& app) {
       fmt::print("wrote {}\n", args->out);
     }
     if (!args->cache.empty()) {
-      if (!args->mesh.file.empty() || !args->mesh.shape.empty())
-        throw InputError("--cache", "", "keeps the generated symmetric disks only");
       const std::string path = args->cache + "/" + disk_mesh_file_name(args->mesh.disk);
       write_text_atomically(path,
                             [&](std::ostream& out) { write_msh(out, mesh, MshVersion::v41); });
