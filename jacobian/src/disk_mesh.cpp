@@ -60,42 +60,15 @@ SectorMesh mesh_sector(const DiskMeshOptions& o, const SizeSet& h, double a, dou
   geo::mesh::setTransfiniteCurve(cap, 2);
   geo::synchronize();
 
-  namespace field = gmsh::model::mesh::field;
-  const int rim = field::add("Distance");
-  field::setNumbers(rim, "CurvesList", {double(electrode_arc), double(gap_arc)});
-  field::setNumber(rim, "NumPointsPerCurve", 200);
-  const int rim_size = field::add("Threshold");
-  field::setNumber(rim_size, "InField", rim);
-  field::setNumber(rim_size, "SizeMin", h.boundary);
-  field::setNumber(rim_size, "SizeMax", h.centre);
-  field::setNumber(rim_size, "DistMin", 0.0);
-  field::setNumber(rim_size, "DistMax", 0.45 * R);
-  const int edge = field::add("Distance");
-  field::setNumbers(edge, "PointsList", {double(p_edge)});
-  const int edge_size = field::add("Threshold");
-  field::setNumber(edge_size, "InField", edge);
-  field::setNumber(edge_size, "SizeMin", h.edge);
-  field::setNumber(edge_size, "SizeMax", h.centre);
-  field::setNumber(edge_size, "DistMin", 0.0);
-  field::setNumber(edge_size, "DistMax", 6.0 * (h.boundary - h.edge) + 0.1 * R);
+  const int rim_size = detail::distance_threshold({double(electrode_arc), double(gap_arc)}, {},
+                                                  h.boundary, h.centre, 0.45 * R);
+  const int edge_size = detail::distance_threshold({}, {double(p_edge)}, h.edge, h.centre,
+                                                   6.0 * (h.boundary - h.edge) + 0.1 * R);
   // Grade from the short cap edge G_0-E_0 to the centre size, or the angles next to it suffer.
   const double cap_side = 2 * b * std::sin(gap);
-  const int cap_corners = field::add("Distance");
-  field::setNumbers(cap_corners, "PointsList", {double(p_e0), double(p_g0)});
-  const int cap_size = field::add("Threshold");
-  field::setNumber(cap_size, "InField", cap_corners);
-  field::setNumber(cap_size, "SizeMin", cap_side);
-  field::setNumber(cap_size, "SizeMax", h.centre);
-  field::setNumber(cap_size, "DistMin", 0.0);
-  field::setNumber(cap_size, "DistMax", 3.0 * (h.centre - cap_side) + 1e-3 * R);
-  const int size = field::add("Min");
-  field::setNumbers(size, "FieldsList", {double(rim_size), double(edge_size), double(cap_size)});
-  field::setAsBackgroundMesh(size);
-  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-  gmsh::option::setNumber("Mesh.Algorithm", 6);  // frontal-Delaunay: the best angles in 2-D
-  gmsh::option::setNumber("Mesh.Smoothing", 5);
+  const int cap_size = detail::distance_threshold({}, {double(p_e0), double(p_g0)}, cap_side,
+                                                  h.centre, 3.0 * (h.centre - cap_side) + 1e-3 * R);
+  detail::use_size_fields({double(rim_size), double(edge_size), double(cap_size)});
   gmsh::model::mesh::generate(2);
 
   std::vector<std::size_t> node_tags, element_tags, element_nodes;

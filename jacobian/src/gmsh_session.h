@@ -2,6 +2,7 @@
 // Gmsh keeps global state: one mesher at a time in the process, always initialised quietly and
 // finalised. Every mesher holds gmsh_lock() for as long as it holds a GmshSession.
 #include <mutex>
+#include <vector>
 
 #include "eitbench/jacobian/disk_mesh.h"
 
@@ -23,5 +24,13 @@ struct SizeSet {
   double edge;      // at the electrode edges, where the CEM current density is singular
 };
 SizeSet sizes_for(MeshDensity density);
+
+// A Threshold field on the distance to `curves` (sampled at 200 points each) and `points`: size_min
+// there, growing linearly to size_max at dist_max. Returns its tag.
+int distance_threshold(const std::vector<double>& curves, const std::vector<double>& points,
+                       double size_min, double size_max, double dist_max);
+// The smallest of `fields` as the background size, alone deciding sizes, and the frontal-Delaunay
+// mesher (the best angles in 2-D) with smoothing.
+void use_size_fields(const std::vector<double>& fields);
 
 }  // namespace eitbench::detail

@@ -65,34 +65,12 @@ int electrode_of(double s0, double s1, const std::vector<double>& c, double w) {
 
 void set_sizes(const detail::SizeSet& h, double R, const std::vector<int>& curves,
                const std::vector<int>& edge_points) {
-  namespace field = gmsh::model::mesh::field;
-  std::vector<double> curve_list(curves.begin(), curves.end());
-  std::vector<double> point_list(edge_points.begin(), edge_points.end());
-  const int rim = field::add("Distance");
-  field::setNumbers(rim, "CurvesList", curve_list);
-  field::setNumber(rim, "NumPointsPerCurve", 200);
-  const int rim_size = field::add("Threshold");
-  field::setNumber(rim_size, "InField", rim);
-  field::setNumber(rim_size, "SizeMin", h.boundary);
-  field::setNumber(rim_size, "SizeMax", h.centre);
-  field::setNumber(rim_size, "DistMin", 0.0);
-  field::setNumber(rim_size, "DistMax", 0.45 * R);
-  const int edge = field::add("Distance");
-  field::setNumbers(edge, "PointsList", point_list);
-  const int edge_size = field::add("Threshold");
-  field::setNumber(edge_size, "InField", edge);
-  field::setNumber(edge_size, "SizeMin", h.edge);
-  field::setNumber(edge_size, "SizeMax", h.centre);
-  field::setNumber(edge_size, "DistMin", 0.0);
-  field::setNumber(edge_size, "DistMax", 6.0 * (h.boundary - h.edge) + 0.1 * R);
-  const int size = field::add("Min");
-  field::setNumbers(size, "FieldsList", {double(rim_size), double(edge_size)});
-  field::setAsBackgroundMesh(size);
-  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-  gmsh::option::setNumber("Mesh.Algorithm", 6);  // frontal-Delaunay, as the disk
-  gmsh::option::setNumber("Mesh.Smoothing", 5);
+  const int rim = detail::distance_threshold(std::vector<double>(curves.begin(), curves.end()), {},
+                                             h.boundary, h.centre, 0.45 * R);
+  const int edge =
+      detail::distance_threshold({}, std::vector<double>(edge_points.begin(), edge_points.end()),
+                                 h.edge, h.centre, 6.0 * (h.boundary - h.edge) + 0.1 * R);
+  detail::use_size_fields({double(rim), double(edge)});
 }
 
 // Gmsh's nodes, triangles and the line elements of each electrode's curves, as a Mesh.
