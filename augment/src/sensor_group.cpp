@@ -34,19 +34,12 @@ struct Layout {
 };
 
 void measure_boundary(const Mesh& mesh, Layout& out) {
-  std::map<std::pair<int, int>, int> edges;
-  for (int t = 0; t < mesh.num_triangles(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int u = mesh.triangles(t, k), v = mesh.triangles(t, (k + 1) % 3);
-      ++edges[{std::min(u, v), std::max(u, v)}];
-    }
   std::vector<double> lengths;
   std::vector<bool> on_boundary(static_cast<std::size_t>(mesh.num_nodes()), false);
-  for (const auto& [edge, count] : edges) {
-    if (count != 1) continue;
-    out.boundary.push_back({node(mesh, edge.first), node(mesh, edge.second)});
+  for (const auto& [u, v] : boundary_edges(mesh)) {
+    out.boundary.push_back({node(mesh, u), node(mesh, v)});
     lengths.push_back((out.boundary.back()[1] - out.boundary.back()[0]).norm());
-    on_boundary[edge.first] = on_boundary[edge.second] = true;
+    on_boundary[u] = on_boundary[v] = true;
   }
   for (int i = 0; i < mesh.num_nodes(); ++i)
     if (on_boundary[i]) out.boundary_nodes.push_back(node(mesh, i));
@@ -177,18 +170,13 @@ std::optional<std::vector<int>> electrode_permutation(const Layout& l, const Iso
   return perm;
 }
 
-int wrap(int i, int L) {
-  return ((i % L) + L) % L;
-}
-
-// The element of D_L (on indices) whose electrode map is `perm` (FrameSymmetry's convention: rot:s
-// sends electrode e to e - s, mirror:s sends it to -e - s), or nothing when there is none: the
+// The element of D_L (on indices) whose electrode map is `perm`, or nothing when there is none: the
 // electrodes are not numbered along the boundary.
 std::optional<GroupElement> index_element(const std::vector<int>& perm, bool mirror) {
   const int L = static_cast<int>(perm.size());
-  const GroupElement g{wrap(-perm[0], L), mirror};
+  const GroupElement g{(L - perm[0]) % L, mirror};  // the one sending electrode 0 to perm[0]
   for (int e = 0; e < L; ++e)
-    if (perm[e] != wrap(mirror ? -e - g.rotation : e - g.rotation, L)) return std::nullopt;
+    if (perm[e] != electrode_image(g, e, L)) return std::nullopt;
   return g;
 }
 
@@ -287,7 +275,7 @@ void require_sensor_symmetries(const std::vector<GroupElement>& elements, const 
         "element{})",
         g.to_string(), group.name(), group.order(), group.order() == 1 ? "" : "s");
     const Layout l = measure(mesh);
-    const int target = wrap(-g.rotation, L);  // where g sends electrode 0
+    const int target = electrode_image(g, 0, L);
     const auto map = candidate(l, target, g.mirror, group.tolerance);
     if (!map)
       throw InputError(source, "electrode_" + std::to_string(target),
@@ -295,7 +283,7 @@ void require_sensor_symmetries(const std::vector<GroupElement>& elements, const 
                                           "centroid than electrode 0",
                                           target));
     for (int e = 0; e < L; ++e) {
-      const int j = wrap(g.mirror ? -e - g.rotation : e - g.rotation, L);
+      const int j = electrode_image(g, e, L);
       if (const auto why = electrode_mismatch(l, *map, e, j, group.tolerance))
         throw InputError(
             source, "electrode_" + std::to_string(e),

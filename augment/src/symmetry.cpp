@@ -97,6 +97,10 @@ std::vector<GroupElement> group_elements(AugmentGroup group, int L) {
   return out;
 }
 
+int electrode_image(const GroupElement& g, int e, int L) {
+  return wrap(g.mirror ? -static_cast<long long>(e) - g.rotation : e - g.rotation, L);
+}
+
 Eigen::Vector2d transform_point(const Eigen::Vector2d& p, const GroupElement& g, int L) {
   const double y = g.mirror ? -p.y() : p.y();
   const double a = -2 * M_PI * g.rotation / L;

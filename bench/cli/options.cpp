@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <sstream>
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/csv.h"
@@ -64,36 +63,15 @@ void add_shape_options(CLI::App& app, MeshSource& s) {
                                 "--shape: the rectangle's height or the ellipse's axis along y")
                      ->capture_default_str()
                      ->check(kPositive);
-  auto* positions = app.add_option(
-      "--electrode-positions", s.positions,
-      "--shape: electrode centres as fractions of the perimeter, counter-clockwise from the +x "
-      "axis, \"f0,f1,...\" (default: (e + 1/2) / L; on a disk e / L)");
+  auto* positions = app.add_option("--electrode-positions", s.other.electrode_positions,
+                                   "--shape: electrode centres as fractions of the perimeter, "
+                                   "counter-clockwise from the +x "
+                                   "axis, \"f0,f1,...\" (default: (e + 1/2) / L; on a disk e / L)")
+                        ->delimiter(',');
   for (auto* o : {shape, width, height, positions}) mesh->excludes(o);
   for (auto* o : {width, height, positions}) o->needs(shape);
   app.get_option("--radius")->excludes(width)->excludes(height);
 }
-
-namespace {
-
-std::vector<double> parse_positions(const std::string& text) {
-  std::vector<double> out;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    double v = NAN;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-    }
-    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos)
-      throw InputError("--electrode-positions", "", "'" + item + "' is not a number");
-    out.push_back(v);
-  }
-  return out;
-}
-
-}  // namespace
 
 Mesh load_mesh(MeshSource& s) {
   if (!s.file.empty()) return read_msh_file(s.file);
@@ -105,7 +83,6 @@ Mesh load_mesh(MeshSource& s) {
   o.density = s.disk.density;
   o.electrode_coverage = s.disk.electrode_coverage;
   if (o.shape == SensorShape::disk) o.width = o.height = 2 * s.disk.radius;
-  if (!s.positions.empty()) o.electrode_positions = parse_positions(s.positions);
   return generate_shape_mesh(o);
 }
 

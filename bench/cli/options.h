@@ -22,8 +22,7 @@ struct MeshSource {
   std::string density = "medium";
   // --shape and its sizes (add_shape_options): empty for the symmetric disk of `disk`.
   std::string shape;
-  ShapeMeshOptions other;
-  std::string positions;  // --electrode-positions "f0,f1,..."
+  ShapeMeshOptions other;  // its electrode_positions: --electrode-positions f0,f1,...
 };
 void add_mesh_options(CLI::App& app, MeshSource& source);
 // --shape, --width, --height, --electrode-positions: for commands that work on any sensor.

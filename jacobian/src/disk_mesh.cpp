@@ -200,26 +200,17 @@ Mesh to_mesh(const std::vector<std::array<double, 2>>& nodes,
 // Electrode e: the rim segments whose midpoint lies within its arc, sorted counter-clockwise.
 // The electrode edges are nodes, so every rim segment is either wholly under an electrode or
 // wholly in a gap.
-void assign_electrodes(Mesh& mesh, const std::vector<std::array<int, 3>>& triangles, int L,
-                       double coverage) {
+void assign_electrodes(Mesh& mesh, int L, double coverage) {
   const double gap = kPi / L, half = kPi * coverage / L;
   mesh.electrodes.resize(L);
-  std::map<std::pair<int, int>, int> edge_count;
-  for (const auto& t : triangles)
-    for (int k = 0; k < 3; ++k) {
-      int u = t[k], v = t[(k + 1) % 3];
-      ++edge_count[{std::min(u, v), std::max(u, v)}];
-    }
-  for (const auto& [edge, count] : edge_count) {
-    if (count != 1) continue;
+  for (const auto& edge : boundary_edges(mesh)) {
     const Eigen::Vector2d mid =
-        0.5 * (mesh.nodes.row(edge.first) + mesh.nodes.row(edge.second)).transpose();
+        0.5 * (mesh.nodes.row(edge[0]) + mesh.nodes.row(edge[1])).transpose();
     const double theta = std::atan2(mid.y(), mid.x());
     const int e = static_cast<int>(std::lround(theta / (2 * gap))) % L;
     const int nearest = (e + L) % L;
     double offset = std::remainder(theta - 2 * gap * nearest, 2 * kPi);
-    if (std::abs(offset) < half)
-      mesh.electrodes[nearest].segments.push_back({edge.first, edge.second});
+    if (std::abs(offset) < half) mesh.electrodes[nearest].segments.push_back(edge);
   }
   for (auto& electrode : mesh.electrodes) {  // along the rim, counter-clockwise
     if (electrode.segments.empty())
@@ -270,7 +261,7 @@ Mesh generate_disk_mesh(const DiskMeshOptions& o) {
   const Replicas replicas = replicate_nodes(sector, L);
   std::vector<std::array<int, 3>> triangles = replicate_triangles(sector, replicas, L);
   Mesh mesh = to_mesh(replicas.nodes, triangles);
-  assign_electrodes(mesh, triangles, L, o.electrode_coverage);
+  assign_electrodes(mesh, L, o.electrode_coverage);
   return mesh;
 }
 

@@ -74,8 +74,15 @@ MeshQuality measure_quality(const Mesh& mesh) {
     q.min_area = std::min(q.min_area, area[t]);
     q.max_area = std::max(q.max_area, area[t]);
   }
-  for (const auto& [edge, count] : edge_counts(mesh.triangles)) q.boundary_segments += (count == 1);
+  q.boundary_segments = static_cast<int>(boundary_edges(mesh).size());
   return q;
+}
+
+std::vector<std::array<int, 2>> boundary_edges(const Mesh& mesh) {
+  std::vector<std::array<int, 2>> out;
+  for (const auto& [edge, count] : edge_counts(mesh.triangles))
+    if (count == 1) out.push_back({edge.first, edge.second});
+  return out;
 }
 
 void normalize_mesh(Mesh& mesh) {

@@ -29,15 +29,15 @@ std::vector<double> centres(const ShapeMeshOptions& o) {
 }
 
 std::vector<Breakpoint> breakpoints(const ShapeMeshOptions& o, const std::vector<double>& c) {
-  const double w = o.electrode_coverage / o.electrodes, a = o.width, b = o.height;
+  const double w = o.electrode_coverage / o.electrodes, W = o.width, H = o.height;
   std::vector<Breakpoint> out;
   for (double p : c)
     for (double end : {p - 0.5 * w, p + 0.5 * w}) out.push_back({end - std::floor(end), true});
-  const double P = 2 * (a + b);  // the rectangle's corners, or the ellipse's vertices
+  const double P = 2 * (W + H);  // the rectangle's corners, or the ellipse's vertices
   const std::vector<double> corners =
       o.shape == SensorShape::rectangle
-          ? std::vector<double>{0.5 * b / P, (0.5 * b + a) / P, (1.5 * b + a) / P,
-                                (1.5 * b + 2 * a) / P}
+          ? std::vector<double>{0.5 * H / P, (0.5 * H + W) / P, (1.5 * H + W) / P,
+                                (1.5 * H + 2 * W) / P}
           : std::vector<double>{0.0, 0.25, 0.5, 0.75};
   for (double s : corners) out.push_back({s, false});
   std::sort(out.begin(), out.end(), [](const auto& x, const auto& y) { return x.s < y.s; });

@@ -46,6 +46,9 @@ std::string to_string(AugmentGroup group);
 // The elements, identity first: rotations s = 0..L-1, then mirror:0..L-1 where the group has them.
 std::vector<GroupElement> group_elements(AugmentGroup group, int electrodes);
 
+// The electrode g moves electrode e onto (on the disk, where transform_point takes its centre):
+// e - S for rot:S, -e - S for mirror:S, mod L.
+int electrode_image(const GroupElement& g, int electrode, int electrodes);
 // Where g moves a point of the touch, and the circles of a parametric touch.
 Eigen::Vector2d transform_point(const Eigen::Vector2d& p, const GroupElement& g, int electrodes);
 std::vector<Circle> transform_circles(const std::vector<Circle>& circles, const GroupElement& g,

@@ -43,7 +43,10 @@ struct MeshQuality {
   double max_area = 0;
 };
 
-Eigen::VectorXd triangle_areas(const Mesh& mesh);  // signed: positive when counter-clockwise
+Eigen::VectorXd triangle_areas(const Mesh& mesh);
+// The edges that belong to one triangle only, each as (smaller node, larger node), in that order.
+std::vector<std::array<int, 2>> boundary_edges(
+    const Mesh& mesh);  // signed: positive when counter-clockwise
 Eigen::Vector2d triangle_centroid(const Mesh& mesh, int t);
 MeshQuality measure_quality(const Mesh& mesh);
 
