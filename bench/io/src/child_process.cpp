@@ -1,5 +1,6 @@
 #include "child_process.h"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -7,6 +8,7 @@
 #include <fmt/core.h>
 
 #include <cerrno>
+#include <cstdio>
 
 #include "eitbench/bench/io/sanitizers.h"
 #include "eitbench/jacobian/error.h"
@@ -45,6 +47,42 @@ bool write_all(int fd, const std::string& bytes) {
   write_all(fd, report);
   ::close(fd);
   ::_exit(code);
+}
+
+namespace {
+
+// libhdf5's C++ objects print their own failures to stderr as they are destroyed ("H5File::~H5File
+// - H5Fclose failed"): a writing child reports through its pipe, which would only repeat it.
+void quiet_stderr() {
+  const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+  if (null >= 0) ::dup2(null, STDERR_FILENO), ::close(null);
+}
+
+}  // namespace
+
+int fork_child(int fds[2], const std::function<std::string()>& work, bool quiet) {
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    const int error = errno;  // the caller may name it
+    ::close(fds[0]), ::close(fds[1]);
+    errno = error;
+    return -1;
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    if (quiet) quiet_stderr();
+    run_as_child(fds[1], work);
+  }
+  ::close(fds[1]);
+  return pid;
+}
+
+int wait_for(int pid) {
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return status;
 }
 
 std::string report_result(const std::string& path, std::string report, int status,

@@ -15,6 +15,15 @@ bool write_all(int fd, const std::string& bytes);
 // running the parent's exit handlers (libhdf5's among them: its state is the child's loss).
 [[noreturn]] void run_as_child(int fd, const std::function<std::string()>& work);
 
+// Forks a child that runs `work` through run_as_child, reporting on fds[1] (a pipe or a socket
+// pair, both close-on-exec), with its stderr silenced when `quiet`. Flushes stdio first, so that
+// nothing buffered is written twice. Returns the child's pid with fds[1] closed here, or -1 with
+// both closed (and errno kept) when no process could be made.
+int fork_child(int fds[2], const std::function<std::string()>& work, bool quiet);
+
+// The child's wait status, waited for through EINTR.
+int wait_for(int pid);
+
 // In the parent, from a report and the child's wait status: the bytes of a report '0', or the
 // InputError the child threw, thrown again here; a crash or anything else becomes an InputError
 // naming `path` that says the library `doing` ("reading the file", "writing the file") failed.

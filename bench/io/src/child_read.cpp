@@ -41,17 +41,8 @@ void set_child_read_base_limit(double seconds) {
 std::string read_in_child(const std::string& path, const std::function<std::string()>& read) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) return read();
-  std::fflush(nullptr);  // nothing buffered is written twice
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    ::close(fds[0]), ::close(fds[1]);
-    return read();
-  }
-  if (pid == 0) {
-    ::close(fds[0]);
-    run_as_child(fds[1], read);
-  }
-  ::close(fds[1]);
+  const int pid = fork_child(fds, read, false);
+  if (pid < 0) return read();
 
   const double limit = child_read_limit(path);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit);
@@ -76,9 +67,7 @@ std::string read_in_child(const std::string& path, const std::function<std::stri
   }
   ::close(fds[0]);
   if (timed_out) ::kill(pid, SIGKILL);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
+  const int status = wait_for(pid);
 
   if (timed_out)
     throw InputError(path, "",

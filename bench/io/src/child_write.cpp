@@ -28,13 +28,6 @@ std::string read_to_end(int fd) {
   }
 }
 
-int wait_for(int pid) {
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  return status;
-}
-
 bool read_exactly(int fd, char* out, std::size_t size) {
   std::size_t done = 0;
   while (done < size) {
@@ -85,33 +78,19 @@ std::string serve(int fd, const std::function<void(const std::string&)>& apply,
   }
 }
 
-// The child reports through its pipe. libhdf5's C++ objects print their own failures to stderr
-// as they are destroyed ("H5File::~H5File - H5Fclose failed"), which would only repeat it.
-void quiet_stderr() {
-  const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
-  if (null >= 0) ::dup2(null, STDERR_FILENO), ::close(null);
-}
-
 }  // namespace
 
 void write_in_child(const std::string& path, const std::function<void()>& write) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) return write();
-  std::fflush(nullptr);  // nothing buffered is written twice
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    ::close(fds[0]), ::close(fds[1]);
-    return write();
-  }
-  if (pid == 0) {
-    ::close(fds[0]);
-    quiet_stderr();
-    run_as_child(fds[1], [&] {
-      write();
-      return std::string();
-    });
-  }
-  ::close(fds[1]);
+  const int pid = fork_child(
+      fds,
+      [&] {
+        write();
+        return std::string();
+      },
+      true);
+  if (pid < 0) return write();
   std::string report = read_to_end(fds[0]);
   ::close(fds[0]);
   report_result(path, std::move(report), wait_for(pid), "writing the file");
@@ -123,21 +102,15 @@ ChildWriter::ChildWriter(std::string path, std::function<void()> open,
   int fds[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
     throw InputError(path_, "", "cannot start the writer: " + std::string(std::strerror(errno)));
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    ::close(fds[0]), ::close(fds[1]);
+  const int pid = fork_child(
+      fds,
+      [&] {
+        open();
+        return serve(fds[1], apply, close);
+      },
+      true);
+  if (pid < 0)
     throw InputError(path_, "", "cannot start the writer: " + std::string(std::strerror(errno)));
-  }
-  if (pid == 0) {
-    ::close(fds[0]);
-    quiet_stderr();
-    run_as_child(fds[1], [&] {
-      open();
-      return serve(fds[1], apply, close);
-    });
-  }
-  ::close(fds[1]);
   fd_ = fds[0], pid_ = pid;
 }
 
