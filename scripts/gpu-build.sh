@@ -40,7 +40,7 @@ echo "gpu-build.sh: LibTorch from $torch_prefix; Gmsh $gmsh, figures $figures, C
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_STANDARD="${CXX_STANDARD:-17}" \
   -DEITBENCH_WITH_GMSH=$gmsh -DEITBENCH_WITH_FIGURES=$figures -DEITBENCH_WITH_CERES=$ceres \
-  -DEITBENCH_BUILD_TESTS=OFF -DEITBENCH_BUILD_BENCHMARKS=OFF \
+  -DEITBENCH_BUILD_TESTS=OFF -DEITBENCH_BUILD_BENCHMARKS=OFF -DEITBENCH_INSTALL=OFF \
   ${libs:+-DCMAKE_EXE_LINKER_FLAGS="-Wl,-rpath-link,$libs"} ${EXTRA_CMAKE_ARGS:-}
 cmake --build "$build" --target eitbench -j "$(nproc)"
 

@@ -366,6 +366,31 @@ TEST(Trainer, BadInputIsRefused) {
   }
 }
 
+// The GPU options name their field, and the CPU, which has fp32 only and no graphs, refuses them.
+TEST(Trainer, GpuOptionsAreCheckedOnTheCpu) {
+  auto field_of = [](const TrainingOptions& o) {
+    try {
+      o.validate();
+    } catch (const InputError& e) {
+      return e.field();
+    }
+    return std::string("accepted");
+  };
+  TrainingOptions o;
+  EXPECT_EQ(field_of(o), "accepted");  // auto and auto: fp32, no graphs on the CPU
+  o.precision = "fp32", o.cuda_graphs = "off";
+  EXPECT_EQ(field_of(o), "accepted");
+  for (const char* bad : {"tf32", "bf16", "fp16"}) {
+    o.precision = bad;
+    EXPECT_EQ(field_of(o), "precision") << bad;
+  }
+  o.precision = "auto";
+  for (const char* bad : {"on", "yes"}) {
+    o.cuda_graphs = bad;
+    EXPECT_EQ(field_of(o), "cuda_graphs") << bad;
+  }
+}
+
 TEST(LearnedModel, CorruptBytesAreRefused) {
   const LearnedModel model(test_network(), 16, 1);
   const std::string bytes = model.to_bytes();

@@ -62,7 +62,9 @@ const Table kTraining = {{"TrainingOptions", "steps", "--steps"},
                          {"ScheduleOptions", "final_fraction", "--floor"},
                          {"NetworkOptions", "dropout", "--dropout"},
                          {"TrainingOptions", "resident", "--resident"},
-                         {"TrainingOptions", "resident_max_gib", "--resident-max-gib"}};
+                         {"TrainingOptions", "resident_max_gib", "--resident-max-gib"},
+                         {"TrainingOptions", "precision", "--precision"},
+                         {"TrainingOptions", "cuda_graphs", "--cuda-graphs"}};
 
 const std::map<std::string, Table>& tables() {
   static const std::map<std::string, Table> by_command = {

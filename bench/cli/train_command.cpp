@@ -64,6 +64,16 @@ void add_options(CLI::App* cmd, Args* args) {
                   "device memory the resident set may take, in GiB")
       ->capture_default_str()
       ->check(kPositive);
+  cmd->add_option("--precision", args->options.precision,
+                  "arithmetic on a GPU: fp32, tf32 (TF32 tensor-core products), bf16 (autocast), "
+                  "or auto (tf32 on a GPU, fp32 on the CPU, which has fp32 only)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "fp32", "tf32", "bf16"}));
+  cmd->add_option("--cuda-graphs", args->options.cuda_graphs,
+                  "capture the training step as a CUDA graph and replay it: auto (on a GPU with "
+                  "the resident set), on, off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   cmd->add_flag("--resume", args->resume,
                 "continue the interrupted run whose checkpoint is beside --out (OUT.checkpoint)");
   cmd->add_option("--out", args->out,

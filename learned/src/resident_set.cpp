@@ -35,8 +35,11 @@ torch::Tensor ResidentSet::upload(const std::vector<long long>& rows) const {
 
 std::pair<torch::Tensor, torch::Tensor> ResidentSet::batch(const torch::Tensor& rows,
                                                            long long start, long long end) const {
-  const auto picked = rows.narrow(0, start, end - start);
-  return {frames_.index_select(0, picked), labels_.index_select(0, picked)};
+  return gather(rows.narrow(0, start, end - start));
+}
+
+std::pair<torch::Tensor, torch::Tensor> ResidentSet::gather(const torch::Tensor& rows) const {
+  return {frames_.index_select(0, rows), labels_.index_select(0, rows)};
 }
 
 }  // namespace eitbench

@@ -32,6 +32,8 @@ class ResidentSet {
   // Frames and labels of rows[start, end), gathered on the device.
   std::pair<torch::Tensor, torch::Tensor> batch(const torch::Tensor& rows, long long start,
                                                 long long end) const;
+  // Frames and labels of every row in `rows` (int64, on the device).
+  std::pair<torch::Tensor, torch::Tensor> gather(const torch::Tensor& rows) const;
 
  private:
   torch::Device device_;

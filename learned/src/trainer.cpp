@@ -28,11 +28,22 @@ void TrainingOptions::validate() const {
     fail("resident", "must be auto, on or off, got '" + resident + "'");
   if (!(resident_max_gib > 0) || !std::isfinite(resident_max_gib))
     fail("resident_max_gib", "must be positive and finite");
+  std::string resolved;
   try {
-    resolve_device(device, "TrainingOptions");
+    resolved = resolve_device(device, "TrainingOptions");
   } catch (const InputError& e) {
     fail("device", e.message());
   }
+  if (precision != "auto" && precision != "fp32" && precision != "tf32" && precision != "bf16")
+    fail("precision", "must be auto, fp32, tf32 or bf16, got '" + precision + "'");
+  if (resolved == "cpu" && (precision == "tf32" || precision == "bf16"))
+    fail("precision", precision + " needs a CUDA device; the CPU trains in fp32");
+  if (cuda_graphs != "auto" && cuda_graphs != "on" && cuda_graphs != "off")
+    fail("cuda_graphs", "must be auto, on or off, got '" + cuda_graphs + "'");
+  if (cuda_graphs == "on" && resolved == "cpu")
+    fail("cuda_graphs", "CUDA graphs need a CUDA device");
+  if (cuda_graphs == "on" && resident == "off")
+    fail("cuda_graphs", "CUDA graphs need the resident training set (resident auto or on)");
 }
 
 Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledFrames train_set,
@@ -84,6 +95,9 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
   }
   if (train_size < 2) throw InputError("train", "split", "training needs at least 2 samples");
   if (choose_residency()) make_resident();
+  graphs = choose_graphs();
+  if (device.is_cuda())
+    cuda::set_math(resolve_precision(options.precision, device) != "fp32", true);
   const long long b = options.batch_size;
   steps_per_epoch = eitbench::steps_per_epoch(train_size, options.batch_size);
   steps_per_round = (options.validate_every + b - 1) / b;
@@ -231,7 +245,10 @@ TrainingRecord Trainer::run_round(const StepCallback& on_step) {
   long long samples = 0;
   // The batch losses add up on the device: reading one forces a device sync, so the sum is read
   // only when on_step is due (at most 64 times a round) and at the end of the round.
-  auto loss_sum = torch::zeros({}, torch::TensorOptions().dtype(torch::kFloat64).device(m.device));
+  if (!m.runner)
+    m.runner = std::make_unique<StepRunner>(m.net, *m.adam, m.options, m.device, m.graphs);
+  StepRunner& runner = *m.runner;
+  runner.reset_loss();
   const long long report_every = std::max<long long>(1, (steps + 63) / 64);
   double reported = 0;
   long long reported_steps = 0;
@@ -243,30 +260,26 @@ TrainingRecord Trainer::run_round(const StepCallback& on_step) {
       epoch = step_epoch, order = permutation(m.train_size, m.options.seed, epoch);
       if (m.resident) rows = m.resident_rows(epoch, order);
     }
-    torch::Tensor x, y;
     const long long index = step % m.steps_per_epoch;
+    rate = m.schedule->rate(step);
     if (m.resident) {
-      const long long b = m.options.batch_size, first = index * b;
-      std::tie(x, y) = m.resident->batch(rows, first, std::min(first + b, m.train_size));
+      const long long b = m.options.batch_size, first = index * b,
+                      end = std::min(first + b, m.train_size);
+      runner.step(*m.resident, rows, first, end, rate);
+      samples += end - first;
     } else {
       m.make_batch(epoch, order, index, frames, labels);
-      x = to_tensor(frames, m.device), y = to_tensor(labels, m.device);
+      runner.step(to_tensor(frames, m.device), to_tensor(labels, m.device), rate);
+      samples += frames.rows();
     }
-    rate = m.schedule->rate(step);
-    for (auto& group : m.adam->param_groups())
-      static_cast<torch::optim::AdamOptions&>(group.options()).lr(rate);
-    m.adam->zero_grad();
-    const auto loss = torch::mse_loss(m.net->forward(x), y);
-    loss.backward();
-    m.adam->step();
-    loss_sum += loss.detach().to(torch::kFloat64);
-    samples += x.size(0);
     if (on_step && ((s + 1) % report_every == 0 || s + 1 == steps)) {
-      const double total = loss_sum.item<double>();
+      const double total = runner.loss_sum().item<double>();
       on_step(s + 1, steps, (total - reported) / double(s + 1 - reported_steps));
       reported = total, reported_steps = s + 1;
     }
   }
+  runner.sync_optimizer();
+  const double loss_sum = runner.loss_sum().item<double>();  // waits for the round's last step
   TrainingRecord r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.round = m.rounds_done = round;
@@ -275,7 +288,7 @@ TrainingRecord Trainer::run_round(const StepCallback& on_step) {
   r.epoch = static_cast<int>((m.steps_done + m.steps_per_epoch - 1) / m.steps_per_epoch);
   r.steps = m.steps_done;
   r.samples = m.samples_done;
-  r.train_loss = loss_sum.item<double>() / double(steps);
+  r.train_loss = loss_sum / double(steps);
   r.learning_rate = rate;
   r.samples_per_second = r.seconds > 0 ? samples / r.seconds : 0;
   r.validation_loss = m.validate();

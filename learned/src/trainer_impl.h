@@ -11,6 +11,7 @@
 #include "eitbench/learned/trainer.h"
 #include "network.h"
 #include "resident_set.h"
+#include "train_step.h"
 
 namespace eitbench {
 
@@ -27,6 +28,8 @@ struct Trainer::Impl {
   std::uint64_t train_print = 0, validation_print = 0;
   torch::Device device = torch::kCPU;
   std::unique_ptr<ResidentSet> resident;  // the set on the device, when options.resident allows
+  bool graphs = false;                    // the step as a CUDA graph (options.cuda_graphs)
+  std::unique_ptr<StepRunner> runner;     // made at the first round (after a resume's load)
   int group_size = 1;
   Network net{nullptr}, best{nullptr};
   std::unique_ptr<torch::optim::Adam> adam;
@@ -48,6 +51,7 @@ struct Trainer::Impl {
        const LabelledFrames& validation, const AugmentSetup& sensor);
   void input_statistics();
   bool choose_residency() const;
+  bool choose_graphs() const;  // after residency is chosen
   void make_resident();
   // The rows of `order`'s samples in the resident set's layout, on the device.
   torch::Tensor resident_rows(int epoch, const std::vector<long long>& order) const;

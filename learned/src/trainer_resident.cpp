@@ -27,6 +27,18 @@ bool Trainer::Impl::choose_residency() const {
   throw InputError("TrainingOptions", "resident_max_gib", text);
 }
 
+// CUDA graphs replay the resident path's steps: they need a GPU, the set on it, and a build whose
+// LibTorch has CUDA (validate() has refused "on" without the first two).
+bool Trainer::Impl::choose_graphs() const {
+  if (options.cuda_graphs == "off" || !device.is_cuda()) return false;
+  if (resident && cuda::compiled()) return true;
+  if (options.cuda_graphs == "auto") return false;
+  throw InputError("TrainingOptions", "cuda_graphs",
+                   resident ? "this build's LibTorch has no CUDA graphs"
+                            : "CUDA graphs need the resident training set, which did not fit in "
+                              "resident_max_gib: raise it, or set cuda_graphs to auto or off");
+}
+
 // Every sample under every element, in expand_by_group's layout: from the expanded set (freed
 // afterwards: the device holds it now), or through the augmenter, which gives the on-the-fly
 // path's labels (the stored label for the identity).

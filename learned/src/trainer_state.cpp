@@ -65,7 +65,9 @@ nlohmann::json options_to_json(const TrainingOptions& o) {
           {"seed", o.seed},
           {"device", o.device},
           {"resident", o.resident},
-          {"resident_max_gib", o.resident_max_gib}};
+          {"resident_max_gib", o.resident_max_gib},
+          {"precision", o.precision},
+          {"cuda_graphs", o.cuda_graphs}};
 }
 
 TrainingOptions options_from_json(const nlohmann::json& j) {
@@ -88,6 +90,9 @@ TrainingOptions options_from_json(const nlohmann::json& j) {
   // Not in checkpoints before residency existed; it never changes the batches.
   o.resident = j.value("resident", o.resident);
   o.resident_max_gib = j.value("resident_max_gib", o.resident_max_gib);
+  // Nor these, before GPU training was tuned.
+  o.precision = j.value("precision", o.precision);
+  o.cuda_graphs = j.value("cuda_graphs", o.cuda_graphs);
   return o;
 }
 

@@ -45,6 +45,16 @@ struct TrainingOptions {
   // the training, are the same either way; it costs N |G| (inputs + pixels) 4 bytes.
   std::string resident = "auto";
   double resident_max_gib = 24;  // positive; "on" beyond it is an error, "auto" falls back
+  // Arithmetic on a GPU: "fp32" (float32 throughout), "tf32" (float32 storage, TF32 tensor-core
+  // products in matrix products and convolutions), "bf16" (autocast: products and convolutions
+  // in bfloat16; the loss, the optimiser and the weights in float32), or "auto": tf32 on a GPU,
+  // fp32 on the CPU. The CPU has fp32 only. cuDNN's benchmark mode is on for any GPU run.
+  std::string precision = "auto";
+  // The training step as a CUDA graph, captured once and replayed (a few hundred kernel launches
+  // become one): "on", "off", or "auto" (on for a GPU with the resident set). It needs both. Adam
+  // then runs on device tensors over the same state; dropout draws from the same generator, but
+  // not the same numbers as the eager step, so the two paths train alike, not bit for bit.
+  std::string cuda_graphs = "auto";
 
   // Throws InputError("TrainingOptions", field) for a value out of range or a device this
   // machine does not have, and ScheduleOptions::validate()'s error for the schedule.

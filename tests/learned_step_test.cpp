@@ -1,0 +1,115 @@
+// The GPU training step's arithmetic on the CPU: Adam on device tensors (adam_update, what a
+// replayed CUDA graph runs) against LibTorch's torch::optim::Adam, and the step runner's graph
+// path against its eager path. The capture itself needs a GPU (docs/gpu.md); what it replays is
+// this. Includes LibTorch and learned/'s internal train_step.h.
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include <algorithm>
+
+#include "learned_support.h"
+#include "train_step.h"
+
+namespace eitbench {
+namespace {
+
+using testing::test_network;  // dropout 0.1: both paths must draw the same masks
+
+// max |a - b| over max |a|, over every tensor of the lists.
+double relative_difference(const std::vector<torch::Tensor>& a,
+                           const std::vector<torch::Tensor>& b) {
+  double difference = 0, scale = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    difference = std::max(difference, (a[k] - b[k]).abs().max().item<double>());
+    scale = std::max(scale, a[k].abs().max().item<double>());
+  }
+  return difference / scale;
+}
+
+std::vector<torch::Tensor> detached(const std::vector<torch::Tensor>& params) {
+  std::vector<torch::Tensor> out;
+  for (const auto& p : params) out.push_back(p.detach().clone());
+  return out;
+}
+
+// Six steps under a changing learning rate, the same gradients for both (a function of the
+// parameters, so the trajectories would part if either step differed).
+TEST(TrainStep, AdamOnTensorsIsLibTorchsAdam) {
+  torch::manual_seed(3);
+  std::vector<torch::Tensor> a = {torch::randn({5, 3}), torch::randn({7})}, b;
+  for (auto& p : a) b.push_back(p.clone().requires_grad_()), p.requires_grad_();
+  const auto start = detached(a);
+  torch::optim::Adam reference(a, torch::optim::AdamOptions(1e-2));
+  torch::optim::Adam holder(b, torch::optim::AdamOptions(1e-2));
+  std::vector<torch::Tensor> exp_avg, exp_avg_sq;
+  for (const auto& p : b) {
+    auto& state = adam_state(holder, p);  // made here: holder has not stepped
+    EXPECT_EQ(state.step(), 0);
+    exp_avg.push_back(state.exp_avg()), exp_avg_sq.push_back(state.exp_avg_sq());
+  }
+  const auto step = torch::zeros({}, torch::kFloat64), lr = torch::zeros({}, torch::kFloat64);
+  for (int k = 1; k <= 6; ++k) {
+    const double rate = 1e-2 * k;
+    for (auto& p : a) p.mutable_grad() = torch::sin(3 * p.detach()) * k;
+    for (auto& p : b) p.mutable_grad() = torch::sin(3 * p.detach()) * k;
+    static_cast<torch::optim::AdamOptions&>(reference.param_groups()[0].options()).lr(rate);
+    reference.step();
+    lr.fill_(rate);
+    adam_update(b, exp_avg, exp_avg_sq, step, lr, 0.9, 0.999, 1e-8);
+  }
+  EXPECT_GT(relative_difference(start, detached(a)), 0.05);  // the parameters did move
+  EXPECT_LT(relative_difference(detached(a), detached(b)), 1e-6);
+  EXPECT_EQ(step.item<double>(), 6);
+  // The moments are Adam's own: the reference's state, found by adam_state, holds the same.
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    auto& state = adam_state(reference, a[k]);
+    EXPECT_EQ(state.step(), 6);  // found, not made anew
+    EXPECT_LT(relative_difference({state.exp_avg()}, {exp_avg[k]}), 1e-6);
+    EXPECT_LT(relative_difference({state.exp_avg_sq()}, {exp_avg_sq[k]}), 1e-6);
+  }
+}
+
+// The graph path's steps (Adam on tensors; eager on the CPU, replayed on a GPU) train the network
+// as the eager path's torch::optim::Adam does, dropout included, and leave Adam's step counters
+// where a checkpoint expects them.
+TEST(TrainStep, GraphPathTrainsAsTheEagerPath) {
+  TrainingOptions o;
+  o.batch_size = 16;
+  auto make = [] {
+    torch::manual_seed(5);
+    return Network(test_network());
+  };
+  Network eager_net = make(), graph_net = make();
+  torch::optim::Adam eager_adam(eager_net->parameters(), torch::optim::AdamOptions(1e-3));
+  torch::optim::Adam graph_adam(graph_net->parameters(), torch::optim::AdamOptions(1e-3));
+  StepRunner eager(eager_net, eager_adam, o, torch::kCPU, false);
+  StepRunner graph(graph_net, graph_adam, o, torch::kCPU, true);
+  ASSERT_TRUE(graph.graphs());
+  const auto start = detached(eager_net->parameters());
+  torch::manual_seed(11);
+  const auto x = torch::randn({8, 16, 104}), y = torch::rand({8, 16, 64 * 64});
+  for (int k = 0; k < 8; ++k) {
+    const double rate = 1e-3 * (1 + k % 3);
+    torch::manual_seed(100 + k);
+    eager.step(x[k], y[k], rate);
+    torch::manual_seed(100 + k);
+    graph.step(x[k], y[k], rate);
+  }
+  EXPECT_GT(relative_difference(start, detached(eager_net->parameters())), 1e-3);
+  // The networks compute the same function. Not every parameter agrees: the biases of the layers
+  // before a BatchNorm have gradients of rounding noise (the norm removes them), which Adam
+  // scales up to whole steps, so a last-bit difference between the two paths moves them apart
+  // without changing what the network computes.
+  torch::manual_seed(7);
+  const auto eager_images = eager_net->forward(x[0]);
+  torch::manual_seed(7);
+  const auto graph_images = graph_net->forward(x[0]);
+  EXPECT_LT(relative_difference({eager_images}, {graph_images}), 1e-5);
+  const double eager_loss = eager.loss_sum().item<double>();
+  EXPECT_NEAR(graph.loss_sum().item<double>(), eager_loss, 1e-6 * eager_loss);
+  graph.sync_optimizer();
+  for (const auto& p : graph_net->parameters()) EXPECT_EQ(adam_state(graph_adam, p).step(), 8);
+}
+
+}  // namespace
+}  // namespace eitbench
