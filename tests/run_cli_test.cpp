@@ -9,6 +9,7 @@
 #include "cli_fixture.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/report/efficiency.h"
+#include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/results.h"
 #include "eitbench/jacobian/error.h"
 
@@ -349,6 +350,7 @@ TEST(Results, JsonRoundTrip) {
   TrainingSummary t;
   t.augment = "d16", t.best_round = 1, t.best_epoch = 1, t.steps = 4, t.converged = true;
   t.fraction_of_gemm_peak = 0.375;
+  t.inference_device = "cuda:0", t.device_latency_ms = 0.5, t.device_frames_per_second = 7e4;
   t.history.push_back({1, 1, 4, 64, 0.5, 0.25, 1e-3, 1.0, 64.0});
   r.training = {t};
   r.efficiency = {
@@ -373,6 +375,9 @@ TEST(Results, JsonRoundTrip) {
   EXPECT_EQ(back.training[0].history[0].learning_rate, 1e-3);
   EXPECT_TRUE(back.training[0].converged);
   EXPECT_EQ(back.training[0].fraction_of_gemm_peak, 0.375);
+  EXPECT_EQ(back.training[0].inference_device, "cuda:0");
+  EXPECT_EQ(back.training[0].device_latency_ms, 0.5);
+  EXPECT_EQ(back.training[0].device_frames_per_second, 7e4);
   ASSERT_EQ(back.efficiency.size(), 1u);
   EXPECT_EQ(back.efficiency[0].test_mse, 0.01);
   EXPECT_TRUE(back.efficiency[0].converged);
@@ -382,6 +387,33 @@ TEST(Results, JsonRoundTrip) {
   EXPECT_EQ(back.efficiency[0].re_std, 0.0625);
   EXPECT_EQ(back.efficiency[0].frames, 7);
   EXPECT_EQ(back.recommendation, r.recommendation);
+}
+
+// A model timed on a GPU gets the report's GPU inference table; a CPU run's report has none.
+TEST(Report, GpuInferenceOnlyWhereMeasured) {
+  RunResults r;
+  ResultRow row;
+  row.method = "dnn", row.augment = "d16", row.snr_db = INFINITY, row.cc = 0.5, row.frames = 1;
+  r.rows = {row};
+  TrainingSummary t;
+  t.augment = "d16", t.best_round = 1, t.best_epoch = 1, t.steps = 4, t.converged = true;
+  t.history.push_back({1, 1, 4, 64, 0.5, 0.25, 1e-3, 1.0, 64.0});
+  r.training = {t};
+  const fs::path dir =
+      fs::temp_directory_path() / ("eitbench_gpu_report_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto report = [&] {
+    write_report((dir / "report.md").string(), r);
+    std::ifstream in(dir / "report.md");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(report().find("Inference on the GPU"), std::string::npos);
+  r.training[0].inference_device = "cuda:0";
+  r.training[0].device_latency_ms = 0.4125, r.training[0].device_frames_per_second = 68389;
+  const std::string text = report();
+  EXPECT_NE(text.find("Inference on the GPU"), std::string::npos) << text;
+  EXPECT_NE(text.find("| d16 | cuda:0 | 0.412 | 68389 |"), std::string::npos) << text;
+  fs::remove_all(dir);
 }
 
 TEST_F(RunCli, CompareFlagsRegressionsAndPassesAnIdenticalRun) {

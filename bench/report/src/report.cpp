@@ -196,6 +196,21 @@ void write_runtime(std::ostream& o, const RunResults& r, const Methods& methods,
   }
 }
 
+// Inference on the GPU the models trained on (the runtime table above is the CPU's).
+void write_device_inference(std::ostream& o, const RunResults& r) {
+  bool any = false;
+  for (const auto& t : r.training) any |= !t.inference_device.empty();
+  if (!any) return;
+  o << "\n### Inference on the GPU\n\nWall clock, frames from host memory and images back "
+       "to it, after a warm-up: one frame at a time (median of 200), and batches of 1,000 "
+       "frames.\n\n| augment | device | one frame (ms) | batches of 1,000 (frames/s) |\n"
+       "|---|---|---|---|\n";
+  for (const auto& t : r.training)
+    if (!t.inference_device.empty())
+      o << fmt::format("| {} | {} | {:.3f} | {:.0f} |\n", t.augment, t.inference_device,
+                       t.device_latency_ms, t.device_frames_per_second);
+}
+
 void write_training(std::ostream& o, const RunResults& r) {
   if (r.training.empty()) return;
   o << "\n## Training\n\nEach learned model trains until its validation MSE stops improving "
@@ -213,6 +228,7 @@ void write_training(std::ostream& o, const RunResults& r) {
                      t.seconds);
   }
   o << "\n![Training (light) and validation MSE against samples seen](loss_curves.png)\n";
+  write_device_inference(o, r);
 }
 
 }  // namespace

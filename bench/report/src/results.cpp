@@ -181,6 +181,9 @@ json to_json(const TrainingSummary& t) {
           {"seconds", t.seconds},
           {"training_samples_per_second", t.samples_per_second},
           {"fraction_of_gemm_peak", t.fraction_of_gemm_peak},
+          {"inference_device", t.inference_device},
+          {"device_latency_ms", t.device_latency_ms},
+          {"device_frames_per_second", t.device_frames_per_second},
           {"history", json::parse(history_to_json(t.history))}};
 }
 
@@ -200,6 +203,9 @@ TrainingSummary training_summary_from_json(const json& t, const std::string& sou
                              ? t.at("training_samples_per_second").get<double>()
                              : t.at("samples_per_second").get<double>();
   s.fraction_of_gemm_peak = t.value("fraction_of_gemm_peak", 0.0);
+  s.inference_device = t.value("inference_device", std::string());
+  s.device_latency_ms = t.value("device_latency_ms", 0.0);
+  s.device_frames_per_second = t.value("device_frames_per_second", 0.0);
   s.history = history_from_json(t.at("history").dump(), source);
   return s;
 }

@@ -1,12 +1,15 @@
 // Stage 4: the learned reconstructor, trained without and with augmentation, scored at each SNR.
 #include <fmt/core.h>
 
+#include <chrono>
+
 #include <nlohmann/json.hpp>
 
 #include "eitbench/bench/data/training_data.h"
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/methods/training_run.h"
+#include "eitbench/bench/support/timing.h"
 #include "eitbench/jacobian/error.h"
 #include "stages.h"
 
@@ -112,6 +115,38 @@ LearnedSetup learned_setup(const RunConfig& config, const Dataset& source) {
   return s;
 }
 
+namespace {
+
+// One frame at a time (median of 200) and batches of 1,000 frames on the GPU the model trained
+// on, host memory in and out, after a warm-up of each: the figures a GPU deployment would see.
+void time_device_inference(const LearnedModel& trained, const SampleMatrix& frames,
+                           const std::string& device, TrainingSummary& summary) {
+  if (device == "cpu" || frames.rows() == 0) return;
+  LearnedModel model = trained;
+  model.to_device(device);
+  using clock = std::chrono::steady_clock;
+  std::vector<double> one;
+  for (int k = 0; k < 220; ++k) {
+    const Eigen::VectorXd frame = frames.row(k % frames.rows()).transpose();
+    const auto t0 = clock::now();
+    (void)model.reconstruct(frame);
+    if (k >= 20)
+      one.push_back(std::chrono::duration<double, std::milli>(clock::now() - t0).count());
+  }
+  const Eigen::Index n = std::min<Eigen::Index>(1000, frames.rows());
+  const SampleMatrix batch = frames.topRows(n);
+  (void)model.reconstruct(batch, 1000);
+  const int repeats = 10;
+  const auto t0 = clock::now();
+  for (int k = 0; k < repeats; ++k) (void)model.reconstruct(batch, 1000);
+  const double seconds = std::chrono::duration<double>(clock::now() - t0).count();
+  summary.inference_device = model.device();
+  summary.device_latency_ms = percentile(one, 0.5);
+  summary.device_frames_per_second = repeats * double(n) / seconds;
+}
+
+}  // namespace
+
 LearnedResults run_learned(const Context& context, const std::string& augment,
                            const LearnedSetup& setup, const RunData& data,
                            const Reconstruction& reconstruction, const NoisyFrames& noisy) {
@@ -124,6 +159,14 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
     throw InputError(model_path(context, augment), "electrodes",
                      "the model does not fit the data's sensor");
   out.parameters = model.parameters();
+  time_device_inference(model, data.test.frames, resolve_device(config.device, "--device"),
+                        out.training);
+  if (!out.training.inference_device.empty())
+    context.say(
+        fmt::format("dnn {:>9} on {}: {:.3f} ms a frame, {:.0f} frames/s in batches of "
+                    "1,000",
+                    augment, out.training.inference_device, out.training.device_latency_ms,
+                    out.training.device_frames_per_second));
   const auto method = make_learned_reconstructor(model);
   for (std::size_t k = 0; k < data.snrs.size(); ++k) {
     SampleMatrix images;

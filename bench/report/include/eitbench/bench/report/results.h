@@ -56,6 +56,10 @@ struct TrainingSummary {
   double seconds = 0, samples_per_second = 0;
   // Training FLOP/s (3 forward passes a sample) over the machine's float32 GEMM peak.
   double fraction_of_gemm_peak = 0;
+  // Inference on the training device when it is a GPU (empty device: not measured): one frame's
+  // wall-clock median and batches of 1,000 frames, host memory in and out included.
+  std::string inference_device;
+  double device_latency_ms = 0, device_frames_per_second = 0;
 };
 nlohmann::json to_json(const TrainingSummary& summary);
 TrainingSummary training_summary_from_json(const nlohmann::json& j, const std::string& source);
