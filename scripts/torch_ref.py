@@ -1,6 +1,6 @@
 """Speed reference for eitbench's trainer (docs/gpu.md): the paper's MLP->CNN (as eitbench's `paper` and `small` presets define it) trained by plain PyTorch.
 Measures training throughput (samples/s) and batch-1 inference latency on whatever device is present.
-Usage: python3 torch_ref.py [cpu|cuda] [seconds per case]"""
+Usage: python3 torch_ref.py [cpu|cuda] [seconds per case] [eager|tuned|compiled] [SIZE:BATCH, e.g. paper:512: that case alone]"""
 import sys, time, torch, torch.nn as nn
 
 def model(size):
@@ -33,8 +33,9 @@ def main():
         if dev == "cuda": torch.cuda.synchronize()
     N = 20000
     X = torch.randn(N, 104, device=dev); Y = torch.rand(N, 4096, device=dev)
-    for size in ["small", "paper"]:
-        for batch in [128, 512]:
+    only = sys.argv[4].split(":") if len(sys.argv) > 4 else None
+    for size in ([only[0]] if only else ["small", "paper"]):
+        for batch in ([int(only[1])] if only else [128, 512]):
             for amp in ([False, True] if dev == "cuda" else [False]):
                 torch.manual_seed(0); m = model(size).to(dev); opt = torch.optim.Adam(m.parameters(), 1e-3)
                 fwd = torch.compile(m, mode="reduce-overhead") if mode == "compiled" else m
