@@ -2,14 +2,17 @@
 #include <H5Cpp.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "eitbench/augment.h"
 #include "eitbench/bench/data/augment_file.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/noise.h"
 #include "eitbench/bench/data/simulate.h"
+#include "eitbench/bench/data/training_data.h"
 #include "eitbench/jacobian.h"
 
 namespace eitbench {
@@ -57,6 +60,30 @@ TEST(Simulate, SplitsFollowTheCircleCounts) {
     EXPECT_EQ(d.split[i] == Split::train, !four) << i;
   }
   EXPECT_EQ(static_cast<int>(d.indices(Split::validation).size()), counts.validation);
+}
+
+// The data-efficiency sweep's subsets: a simulated set stores its training frames by touch count
+// (one touch first), so a subset must be drawn, not taken from the front, or every small size
+// trains on one-touch frames alone.
+TEST(TrainingSubset, DrawnNestedAndFromEveryTouchCount) {
+  const std::vector<int> train = tiny().indices(Split::train);
+  const auto twenty = subset_rows(train, 20, 1), forty = subset_rows(train, 40, 1);
+  ASSERT_EQ(twenty.size(), 20u);
+  EXPECT_TRUE(std::is_sorted(twenty.begin(), twenty.end()));
+  EXPECT_EQ(std::adjacent_find(twenty.begin(), twenty.end()), twenty.end());  // no repeats
+  EXPECT_TRUE(std::includes(forty.begin(), forty.end(), twenty.begin(), twenty.end()));
+  EXPECT_TRUE(std::includes(train.begin(), train.end(), forty.begin(), forty.end()));
+  EXPECT_EQ(subset_rows(train, 20, 1), twenty);  // the same seed, the same subset
+  EXPECT_NE(subset_rows(train, 20, 2), twenty);
+  EXPECT_EQ(subset_rows(train, 0, 1), train);
+  EXPECT_EQ(subset_rows(train, 1000, 1), train);
+  std::set<std::size_t> touches;
+  for (int row : twenty) touches.insert(tiny().circles[row].size());
+  EXPECT_EQ(touches, (std::set<std::size_t>{1, 2, 3}));
+  // labelled_frames takes those rows.
+  const LabelledFrames frames = labelled_frames(tiny(), Split::train, 20, 1);
+  ASSERT_EQ(frames.frames.rows(), 20);
+  for (int k = 0; k < 20; ++k) EXPECT_EQ(frames.frames.row(k), tiny().differences.row(twenty[k]));
 }
 
 TEST(Simulate, CirclesAreInsideAndApart) {

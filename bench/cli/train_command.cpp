@@ -128,7 +128,8 @@ void add_options(CLI::App* cmd, Args* args) {
                 "materialise every sample under every group element (an epoch sees all |G| N) "
                 "instead of one random element per sample and epoch");
   cmd->add_option("--train-size", args->train_size,
-                  "use the first N training samples only (data-efficiency studies)")
+                  "use N training samples only, drawn at random by --seed (nested: a smaller N "
+                  "draws a subset of a larger one)")
       ->check(CLI::Range(2, 1 << 30));
   cmd->add_option("--seed", args->options.seed, "seed of weights, batch order and augmentation")
       ->capture_default_str();
@@ -182,7 +183,8 @@ std::function<void()> add_train_command(CLI::App& app) {
     const Dataset data = read_dataset(args->data);
     if (!data.has_labels())
       throw InputError(args->data, "labels", "training needs labelled data (a simulated set)");
-    LabelledFrames train = labelled_frames(data, Split::train, args->train_size);
+    LabelledFrames train =
+        labelled_frames(data, Split::train, args->train_size, args->options.seed);
     const LabelledFrames validation = labelled_frames(data, Split::validation);
     if (train.frames.rows() == 0)
       throw InputError(args->data, "split", "the training split is empty");

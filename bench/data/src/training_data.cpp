@@ -1,10 +1,28 @@
 #include "eitbench/bench/data/training_data.h"
 
+#include <algorithm>
+
+#include "eitbench/jacobian/random.h"
+
 namespace eitbench {
 
-LabelledFrames labelled_frames(const Dataset& data, Split split, int limit) {
-  std::vector<int> rows = data.indices(split);
-  if (limit > 0 && static_cast<int>(rows.size()) > limit) rows.resize(limit);
+std::vector<int> subset_rows(std::vector<int> rows, int limit, std::uint64_t seed) {
+  if (limit <= 0 || static_cast<int>(rows.size()) <= limit) return rows;
+  // Fisher-Yates on the first `limit` places: the first n of one seed's shuffle, so a smaller
+  // subset lies inside a larger one.
+  RandomStream rng(seed, 0x5eb5e7ULL);
+  for (int k = 0; k < limit; ++k) {
+    const int left = static_cast<int>(rows.size()) - k;
+    const int pick = k + static_cast<int>(rng.next() % static_cast<std::uint64_t>(left));
+    std::swap(rows[k], rows[pick]);
+  }
+  rows.resize(limit);
+  std::sort(rows.begin(), rows.end());  // the data set's order within the subset
+  return rows;
+}
+
+LabelledFrames labelled_frames(const Dataset& data, Split split, int limit, std::uint64_t seed) {
+  const std::vector<int> rows = subset_rows(data.indices(split), limit, seed);
   const Eigen::Index n = static_cast<Eigen::Index>(rows.size());
   LabelledFrames out;
   out.background = data.background;

@@ -1,5 +1,6 @@
 // Stage 5: data efficiency, the paper's protocol (its Fig. 8). At each training-set size n, no
-// augmentation trains on the first n frames and D16 on the same n frames under the 32 elements of
+// augmentation trains on n frames drawn from the training split (labelled_frames: nested, by the
+// run's seed) and D16 on the same n frames under the 32 elements of
 // the group, both to convergence (early stopping; the main runs' step budget as the bound), so D16
 // sees its 32-fold set. A third model, D16 with exactly the optimiser steps no augmentation needed
 // at that n, separates what the data give from what the extra compute gives. At the whole
@@ -61,7 +62,8 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
   run.quiet = context.config.quiet;
   run.curves = false;
   TrainingResult r =
-      train_and_save(setup.network, o, labelled_frames(data.source, Split::train, p.train_size),
+      train_and_save(setup.network, o,
+                     labelled_frames(data.source, Split::train, p.train_size, context.config.seed),
                      labelled_frames(data.source, Split::validation), sensor_of(data.source), run);
   copy_training(training_summary(r.model, run.out, setup), p.train_size, p);
   const auto method = make_learned_reconstructor(r.model);
