@@ -18,6 +18,9 @@ namespace eitbench::run {
 namespace fs = std::filesystem;
 namespace {
 
+// How a size's frames are chosen (labelled_frames), in each point's provenance.
+constexpr const char* kSubsetRule = "n drawn from the training split by the seed, nested";
+
 void copy_training(const TrainingSummary& t, long long samples_per_epoch, EfficiencyPoint& p) {
   p.steps = t.steps;
   p.samples_seen = t.samples;
@@ -57,6 +60,7 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
   run.out = (context.out / "models" / (name + ".pt")).string();
   Provenance provenance = training_provenance(context.config, data);
   provenance["point"] = name, provenance["steps"] = std::to_string(steps);
+  provenance["subset"] = kSubsetRule;
   run.resume = context.cache.claim_model(run.label, run.out, provenance) &&
                fs::exists(checkpoint_path(run.out));
   run.quiet = context.config.quiet;
@@ -94,6 +98,8 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
     Provenance provenance = data.provenance;  // the test frames it is scored on, too
     for (const auto& [key, value] : training_provenance(config, data)) provenance[key] = value;
     provenance["steps"] = std::to_string(steps);
+    // Points made when a size took the split's first n frames are made again.
+    provenance["subset"] = kSubsetRule;
     if (!context.cache.find(name, provenance,
                             [&](const nlohmann::json& j) { p = efficiency_point_from_json(j); })) {
       train_point(context, setup, data, reconstruction, steps, name, p);
