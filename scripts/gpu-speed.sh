@@ -51,7 +51,7 @@ for v in $variants; do
   rounds=$(tr '\r' '\n' < "$out/$v.log" | grep ' round ' | grep -oE 'validation [0-9][0-9.e+-]*.*samples/s' || true)
   best=$(echo "$rounds" | awk '{print $2}' | sort -g | head -1)
   median=$(echo "$rounds" | tail -n +2 | awk '{print $(NF-1)}' | sort -n \
-    | awk '{r[NR] = $1} END {print NR ? (NR % 2 ? r[(NR + 1) / 2] : (r[NR / 2] + r[NR / 2 + 1]) / 2) : 0}')
+    | awk '{r[NR] = $1} END {printf "%.0f\n", NR ? (NR % 2 ? r[(NR + 1) / 2] : (r[NR / 2] + r[NR / 2 + 1]) / 2) : 0}')
   printf '| %s | `%s` | %.0f | %d.%03d | %s |\n' "$v" "${flags[$v]}" "$median" \
     $((wall / 1000)) $((wall % 1000)) "$best" >> "$summary"
   tail -1 "$summary"
@@ -61,7 +61,7 @@ if [ "${TORCH_REF:-1}" = 1 ]; then
   echo "plain PyTorch, the same network with nearest upsampling, batch 512 (scripts/torch_ref.py):"
   for mode in tuned compiled; do
     "$python" "$root/scripts/torch_ref.py" cuda 4 "$mode" paper:512 2>&1 | grep -v '^infer' \
-      | tee -a "$out/torch_ref.log"
+      | tee -a "$out/torch_ref.log" || echo "gpu-speed.sh: torch_ref.py $mode failed" >&2
   done
 fi
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader > "$out/gpu.txt" || true

@@ -9,6 +9,8 @@
 #include <c10/cuda/CUDAStream.h>
 #include <torch/cuda.h>
 
+#include <stdexcept>
+
 namespace eitbench::cuda {
 
 bool compiled() {
@@ -20,6 +22,20 @@ void set_math(bool tf32, bool cudnn_benchmark) {
   context.setAllowTF32CuBLAS(tf32);
   context.setAllowTF32CuDNN(tf32);
   context.setBenchmarkCuDNN(cudnn_benchmark);
+}
+
+MathGuard::MathGuard() {
+  const auto& context = at::globalContext();
+  tf32_cublas_ = context.allowTF32CuBLAS();
+  tf32_cudnn_ = context.allowTF32CuDNN();
+  benchmark_ = context.benchmarkCuDNN();
+}
+
+MathGuard::~MathGuard() {
+  auto& context = at::globalContext();
+  context.setAllowTF32CuBLAS(tf32_cublas_);
+  context.setAllowTF32CuDNN(tf32_cudnn_);
+  context.setBenchmarkCuDNN(benchmark_);
 }
 
 bool has_fused_adam() {
@@ -42,7 +58,11 @@ bool fused_adam(const std::vector<torch::Tensor>& params, const std::vector<torc
   const at::NoGradGuard no_grad;
   std::vector<at::Tensor> grads;
   grads.reserve(params.size());
-  for (const auto& p : params) grads.push_back(p.grad());
+  for (const auto& p : params) {
+    // Every parameter takes part in the loss; LibTorch's Adam would skip one that did not.
+    if (!p.grad().defined()) throw std::logic_error("fused_adam: a parameter without a gradient");
+    grads.push_back(p.grad());
+  }
   at::_foreach_add_(steps, 1);
   at::_fused_adam_(params, grads, exp_avg, exp_avg_sq, {}, steps, lr, beta1, beta2,
                    /*weight_decay=*/0.0, eps, /*amsgrad=*/false, /*maximize=*/false);
@@ -54,6 +74,7 @@ Bf16Autocast::Bf16Autocast(bool on) : on_(on) {
   if (!on_) return;
   was_enabled_ = at::autocast::is_autocast_enabled(at::kCUDA);
   was_caching_ = at::autocast::is_autocast_cache_enabled();
+  was_dtype_ = static_cast<int>(at::autocast::get_autocast_dtype(at::kCUDA));
   at::autocast::set_autocast_dtype(at::kCUDA, at::kBFloat16);
   at::autocast::set_autocast_cache_enabled(false);
   at::autocast::set_autocast_enabled(at::kCUDA, true);
@@ -63,6 +84,7 @@ Bf16Autocast::~Bf16Autocast() {
   if (!on_) return;
   at::autocast::set_autocast_enabled(at::kCUDA, was_enabled_);
   at::autocast::set_autocast_cache_enabled(was_caching_);
+  at::autocast::set_autocast_dtype(at::kCUDA, static_cast<at::ScalarType>(was_dtype_));
 }
 
 struct Graph::Impl {
@@ -90,7 +112,15 @@ void Graph::capture(const std::function<void()>& body) {
   {
     const c10::cuda::CUDAStreamGuard guard(impl_->stream);
     impl_->graph.capture_begin();
-    body();
+    try {
+      body();
+    } catch (...) {  // leave the stream out of capture mode, then report what failed
+      try {
+        impl_->graph.capture_end();
+      } catch (...) {
+      }
+      throw;
+    }
     impl_->graph.capture_end();
   }
   torch::cuda::synchronize();

@@ -19,6 +19,20 @@ bool compiled();
 // use. Global to the process, as LibTorch's own settings are.
 void set_math(bool tf32, bool cudnn_benchmark);
 
+// The math modes as they were when the guard was made, restored when it goes. The trainer holds
+// one, so what runs after training (scoring, timing) runs in the modes it found, whatever was
+// trained before in the process.
+class MathGuard {
+ public:
+  MathGuard();
+  ~MathGuard();
+  MathGuard(const MathGuard&) = delete;
+  MathGuard& operator=(const MathGuard&) = delete;
+
+ private:
+  bool tf32_cublas_ = false, tf32_cudnn_ = true, benchmark_ = false;
+};
+
 // bf16 autocast on CUDA while the guard lives (nothing when `on` is false): matrix products and
 // convolutions in bfloat16, reductions and the loss in float32. Its cast cache is off, as graph
 // capture requires; the previous state is restored.
@@ -31,6 +45,7 @@ class Bf16Autocast {
 
  private:
   bool on_ = false, was_enabled_ = false, was_caching_ = true;
+  int was_dtype_ = 0;  // the previous autocast dtype, as a c10::ScalarType
 };
 
 // Adam's step (no weight decay, no AMSGrad) on every parameter by LibTorch's fused CUDA kernel:

@@ -20,6 +20,8 @@ bool compiled() {
 }
 
 void set_math(bool, bool) {}
+MathGuard::MathGuard() = default;
+MathGuard::~MathGuard() = default;
 
 bool has_fused_adam() {
   return false;

@@ -26,6 +26,7 @@ struct Trainer::Impl {
   std::unique_ptr<OnTheFlyAugmenter> augmenter;
   SampleMatrix validation_frames, validation_labels;
   std::uint64_t train_print = 0, validation_print = 0;
+  cuda::MathGuard math;  // the math modes set for training, restored after it
   torch::Device device = torch::kCPU;
   std::unique_ptr<ResidentSet> resident;  // the set on the device, when options.resident allows
   bool graphs = false;                    // the step as a CUDA graph (options.cuda_graphs)
