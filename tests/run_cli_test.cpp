@@ -408,6 +408,9 @@ TEST(Report, GpuInferenceOnlyWhereMeasured) {
     return std::string(std::istreambuf_iterator<char>(in), {});
   };
   EXPECT_EQ(report().find("Inference on the GPU"), std::string::npos);
+  EXPECT_EQ(report().find("The learned reconstructor ran on"), std::string::npos);
+  r.configuration["learned_device"] = "cuda";  // a run that scored its models on the GPU
+  EXPECT_NE(report().find("The learned reconstructor ran on cuda"), std::string::npos);
   r.training[0].inference_device = "cuda:0";
   r.training[0].device_latency_ms = 0.4125, r.training[0].device_frames_per_second = 68389;
   const std::string text = report();

@@ -185,8 +185,15 @@ void write_runtime(std::ostream& o, const RunResults& r, const Methods& methods,
                    const std::vector<double>& snrs) {
   o << "\n## Runtime\n\nSetup: for model-based methods the Jacobian, the pixel map and the "
        "hyperparameter choice; for the learned reconstructor, its training. Per frame: wall clock "
-       "of one frame at a time.\n\n| method | setup (s) | per frame, median (ms) | p95 (ms) | "
-       "frames/s |\n|---|---|---|---|---|\n";
+       "of one frame at a time.";
+  const auto learned_device = r.configuration.find("learned_device");
+  if (learned_device != r.configuration.end())
+    o << fmt::format(
+        " The learned reconstructor ran on {}, where it trained; the model-based "
+        "methods on the CPU.",
+        learned_device->second);
+  o << "\n\n| method | setup (s) | per frame, median (ms) | p95 (ms) | frames/s |\n"
+       "|---|---|---|---|---|\n";
   for (const auto& [m, a] : methods) {
     const ResultRow* x = find(r.rows, m, a, snrs.front());
     if (!x) continue;

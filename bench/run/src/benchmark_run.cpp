@@ -92,6 +92,8 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   }
   c["latency"] = fmt::format("the first {} test frames one at a time, wall clock, {} threads",
                              config.timed_frames, config.threads);
+  // The learned rows are scored and timed on the training device (learned_stage.cpp).
+  if (learned.training.device != "cpu") c["learned_device"] = learned.training.device;
   c["total_seconds"] = fmt::format("{:.1f}", total_s);
   return c;
 }
