@@ -103,14 +103,21 @@ StepRunner::StepRunner(Network net, torch::optim::Adam& adam, const TrainingOpti
 
 StepRunner::~StepRunner() = default;
 
+torch::Tensor StepRunner::loss(const torch::Tensor& x, const torch::Tensor& y) {
+  const cuda::Bf16Autocast autocast(bf16_);
+  return torch::mse_loss(net_->forward(x).to(torch::kFloat32), y);
+}
+
+void StepRunner::set_rate(double rate) {
+  for (auto& group : adam_.param_groups())
+    static_cast<torch::optim::AdamOptions&>(group.options()).lr(rate);
+  if (graphs_) lr_.fill_(rate);
+}
+
 void StepRunner::tensor_step(const torch::Tensor& x, const torch::Tensor& y) {
   for (const auto& p : params_)
     if (p.grad().defined()) p.grad().zero_();  // in place: the graph's gradients stay put
-  torch::Tensor loss;
-  {
-    const cuda::Bf16Autocast autocast(bf16_);
-    loss = torch::mse_loss(net_->forward(x).to(torch::kFloat32), y);
-  }
+  const torch::Tensor loss = this->loss(x, y);
   loss.backward();
   if (!fused_ ||
       !cuda::fused_adam(params_, exp_avg_, exp_avg_sq_, fused_steps_, lr_, beta1_, beta2_, eps_))
@@ -119,20 +126,14 @@ void StepRunner::tensor_step(const torch::Tensor& x, const torch::Tensor& y) {
 }
 
 void StepRunner::step(const torch::Tensor& x, const torch::Tensor& y, double rate) {
-  for (auto& group : adam_.param_groups())
-    static_cast<torch::optim::AdamOptions&>(group.options()).lr(rate);
+  set_rate(rate);
   if (graphs_) {
-    lr_.fill_(rate);
     tensor_step(x, y);
     ++steps_;
     return;
   }
   adam_.zero_grad();
-  torch::Tensor loss;
-  {
-    const cuda::Bf16Autocast autocast(bf16_);
-    loss = torch::mse_loss(net_->forward(x).to(torch::kFloat32), y);
-  }
+  const torch::Tensor loss = this->loss(x, y);
   loss.backward();
   adam_.step();
   loss_sum_.add_(loss.detach().to(torch::kFloat64));
@@ -145,9 +146,7 @@ void StepRunner::step(const ResidentSet& set, const torch::Tensor& rows, long lo
     const auto [x, y] = set.batch(rows, first, end);
     return step(x, y, rate);
   }
-  for (auto& group : adam_.param_groups())
-    static_cast<torch::optim::AdamOptions&>(group.options()).lr(rate);
-  lr_.fill_(rate);
+  set_rate(rate);
   rows_.copy_(rows.narrow(0, first, batch_));
   const auto body = [&] {
     const auto [x, y] = set.gather(rows_);

@@ -54,6 +54,11 @@ class StepRunner {
   bool graphs() const { return graphs_; }
 
  private:
+  // The batch's MSE, under bf16 autocast when asked for.
+  torch::Tensor loss(const torch::Tensor& x, const torch::Tensor& y);
+  // Adam's rate: its options (what the eager step and checkpoints read) and, for the graph
+  // path, the device scalar the graph reads.
+  void set_rate(double rate);
   void tensor_step(const torch::Tensor& x, const torch::Tensor& y);
 
   Network net_;

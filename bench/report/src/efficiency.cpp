@@ -97,10 +97,9 @@ void write_efficiency_section(std::ostream& o, const std::vector<EfficiencyPoint
   if (points.empty()) return;
   o << "\n## Data efficiency (the paper's Fig. 8)\n\n"
     << efficiency_headline(points)
-    << "\n\nAt each size n, no augmentation trains on n training frames drawn at random (nested: "
-       "each "
-       "size holds the smaller ones) and D16 on the "
-       "same frames under its 32 elements, both until validation stops improving; a third "
+    << "\n\nAt each size n, no augmentation trains on n training frames drawn at random "
+       "(nested: each size holds the smaller ones) and D16 on the same frames under its 32 "
+       "elements, both until validation stops improving; a third "
        "model trains D16 for exactly the optimiser steps no augmentation needed (equal "
        "compute), to show how much of the gain is data and how much is compute. Test CC / RE, "
        "noise-free.\n\n| training frames | none | d16 | d16, none's steps |\n|---|---|---|---|\n";
