@@ -1,8 +1,8 @@
 #pragma once
-// One Levenberg-Marquardt fit of K circles to a frame with Ceres (internal to solvers/): a
-// residual block per measurement (so that a robust loss acts on each), sharing one evaluation of
-// the shape model per parameter point; bounds on radius and intensity; and a penalty that keeps
-// each circle inside the disk.
+// One Levenberg-Marquardt fit of K circles to a frame with Ceres (internal to solvers/): the
+// frame's values as one residual block, or a block each when a robust loss must act on each,
+// sharing one evaluation of the shape model per parameter point; bounds on radius and intensity;
+// and a penalty that keeps each circle inside the disk.
 #include <array>
 #include <vector>
 
