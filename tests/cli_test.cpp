@@ -564,7 +564,8 @@ TEST_F(Cli, OptionsRefusedByALibraryNameTheFlag) {
 
 TEST_F(Cli, HelpIsAvailableEverywhere) {
   for (const std::string sub : {"", "mesh", "forward", "jacobian", "augment", "simulate", "info",
-                                "show", "import", "reconstruct", "train", "run", "compare"}) {
+                                "show", "import", "reconstruct", "train", "run", "compare",
+                                "history", "history add", "history show", "calibrate", "report"}) {
     const Result r = run(sub + " --help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_NE(r.output.find("--"), std::string::npos);

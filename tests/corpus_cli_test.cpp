@@ -69,7 +69,21 @@ TEST_F(BadInputCorpus, EveryBadCheckpointIsRejected) {
 
 TEST_F(BadInputCorpus, EveryBadResultsFileIsRejected) {
   const std::string good = kCorpus + "/../data/results_tiny.json";
-  EXPECT_GE(check("results", {"compare FILE " + good, "compare " + good + " FILE"}), 6 * 2);
+  const std::string history = " --commit c1 --history " + path("h.jsonl");
+  EXPECT_GE(check("results", {"compare FILE " + good, "compare " + good + " FILE",
+                              "history add FILE" + history}),
+            6 * 3);
+  EXPECT_FALSE(fs::exists(path("h.jsonl")));
+}
+
+TEST_F(BadInputCorpus, EveryBadMicrobenchmarkFileIsRejected) {
+  const std::string good = kCorpus + "/../data/microbench_good.json";
+  ASSERT_EQ(run("compare " + good + " " + good).exit_code, 0);
+  const std::string history = " --commit c1 --history " + path("h.jsonl");
+  EXPECT_GE(check("microbench", {"compare FILE " + good, "compare " + good + " FILE",
+                                 "history add FILE" + history}),
+            6 * 3);
+  EXPECT_FALSE(fs::exists(path("h.jsonl")));
 }
 
 }  // namespace

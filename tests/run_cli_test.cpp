@@ -425,16 +425,37 @@ TEST_F(RunCli, CompareFlagsRegressionsAndPassesAnIdenticalRun) {
   EXPECT_EQ(same.exit_code, 0) << same.output;
   EXPECT_NE(same.output.find("no regression"), std::string::npos) << same.output;
 
+  // Every test frame 0.05 worse: the mean drops beyond tolerance and the paired test is sure.
   RunResults worse = read_results_json(results);
   for (auto& row : worse.rows)
-    if (row.method == "noser" && row.snr_db == 40) row.cc -= 0.05;
+    if (row.method == "noser" && row.snr_db == 40) {
+      ASSERT_EQ(row.frame_cc.size(), static_cast<std::size_t>(row.frames));
+      row.cc -= 0.05;
+      for (double& cc : row.frame_cc) cc -= 0.05 + 1e-4 * (&cc - row.frame_cc.data());
+    }
   write_results_json(path("worse.json"), worse);
   const Result flagged = run("compare " + results + " " + path("worse.json"));
   EXPECT_EQ(flagged.exit_code, 1) << flagged.output;
   EXPECT_NE(flagged.output.find("noser/-/40: CC"), std::string::npos) << flagged.output;
+  EXPECT_NE(flagged.output.find("(p = "), std::string::npos) << flagged.output;
   // Within a looser tolerance it passes.
   EXPECT_EQ(run("compare " + results + " " + path("worse.json") + " --tolerance 0.06").exit_code,
             0);
+
+  // The same drop of the mean from one frame alone: beyond tolerance, but not significant.
+  RunResults one_frame = read_results_json(results);
+  for (auto& row : one_frame.rows)
+    if (row.method == "noser" && row.snr_db == 40) {
+      row.cc -= 0.05;
+      row.frame_cc[0] -= 0.05 * row.frames;
+    }
+  write_results_json(path("one_frame.json"), one_frame);
+  const Result lone = run("compare " + results + " " + path("one_frame.json"));
+  EXPECT_EQ(lone.exit_code, 0) << lone.output;
+  // Without per-frame scores (a run from before they were kept) the means decide alone.
+  for (auto& row : one_frame.rows) row.frame_cc.clear(), row.frame_re.clear();
+  write_results_json(path("no_frames.json"), one_frame);
+  EXPECT_EQ(run("compare " + results + " " + path("no_frames.json")).exit_code, 1);
 
   RunResults slower = read_results_json(results);
   for (auto& row : slower.rows)

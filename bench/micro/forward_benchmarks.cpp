@@ -88,5 +88,3 @@ BENCHMARK(BM_PixelMap) DENSITIES;
 BENCHMARK(BM_PixelJacobian) DENSITIES;
 
 }  // namespace
-
-BENCHMARK_MAIN();

@@ -10,6 +10,7 @@
 #include "eitbench/jacobian.h"
 #include "eitbench/jacobian/random.h"
 #include "eitbench/learned.h"
+#include "regression_defaults.h"
 
 namespace {
 using namespace eitbench;
@@ -105,8 +106,11 @@ int main(int argc, char** argv) {
   eitbench::keep_freed_memory();
   const char* threads = std::getenv("EITBENCH_THREADS");
   eitbench::set_torch_threads(threads ? std::atoi(threads) : 2);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  std::vector<char*> args =
+      eitbench::micro::with_regression_defaults(argc, argv, "eitbench_learned_bench.json");
+  int count = static_cast<int>(args.size()) - 1;
+  benchmark::Initialize(&count, args.data());
+  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

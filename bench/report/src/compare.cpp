@@ -4,44 +4,68 @@
 
 #include <map>
 
+#include "eitbench/bench/report/significance.h"
+
 namespace eitbench {
+namespace {
+
+// The paired test's p for one score (new - old per frame); NaN when either run lacks the scores
+// or they cover other frames.
+double paired_p(const std::vector<double>& old_scores, const std::vector<double>& new_scores) {
+  if (old_scores.empty() || old_scores.size() != new_scores.size()) return NAN;
+  std::vector<double> d(old_scores.size());
+  for (std::size_t k = 0; k < d.size(); ++k) d[k] = new_scores[k] - old_scores[k];
+  return wilcoxon_signed_rank(d).p_value;
+}
+
+std::string p_text(double p) {
+  return std::isnan(p) ? "-" : fmt::format("{:.2g}", p);
+}
+
+}  // namespace
 
 Comparison compare_results(const RunResults& old_run, const RunResults& new_run,
-                           double quality_tolerance, double latency_tolerance) {
+                           const QualityOptions& o) {
   Comparison c;
-  c.table.push_back({"method", "augment", "snr_db", "CC old", "CC new", "RE old", "RE new",
-                     "latency old ms", "latency new ms", "verdict"});
+  c.table.push_back({"method", "augment", "snr_db", "CC old", "CC new", "p", "RE old", "RE new",
+                     "p", "latency old ms", "latency new ms", "verdict"});
   auto key = [](const ResultRow& r) {
     return r.method + "/" + r.augment + "/" + snr_label(r.snr_db);
   };
   std::map<std::string, const ResultRow*> fresh;
   for (const auto& r : new_run.rows) fresh[key(r)] = &r;
-  for (const auto& o : old_run.rows) {
-    const auto it = fresh.find(key(o));
+  for (const auto& old : old_run.rows) {
+    const auto it = fresh.find(key(old));
     if (it == fresh.end()) {
-      c.table.push_back({o.method, o.augment, snr_label(o.snr_db), fmt::format("{:.4f}", o.cc), "-",
-                         fmt::format("{:.4f}", o.re), "-",
-                         fmt::format("{:.3g}", o.latency_median_ms), "-", "MISSING"});
-      c.regressions.push_back(key(o) + ": missing from the new run");
+      c.table.push_back({old.method, old.augment, snr_label(old.snr_db),
+                         fmt::format("{:.4f}", old.cc), "-", "-", fmt::format("{:.4f}", old.re),
+                         "-", "-", fmt::format("{:.3g}", old.latency_median_ms), "-", "MISSING"});
+      c.regressions.push_back(key(old) + ": missing from the new run");
       continue;
     }
     const ResultRow& n = *it->second;
+    const double p_cc = paired_p(old.frame_cc, n.frame_cc),
+                 p_re = paired_p(old.frame_re, n.frame_re);
+    // Beyond tolerance, and significant where the frames allow the test (NaN p: no test).
+    auto matters = [&](double change, double p) { return change > o.tolerance && !(p >= o.alpha); };
     std::vector<std::string> why;
-    if (o.frames > 0 && n.cc < o.cc - quality_tolerance)
-      why.push_back(fmt::format("CC {:.4f} -> {:.4f}", o.cc, n.cc));
-    if (o.frames > 0 && n.re > o.re + quality_tolerance)
-      why.push_back(fmt::format("RE {:.4f} -> {:.4f}", o.re, n.re));
+    if (old.frames > 0 && matters(old.cc - n.cc, p_cc))
+      why.push_back(fmt::format("CC {:.4f} -> {:.4f}{}", old.cc, n.cc,
+                                std::isnan(p_cc) ? "" : fmt::format(" (p = {:.2g})", p_cc)));
+    if (old.frames > 0 && matters(n.re - old.re, p_re))
+      why.push_back(fmt::format("RE {:.4f} -> {:.4f}{}", old.re, n.re,
+                                std::isnan(p_re) ? "" : fmt::format(" (p = {:.2g})", p_re)));
     // Latencies under 0.1 ms are timer noise more than speed: they need 0.05 ms of change too.
-    if (n.latency_median_ms > o.latency_median_ms * (1 + latency_tolerance) &&
-        n.latency_median_ms - o.latency_median_ms > 0.05)
+    if (n.latency_median_ms > old.latency_median_ms * (1 + o.latency_tolerance) &&
+        n.latency_median_ms - old.latency_median_ms > 0.05)
       why.push_back(
-          fmt::format("latency {:.3g} -> {:.3g} ms", o.latency_median_ms, n.latency_median_ms));
-    std::string verdict = why.empty() ? "ok" : "REGRESSION";
-    for (const auto& w : why) c.regressions.push_back(key(o) + ": " + w);
-    c.table.push_back({o.method, o.augment, snr_label(o.snr_db), fmt::format("{:.4f}", o.cc),
-                       fmt::format("{:.4f}", n.cc), fmt::format("{:.4f}", o.re),
-                       fmt::format("{:.4f}", n.re), fmt::format("{:.3g}", o.latency_median_ms),
-                       fmt::format("{:.3g}", n.latency_median_ms), verdict});
+          fmt::format("latency {:.3g} -> {:.3g} ms", old.latency_median_ms, n.latency_median_ms));
+    for (const auto& w : why) c.regressions.push_back(key(old) + ": " + w);
+    c.table.push_back(
+        {old.method, old.augment, snr_label(old.snr_db), fmt::format("{:.4f}", old.cc),
+         fmt::format("{:.4f}", n.cc), p_text(p_cc), fmt::format("{:.4f}", old.re),
+         fmt::format("{:.4f}", n.re), p_text(p_re), fmt::format("{:.3g}", old.latency_median_ms),
+         fmt::format("{:.3g}", n.latency_median_ms), why.empty() ? "ok" : "REGRESSION"});
   }
   return c;
 }

@@ -26,11 +26,13 @@ namespace {
 // Okabe and Ito's colour-blind-safe colours first, then others that stay apart from them.
 const std::map<std::string, std::string>& method_colours() {
   static const std::map<std::string, std::string> colours = {
-      {"tikhonov", "#7f7f7f"},    {"noser", "#e69f00"},        {"laplace", "#56b4e9"},
-      {"greit", "#b8860b"},       {"gn", "#cc79a7"},           {"tv", "#0072b2"},
-      {"shape", "#d55e00"},       {"shape-linear", "#8c564b"}, {"dnn (none)", "#000000"},
-      {"dnn (d16)", "#009e73"},   {"dnn (paper)", "#9467bd"},  {"dnn (rotations)", "#17becf"},
-      {"dnn (mirror)", "#bcbd22"}};
+      {"tikhonov", "#7f7f7f"},     {"noser", "#e69f00"},
+      {"laplace", "#56b4e9"},      {"greit", "#b8860b"},
+      {"gn", "#cc79a7"},           {"tv", "#0072b2"},
+      {"shape", "#d55e00"},        {"shape-linear", "#8c564b"},
+      {"dnn (none)", "#000000"},   {"dnn (d16)", "#009e73"},
+      {"dnn (paper)", "#9467bd"},  {"dnn (rotations)", "#17becf"},
+      {"dnn (mirror)", "#bcbd22"}, {"significant change", "#d62728"}};
   return colours;
 }
 
@@ -94,6 +96,13 @@ std::string script_text(const LinePlot& plot, const std::string& name, int width
      << "set key outside right top noenhanced\nset format x '%g'\nset format y '%g'\n";
   if (plot.log_x) gp << "set logscale x\n" << log_ticks(plot);
   if (plot.log_y) gp << "set logscale y\nset mytics 10\n";
+  if (!plot.x_tick_labels.empty()) {
+    std::string tics;
+    for (std::size_t k = 0; k < plot.x_tick_labels.size(); ++k)
+      tics += fmt::format("{}{} {}", k ? ", " : "", quoted(plot.x_tick_labels[k]), k);
+    gp << fmt::format("set xtics rotate by -30 ({})\nset xrange [-0.5:{}]\n", tics,
+                      plot.x_tick_labels.size() - 0.5);
+  }
   gp << "plot ";
   for (std::size_t k = 0; k < plot.series.size(); ++k) {
     const PlotSeries& s = plot.series[k];
@@ -101,7 +110,10 @@ std::string script_text(const LinePlot& plot, const std::string& name, int width
     const std::string style = fmt::format("lc rgb '{}' lw 2 dt {}", colour, s.dashed ? 2 : 1);
     gp << (k ? ", \\\n     " : "")
        << fmt::format("'{}.dat' index {} using 1:2 with {} {} title {}", name, k,
-                      s.points ? "linespoints pt 7 ps 0.6" : "lines", style, quoted(s.label));
+                      s.only_points ? "points pt 6 ps 2.2"
+                      : s.points    ? "linespoints pt 7 ps 0.6"
+                                    : "lines",
+                      style, quoted(s.label));
     if (has_error_bars(s))
       gp << fmt::format(
           ", \\\n     '{}.dat' index {} using 1:2:3:4 with yerrorbars {} pt 7 "

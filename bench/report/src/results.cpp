@@ -46,6 +46,18 @@ std::vector<std::pair<std::string, std::string>> methods_in_order(
   return out;
 }
 
+// Per-frame scores at six decimals: enough for a paired test, a third of the file's digits.
+json frame_scores_json(const std::vector<double>& scores) {
+  json out = json::array();
+  for (double v : scores) out.push_back(number(std::round(v * 1e6) / 1e6));
+  return out;
+}
+std::vector<double> frame_scores_from_json(const json& x) {
+  std::vector<double> out;
+  for (const auto& v : x) out.push_back(number(v));
+  return out;
+}
+
 json to_json(const ResultRow& x) {
   return {{"method", x.method},
           {"augment", x.augment},
@@ -61,7 +73,9 @@ json to_json(const ResultRow& x) {
           {"setup_s", x.setup_s},
           {"frames", x.frames},
           {"settings", x.settings},
-          {"touch", to_json(x.touch)}};
+          {"touch", to_json(x.touch)},
+          {"frame_cc", frame_scores_json(x.frame_cc)},
+          {"frame_re", frame_scores_json(x.frame_re)}};
 }
 
 ResultRow result_row_from_json(const json& x) {
@@ -82,6 +96,9 @@ ResultRow result_row_from_json(const json& x) {
   row.settings = x.at("settings").get<std::string>();
   // Rows written before the touch metrics lack them: not scored.
   if (x.contains("touch")) row.touch = touch_scores_from_json(x.at("touch"));
+  // Rows written before the per-frame scores were kept lack them.
+  if (x.contains("frame_cc")) row.frame_cc = frame_scores_from_json(x.at("frame_cc"));
+  if (x.contains("frame_re")) row.frame_re = frame_scores_from_json(x.at("frame_re"));
   return row;
 }
 
@@ -245,7 +262,17 @@ RunResults parse_results_json(const std::string& text, const std::string& path) 
     field = "machine";
     r.machine = doc.at("machine").get<std::map<std::string, std::string>>();
     field = "results";
-    for (const auto& x : doc.at("results")) r.rows.push_back(result_row_from_json(x));
+    for (const auto& x : doc.at("results")) {
+      r.rows.push_back(result_row_from_json(x));
+      const ResultRow& row = r.rows.back();
+      for (const auto* scores : {&row.frame_cc, &row.frame_re})
+        if (!scores->empty() && scores->size() != static_cast<std::size_t>(row.frames))
+          throw InputError(
+              path,
+              fmt::format("results[{}].frame_{}", r.rows.size() - 1,
+                          scores == &row.frame_cc ? "cc" : "re"),
+              fmt::format("holds {} scores for {} frames", scores->size(), row.frames));
+    }
     field = "training";
     for (const auto& t : doc.at("training"))
       r.training.push_back(training_summary_from_json(t, path));

@@ -91,6 +91,7 @@ ResultRow evaluate_row(const Reconstructor& method, const SampleMatrix& frames,
     row.ssim = e.scores.mean.ssim, row.mse = e.scores.mean.mse;
     row.cc_std = e.scores.std.cc, row.re_std = e.scores.std.re;
     row.frames = e.scores.count;
+    for (const ImageScores& f : e.each) row.frame_cc.push_back(f.cc), row.frame_re.push_back(f.re);
   } else {
     row.cc = row.re = row.ssim = row.mse = row.cc_std = row.re_std = NAN;
   }

@@ -25,6 +25,7 @@ struct PlotSeries {
   std::string key;                // the series' method ("dnn (d16)"); empty: the label
   bool dashed = false;            // a second line of the same method (training loss, equal steps)
   bool points = false;            // mark each point
+  bool only_points = false;       // points and no line (marks on other series: gnuplot only)
   std::vector<double> low, high;  // error bars, one a point (empty: none)
 };
 
@@ -47,6 +48,8 @@ struct LinePlot {
   std::string title, x_label, y_label;
   std::vector<PlotSeries> series;
   bool log_x = false, log_y = false;  // non-positive values are left out on a log axis
+  // Labels of x = 0, 1, 2, ... (commits in a history; gnuplot only); empty: the numbers.
+  std::vector<std::string> x_tick_labels;
 };
 void draw_plot_png(const LinePlot& plot, const std::string& path, int width = 900,
                    int height = 560);

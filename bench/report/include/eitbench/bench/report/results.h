@@ -45,6 +45,9 @@ struct ResultRow {
   int frames = 0;        // frames scored (0: the data have no labels)
   std::string settings;  // hyperparameters and how they were chosen
   TouchScores touch;     // frames 0 when not scored (no circles; results.json of older runs)
+  // Each test frame's CC and RE, in the data set's order (rounded to 1e-6; empty in runs from
+  // before they were kept): compare pairs two runs' frames for its signed-rank test.
+  std::vector<double> frame_cc, frame_re;
 };
 
 struct TrainingSummary {
