@@ -18,6 +18,7 @@ packages=(
   libcli11-dev libfmt-dev libtbb-dev
   gnuplot-nox            # the line plots (loss curves, data efficiency, touches); no X11
   libgtest-dev libbenchmark-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest   # the Python package (python/)
 )
 
 missing=()
