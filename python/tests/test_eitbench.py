@@ -91,14 +91,16 @@ def test_augmented_labels_follow_their_frames(tiny):
     assert min(np.abs(turned - np.rot90(labels[0], k)).max() for k in (1, 3)) < 0.05
 
 
-@pytest.mark.parametrize("method", ["noser", "tikhonov", "greit", "tv", "shape-linear"])
+@pytest.mark.parametrize(
+    "method", ["tikhonov", "noser", "laplace", "tv", "gn", "greit", "shape", "shape-linear"])
 def test_reconstructors_score_as_the_tool_does(tiny, tmp_path, method):
     data = eitbench.read_dataset(str(tiny))
     test = data["split"] == 2
-    out = cli("reconstruct", "--method", method, "--lambda", "0.01" if method != "shape-linear" else "4",
-              "--data", tiny, "--png", "0", "--out", tmp_path / "r.h5")
+    weight = {"shape": 2.0, "shape-linear": 4.0}.get(method, 0.01)  # the BIC's penalty, or lambda
+    out = cli("reconstruct", "--method", method, "--lambda", weight, "--data", tiny, "--png", "0",
+              "--out", tmp_path / "r.h5")
     tool_cc = float(re.search(r"CC ([0-9.]+)", out).group(1))
-    r = eitbench.Reconstructor(method, lambda_=0.01 if method != "shape-linear" else 4.0,
+    r = eitbench.Reconstructor(method, lambda_=weight,
                                background=data["background_conductivity"],
                                contact_impedance=data["contact_impedance"], current=data["current"])
     images = r.reconstruct(data["differences"][test])
