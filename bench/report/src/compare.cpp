@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
 #include <map>
 
 #include "eitbench/bench/report/significance.h"
@@ -13,8 +14,10 @@ namespace {
 // or they cover other frames.
 double paired_p(const std::vector<double>& old_scores, const std::vector<double>& new_scores) {
   if (old_scores.empty() || old_scores.size() != new_scores.size()) return NAN;
-  std::vector<double> d(old_scores.size());
-  for (std::size_t k = 0; k < d.size(); ++k) d[k] = new_scores[k] - old_scores[k];
+  // A frame without a finite score on both sides (the RE of an empty label) is left out.
+  std::vector<double> d;
+  for (std::size_t k = 0; k < old_scores.size(); ++k)
+    if (std::isfinite(new_scores[k] - old_scores[k])) d.push_back(new_scores[k] - old_scores[k]);
   return wilcoxon_signed_rank(d).p_value;
 }
 
