@@ -186,3 +186,16 @@ def test_training_from_python_matches_the_tool(tiny, tmp_path):
     theirs = eitbench.load_model(str(tmp_path / "cli.pt"))
     np.testing.assert_allclose(ours.reconstruct(data["differences"][te]),
                                theirs.reconstruct(data["differences"][te]), atol=1e-5)
+
+
+def test_pixel_jacobian_equals_the_tools(tmp_path):
+    """The reconstructors' pixel Jacobian is the tool's J_pix on the label scale x = -dsigma/sigma0:
+    A = -sigma0 J_pix over the in-disk pixels."""
+    cli("jacobian", "--density", "coarse", "--conductivity", 0.05, "--values", "reduced", "--basis",
+        "pixels", "--out", tmp_path / "j.csv")
+    J = np.loadtxt(tmp_path / "j.csv", delimiter=",", ndmin=2)
+    r = eitbench.Reconstructor("noser", lambda_=0.01, mesh=eitbench.disk_mesh(density="coarse"),
+                               background=0.05)
+    assert J.shape == (104, 64 * 64) and r.pixel_jacobian.shape == (104, len(r.pixel_indices))
+    expected = -0.05 * J[:, np.array(r.pixel_indices)]
+    np.testing.assert_allclose(r.pixel_jacobian, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
