@@ -7,7 +7,6 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/report/compare.h"
 #include "eitbench/bench/report/microbench.h"
 #include "eitbench/jacobian/error.h"
@@ -60,8 +59,9 @@ void compare_speed(const Args& args, const nlohmann::json& a, const nlohmann::js
                         args.speed.alpha, 100 * args.speed.min_change));
 }
 
-void compare_runs(const Args& args) {
-  const RunResults a = read_results_json(args.old_path), b = read_results_json(args.new_path);
+void compare_runs(const Args& args, const nlohmann::json& old_doc, const nlohmann::json& new_doc) {
+  const RunResults a = parse_results_json(old_doc, args.old_path),
+                   b = parse_results_json(new_doc, args.new_path);
   const Comparison c = compare_results(a, b, args.quality);
   print_table(c);
   if (a.machine != b.machine)
@@ -72,14 +72,6 @@ void compare_runs(const Args& args) {
          fmt::format("CC/RE beyond {:g} and, with per-frame scores, signed-rank p < {:g}; "
                      "latency beyond {:g}",
                      args.quality.tolerance, args.quality.alpha, args.quality.latency_tolerance));
-}
-
-nlohmann::json parse_any(const std::string& path) {
-  try {
-    return nlohmann::json::parse(read_file_bytes(path, 1LL << 30));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path, "", std::string("not JSON: ") + e.what());
-  }
 }
 
 }  // namespace
@@ -118,7 +110,7 @@ std::function<void()> add_compare_command(CLI::App& app) {
                 "microbenchmarks: compare CPU time, not wall-clock time");
   return [args] {
     args->speed.alpha = args->quality.alpha;
-    const nlohmann::json a = parse_any(args->old_path), b = parse_any(args->new_path);
+    const nlohmann::json a = read_json_file(args->old_path), b = read_json_file(args->new_path);
     const bool speed_a = is_microbench_json(a), speed_b = is_microbench_json(b);
     if (speed_a != speed_b)
       throw InputError(speed_a ? args->new_path : args->old_path, "",
@@ -129,7 +121,7 @@ std::function<void()> add_compare_command(CLI::App& app) {
     if (speed_a)
       compare_speed(*args, a, b);
     else
-      compare_runs(*args);
+      compare_runs(*args, a, b);
   };
 }
 

@@ -8,7 +8,6 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/report/gnuplot.h"
 #include "eitbench/bench/report/history.h"
 #include "eitbench/jacobian/error.h"
@@ -35,16 +34,11 @@ std::string utc_now() {
 void add(const Args& a) {
   if (a.commit.empty() || a.commit.find_first_of(" \t\n") != std::string::npos)
     throw InputError("--commit", "", "must be one word (a SHA or a tag), not '" + a.commit + "'");
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(read_file_bytes(a.file, 1LL << 30));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(a.file, "", std::string("not JSON: ") + e.what());
-  }
+  const nlohmann::json doc = read_json_file(a.file);
   const HistoryEntry entry =
       is_microbench_json(doc)
           ? history_entry(parse_microbench_json(doc, a.file), a.commit, utc_now(), a.file)
-          : history_entry(parse_results_json(doc.dump(), a.file), a.commit, utc_now(), a.file);
+          : history_entry(parse_results_json(doc, a.file), a.commit, utc_now(), a.file);
   add_to_history(a.history, entry, a.replace);
   fmt::print("added {} ({}: {} {}) to {}\n", a.commit, entry.kind,
              entry.kind == "run" ? entry.rows.size() : entry.benchmarks.size(),

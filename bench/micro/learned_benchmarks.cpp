@@ -106,12 +106,5 @@ int main(int argc, char** argv) {
   eitbench::keep_freed_memory();
   const char* threads = std::getenv("EITBENCH_THREADS");
   eitbench::set_torch_threads(threads ? std::atoi(threads) : 2);
-  std::vector<char*> args =
-      eitbench::micro::with_regression_defaults(argc, argv, "eitbench_learned_bench.json");
-  int count = static_cast<int>(args.size()) - 1;
-  benchmark::Initialize(&count, args.data());
-  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return eitbench::micro::run_microbenchmarks(argc, argv, "eitbench_learned_bench.json");
 }

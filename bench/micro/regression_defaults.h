@@ -3,6 +3,8 @@
 // fewest repetitions eitbench compare decides on, as Google Benchmark's compare.py advises), the
 // console shows the aggregates, and every repetition goes to a Google Benchmark JSON file, the
 // input of `eitbench compare` and `eitbench history add`. A flag given on the command line wins.
+#include <benchmark/benchmark.h>
+
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -32,6 +34,17 @@ inline std::vector<char*> with_regression_defaults(int argc, char** argv,
   }
   out.push_back(nullptr);
   return out;
+}
+
+// Google Benchmark's main with those defaults; the exit status.
+inline int run_microbenchmarks(int argc, char** argv, const std::string& json_file) {
+  std::vector<char*> args = with_regression_defaults(argc, argv, json_file);
+  int count = static_cast<int>(args.size()) - 1;
+  benchmark::Initialize(&count, args.data());
+  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
 }
 
 }  // namespace eitbench::micro

@@ -50,14 +50,6 @@ py::dict to_dict(const Dataset& d) {
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
-// Labels as N x n^2 rows, from N x n x n or N x n^2.
-SampleMatrix image_rows(const Array& labels, const char* what) {
-  if (labels.ndim() == 3)
-    return Eigen::Map<const SampleMatrix>(labels.data(), labels.shape(0),
-                                          labels.shape(1) * labels.shape(2));
-  return rows_of(labels, what);
-}
-
 template <typename T>
 T get(const py::dict& d, const char* key, T fallback) {
   return d.contains(key) ? d[key].cast<T>() : fallback;

@@ -52,18 +52,6 @@ std::shared_ptr<Method> make_method(const std::string& name, std::shared_ptr<Mes
   return out;
 }
 
-// Labels as N x n^2 rows, from N x n x n or N x n^2.
-SampleMatrix label_rows(const Array& labels, int pixels) {
-  if (labels.ndim() == 3) {
-    return Eigen::Map<const SampleMatrix>(labels.data(), labels.shape(0),
-                                          labels.shape(1) * labels.shape(2));
-  }
-  SampleMatrix out = rows_of(labels, "labels");
-  if (out.cols() != pixels)
-    throw InputError("labels", "", "need " + std::to_string(pixels) + " pixels a label");
-  return out;
-}
-
 }  // namespace
 
 void bind_methods(py::module_& m) {
@@ -86,7 +74,10 @@ void bind_methods(py::module_& m) {
           "fit",
           [](Method& r, const Array& frames, const Array& labels) {
             const SampleMatrix f = rows_of(frames, "frames");
-            const SampleMatrix l = label_rows(labels, r.grid.size() * r.grid.size());
+            const SampleMatrix l = image_rows(labels, "labels");
+            if (l.cols() != r.grid.num_pixels())
+              throw InputError("labels", "",
+                               "need " + std::to_string(r.grid.num_pixels()) + " pixels a label");
             const PixelGrid grid = r.grid;
             py::gil_scoped_release release;
             r.method->fit(f, l, [grid](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
@@ -144,7 +135,7 @@ void bind_methods(py::module_& m) {
         set.frames = rows_of(frames, "frames");
         setup.layout = frame_layout(set.frames.cols(), electrodes, parse_order(order), "frames");
         if (labels) {
-          set.labels = labels->ndim() == 3 ? label_rows(*labels, 0) : rows_of(*labels, "labels");
+          set.labels = image_rows(*labels, "labels");
           const double n = std::sqrt(static_cast<double>(set.labels.cols()));
           setup.image_size = static_cast<int>(std::lround(n));
         } else {

@@ -16,6 +16,9 @@ namespace py = pybind11;
 // float64 and C-contiguous, a 1-D array as one row.
 SampleMatrix rows_of(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
                      const char* what);
+// Images as rows of n^2 pixels, from N x n x n (read in place) or N x n^2.
+SampleMatrix image_rows(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
+                        const char* what);
 // An N x n^2 image matrix as N x n x n.
 py::array_t<double> as_images(const SampleMatrix& images, int n);
 

@@ -16,6 +16,13 @@ SampleMatrix rows_of(const py::array_t<double, py::array::c_style | py::array::f
   return Eigen::Map<const SampleMatrix>(a.data(), rows, cols);
 }
 
+SampleMatrix image_rows(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
+                        const char* what) {
+  if (a.ndim() == 3)
+    return Eigen::Map<const SampleMatrix>(a.data(), a.shape(0), a.shape(1) * a.shape(2));
+  return rows_of(a, what);
+}
+
 py::array_t<double> as_images(const SampleMatrix& images, int n) {
   py::array_t<double> out(
       {static_cast<py::ssize_t>(images.rows()), py::ssize_t{n}, py::ssize_t{n}});

@@ -25,12 +25,6 @@ double number(const json& j) {
   return j.is_null() ? NAN : j.get<double>();
 }
 
-double median_of(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 HistoryEntry entry_from_json(const json& x) {
   HistoryEntry e;
   e.commit = x.at("commit").get<std::string>();
@@ -183,10 +177,10 @@ void microbench_series(const std::vector<HistoryEntry>& history, const SpeedOpti
       if (!index.count(b.name))
         index[b.name] = out.size(), out.push_back({"microbench", b.name, "time", {}});
       const auto& times = o.cpu_time ? b.cpu_ns : b.real_ns;
-      HistoryPoint p{k, median_of(times) / 1e6, false, NAN};
+      HistoryPoint p{k, median(times) / 1e6, false, NAN};
       if (const auto it = last.find(b.name); it != last.end()) {
         const auto& before = o.cpu_time ? it->second->cpu_ns : it->second->real_ns;
-        const double m0 = median_of(before), change = m0 > 0 ? median_of(times) / m0 - 1 : 0;
+        const double m0 = median(before), change = m0 > 0 ? median(times) / m0 - 1 : 0;
         p.p_value = mann_whitney_u(before, times).p_value;
         p.changed =
             std::min(before.size(), times.size()) >= static_cast<std::size_t>(o.min_repetitions) &&

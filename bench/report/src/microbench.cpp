@@ -23,13 +23,6 @@ double unit_in_ns(const std::string& unit, const std::string& source, const std:
   throw InputError(source, field, "unknown time unit '" + unit + "' (ns, us, ms, s)");
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // A time in the unit that keeps three figures readable.
 std::string format_ns(double ns) {
   if (!std::isfinite(ns)) return "-";
@@ -40,6 +33,21 @@ std::string format_ns(double ns) {
 }
 
 }  // namespace
+
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+json read_json_file(const std::string& path) {
+  try {
+    return json::parse(read_file_bytes(path, 1LL << 30));
+  } catch (const json::exception& e) {
+    throw InputError(path, "", std::string("not JSON: ") + e.what());
+  }
+}
 
 bool is_microbench_json(const json& doc) {
   return doc.is_object() && doc.contains("benchmarks") && doc["benchmarks"].is_array() &&
@@ -88,13 +96,7 @@ MicrobenchRun parse_microbench_json(const json& doc, const std::string& source) 
 }
 
 MicrobenchRun read_microbench_json(const std::string& path) {
-  json doc;
-  try {
-    doc = json::parse(read_file_bytes(path, 1LL << 30));
-  } catch (const json::exception& e) {
-    throw InputError(path, "", std::string("not JSON: ") + e.what());
-  }
-  return parse_microbench_json(doc, path);
+  return parse_microbench_json(read_json_file(path), path);
 }
 
 Comparison compare_microbench(const MicrobenchRun& old_run, const MicrobenchRun& new_run,

@@ -248,10 +248,19 @@ RunResults read_results_json(const std::string& path) {
 }
 
 RunResults parse_results_json(const std::string& text, const std::string& path) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception& e) {
+    throw InputError(path, "", std::string("not a valid results file: ") + e.what());
+  }
+  return parse_results_json(doc, path);
+}
+
+RunResults parse_results_json(const json& doc, const std::string& path) {
   RunResults r;
   std::string field = "";
   try {
-    const json doc = json::parse(text);
     field = "format";
     if (doc.at("format").get<std::string>() != "eitbench-results-1")
       throw InputError(path, "format", "not an eitbench results file");

@@ -20,6 +20,13 @@ struct MicrobenchRun {
   std::vector<MicrobenchSeries> series;        // in the file's order
 };
 
+// The median (the mean of the middle two for an even count; NaN for none).
+double median(std::vector<double> values);
+
+// A JSON file whole (at most 1 GiB): InputError naming it when it is missing or not JSON. What
+// compare and history add read before they know which kind of file it is.
+nlohmann::json read_json_file(const std::string& path);
+
 // True when `doc` has Google Benchmark's shape (a "benchmarks" array and a "context" object).
 bool is_microbench_json(const nlohmann::json& doc);
 // InputError naming the file and the field (benchmarks[i].time_unit, ...) on anything else.

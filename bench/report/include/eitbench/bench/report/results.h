@@ -108,6 +108,7 @@ void write_results_json(const std::string& path, const RunResults& results);
 // InputError naming the file and the field on anything that is not a results.json.
 RunResults read_results_json(const std::string& path);
 RunResults parse_results_json(const std::string& text, const std::string& source);
+RunResults parse_results_json(const nlohmann::json& doc, const std::string& source);
 void write_results_csv(const std::string& path, const std::vector<ResultRow>& rows);
 std::string snr_label(double snr_db);  // "inf" or "40"
 // The (method, augment) pairs of `rows` in the order the run produced them, each once.
