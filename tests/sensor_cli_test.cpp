@@ -1,6 +1,7 @@
 // Sensors of other shapes from the command line: `mesh --shape` reports the group it finds,
 // `augment --mesh` expands CSV frames by exactly that group and refuses one the sensor lacks.
 #include <fstream>
+#include <iterator>
 
 #include "cli_fixture.h"
 #include "eitbench/augment.h"
@@ -102,6 +103,68 @@ TEST_F(SensorCli, AugmentExpandsByTheSensorsGroupAndRefusesOthers) {
       run("augment --in " + path("f.csv") + " --group auto --out " + path("h.csv"));
   EXPECT_EQ(no_mesh.exit_code, 2);
   EXPECT_NE(no_mesh.output.find("auto needs --mesh"), std::string::npos) << no_mesh.output;
+}
+
+// The benchmark on a square: simulated on the mesh, every method on its grid, the learned model
+// augmented by D4 (x8), the report saying so; a set made by `simulate --mesh` reconstructs on the
+// mesh it stores.
+TEST_F(SensorCli, RunOnASquareAugmentsByItsGroup) {
+  ASSERT_EQ(run("mesh --shape rectangle --density coarse --out " + path("sq.msh")).exit_code, 0);
+  const Result r = run("run --preset tiny --mesh " + path("sq.msh") +
+                       " --methods tikhonov --epochs 1 --out " + path("run"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("sensor: symmetry group D4 (8 elements): the learned model 'group' "
+                          "augments by 8"),
+            std::string::npos)
+      << r.output;
+  std::ifstream report(path("run/report.md"));
+  const std::string text((std::istreambuf_iterator<char>(report)), {});
+  EXPECT_NE(text.find("| sensor_group | D4, 8 elements"), std::string::npos) << text;
+  EXPECT_NE(text.find("| dnn (group) |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| tikhonov |"), std::string::npos) << text;
+  EXPECT_TRUE(fs::exists(path("run/image_mask.npy")));
+  const Result again = run("report " + path("run"));  // re-drawn from the store, mask and all
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+
+  // The run's own data set stores the square: reconstruct takes its mesh and grid from it.
+  const Result rec = run("reconstruct --method noser --data " + path("run/data.h5") + " --out " +
+                         path("images.h5"));
+  ASSERT_EQ(rec.exit_code, 0) << rec.output;
+  EXPECT_NE(rec.output.find("CC"), std::string::npos) << rec.output;
+  // The disk's options cannot be mixed with a sensor mesh.
+  EXPECT_EQ(run("simulate --preset tiny --mesh " + path("sq.msh") + " --electrodes 8 --out " +
+                path("x.h5"))
+                .exit_code,
+            2);
+}
+
+// A pad without symmetry: no augmentation, said clearly, and no 'group' model.
+TEST_F(SensorCli, RunOnAnAsymmetricPadSaysItDoesNotAugment) {
+  std::string positions;
+  for (int e = 0; e < 16; ++e)  // a 2:1 ellipse with electrode 5 moved
+    positions += (e ? "," : "") + std::to_string((e + 0.5) / 16 + (e == 5) * 0.01);
+  ASSERT_EQ(run("mesh --shape ellipse --width 2 --height 1 --density coarse "
+                "--electrode-positions " +
+                positions + " --out " + path("pad.msh"))
+                .exit_code,
+            0);
+  const Result r = run("run --preset tiny --mesh " + path("pad.msh") +
+                       " --methods tikhonov --epochs 1 --out " + path("run"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("sensor: no symmetry (the trivial group): no augmentation"),
+            std::string::npos)
+      << r.output;
+  std::ifstream report(path("run/report.md"));
+  const std::string text((std::istreambuf_iterator<char>(report)), {});
+  EXPECT_NE(text.find("the sensor has no symmetry, so the learned model is not augmented"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("dnn (group)"), std::string::npos) << text;
+  // The disk's augmentations do not apply to it.
+  const Result d16 = run("run --preset tiny --mesh " + path("pad.msh") +
+                         " --methods tikhonov --augment d16 --epochs 1 --out " + path("run2"));
+  EXPECT_EQ(d16.exit_code, 2) << d16.output;
+  EXPECT_NE(d16.output.find("d16 is the disk's"), std::string::npos) << d16.output;
 }
 
 }  // namespace

@@ -12,11 +12,11 @@ namespace eitbench {
 namespace {
 
 // Sample i's label under g: exact from its circles when the set has them, bilinear otherwise.
-Eigen::VectorXd transformed_label(const LabelledFrames& set, int i, const GroupElement& g, int L,
+Eigen::VectorXd transformed_label(const LabelledFrames& set, int i, const GroupElement& g,
                                   const ImageSymmetry& images) {
   return moved_label(
       set.labels.cols() > 0 ? Eigen::VectorXd(set.labels.row(i).transpose()) : Eigen::VectorXd(),
-      set.circles.empty() ? nullptr : &set.circles[i], set.background, g, L, images);
+      set.circles.empty() ? nullptr : &set.circles[i], set.background, g, images);
 }
 
 }  // namespace
@@ -29,6 +29,47 @@ void AugmentSetup::validate() const {
     fail("electrodes", "the protocol needs at least 4, got " + std::to_string(electrodes));
   if (image_size < 1) fail("image_size", "must be positive, not " + std::to_string(image_size));
   if (!(radius > 0) || !std::isfinite(radius)) fail("radius", "must be positive and finite");
+  if (sensor) {
+    if (sensor->group.electrodes != electrodes)
+      fail("sensor", "has " + std::to_string(sensor->group.electrodes) + " electrodes, not " +
+                         std::to_string(electrodes));
+    if (sensor->grid.size() != image_size)
+      fail("sensor", "its grid is " + std::to_string(sensor->grid.size()) + " pixels a side, not " +
+                         std::to_string(image_size));
+    if (group == AugmentGroup::paper)
+      fail("group",
+           "the paper's column reversal is the disk's only; a sensor of another shape "
+           "augments by its own group");
+  }
+}
+
+std::vector<GroupElement> augment_elements(const AugmentSetup& setup) {
+  setup.validate();
+  if (!setup.sensor) return group_elements(setup.group, setup.electrodes);
+  std::vector<GroupElement> out;
+  bool first_mirror = true;
+  for (const GroupElement& g : setup.sensor->group.frame_elements()) {
+    const bool identity = g == GroupElement{};
+    switch (setup.group) {
+      case AugmentGroup::none:
+        if (identity) out.push_back(g);
+        break;
+      case AugmentGroup::rotations:
+        if (!g.mirror) out.push_back(g);
+        break;
+      case AugmentGroup::mirror:
+        if (identity || (g.mirror && first_mirror)) out.push_back(g), first_mirror &= !g.mirror;
+        break;
+      default:
+        out.push_back(g);
+    }
+  }
+  return out;
+}
+
+ImageSymmetry image_symmetry(const AugmentSetup& setup) {
+  if (setup.sensor) return ImageSymmetry(setup.sensor);
+  return ImageSymmetry(setup.electrodes, PixelGrid(setup.image_size, setup.radius));
 }
 
 void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup) {
@@ -56,10 +97,9 @@ void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup)
 
 LabelledFrames expand_by_group(const LabelledFrames& set, const AugmentSetup& setup) {
   check_labelled_frames(set, setup);
-  const int L = setup.electrodes;
-  const auto elements = group_elements(setup.group, L);
-  const FrameSymmetry symmetry(L);
-  const ImageSymmetry images(L, PixelGrid(setup.image_size, setup.radius));
+  const auto elements = augment_elements(setup);
+  const FrameSymmetry symmetry(setup.electrodes);
+  const ImageSymmetry images = image_symmetry(setup);
   const bool labelled = set.labels.cols() > 0 || !set.circles.empty();
   const Eigen::Index n = set.frames.rows(), k = static_cast<Eigen::Index>(elements.size());
   LabelledFrames out;
@@ -75,8 +115,8 @@ LabelledFrames expand_by_group(const LabelledFrames& set, const AugmentSetup& se
       out.frames.row(i * k + e) = symmetry.apply(setup.group, g, frame, setup.layout).transpose();
       if (labelled)
         out.labels.row(i * k + e) =
-            transformed_label(set, static_cast<int>(i), g, L, images).transpose();
-      if (!set.circles.empty()) out.circles[i * k + e] = transform_circles(set.circles[i], g, L);
+            transformed_label(set, static_cast<int>(i), g, images).transpose();
+      if (!set.circles.empty()) out.circles[i * k + e] = images.move(set.circles[i], g);
     }
   });
   return out;
@@ -87,9 +127,9 @@ OnTheFlyAugmenter::OnTheFlyAugmenter(std::shared_ptr<const LabelledFrames> set,
     : set_(std::move(set)),
       setup_((setup.validate(), setup)),  // before the tables are built from it
       seed_(seed),
-      elements_(group_elements(setup.group, setup.electrodes)),
+      elements_(augment_elements(setup)),
       symmetry_(setup.electrodes),
-      images_(setup.electrodes, PixelGrid(setup.image_size, setup.radius)) {
+      images_(image_symmetry(setup)) {
   if (!set_) throw std::invalid_argument("OnTheFlyAugmenter: no set");
   check_labelled_frames(*set_, setup);
 }
@@ -108,7 +148,7 @@ Eigen::VectorXd OnTheFlyAugmenter::label(int i, const GroupElement& g) const {
   if (set_->labels.cols() == 0 && set_->circles.empty()) return Eigen::VectorXd();
   if (g == GroupElement{} && set_->labels.cols() > 0)
     return set_->labels.row(i).transpose();  // the identity: the stored label, no re-rasterising
-  return transformed_label(*set_, i, g, setup_.electrodes, images_);
+  return transformed_label(*set_, i, g, images_);
 }
 
 void OnTheFlyAugmenter::batch(const std::vector<int>& indices, int epoch, SampleMatrix& frames,

@@ -238,6 +238,11 @@ std::vector<GroupElement> SensorGroup::frame_elements() const {
   return out;
 }
 
+ShapedSensor shaped_sensor(const Mesh& mesh, int image_size, const SymmetrySearchOptions& options,
+                           const std::string& source) {
+  return {find_sensor_group(mesh, options, source), PixelGrid::covering(mesh, image_size)};
+}
+
 SensorGroup find_sensor_group(const Mesh& mesh, const SymmetrySearchOptions& options,
                               const std::string& source) {
   options.validate();

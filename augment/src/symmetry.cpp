@@ -64,10 +64,11 @@ AugmentGroup parse_group(const std::string& name, const std::string& source) {
   if (name == "none") return AugmentGroup::none;
   if (name == "rotations") return AugmentGroup::rotations;
   if (name == "mirror") return AugmentGroup::mirror;
-  if (name == "d16" || name == "dihedral") return AugmentGroup::dihedral;
+  // "group": a sensor's whole symmetry group (D_L on the disk), as "dihedral" is on the disk.
+  if (name == "d16" || name == "dihedral" || name == "group") return AugmentGroup::dihedral;
   if (name == "paper") return AugmentGroup::paper;
   throw InputError(source, "",
-                   "unknown group '" + name + "' (none, rotations, mirror, d16, paper)");
+                   "unknown group '" + name + "' (none, rotations, mirror, d16, group, paper)");
 }
 
 std::string to_string(AugmentGroup group) {

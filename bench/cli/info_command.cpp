@@ -20,6 +20,9 @@ void print_dataset_summary(const std::string& path, const Dataset& d) {
   fmt::print("  made by: {} (preset '{}', seed {}), {} ({} triangles)\n",
              d.program.empty() ? "?" : d.program, d.preset, d.seed, d.simulation_mesh,
              d.simulation_triangles);
+  if (!d.sensor_mesh.empty())
+    fmt::print("  sensor mesh: stored in the set ({} bytes of Gmsh text), symmetry group {}\n",
+               d.sensor_mesh.size(), d.sensor_group);
   const Protocol protocol(d.electrodes);
   fmt::print(
       "  frames: {} values (rotating); differences: {} values (reduced), |dv| max {:.4g}, mean "

@@ -11,6 +11,7 @@
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/data/noise.h"
+#include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/methods/evaluate.h"
 #include "eitbench/bench/methods/images_file.h"
 #include "eitbench/bench/methods/metrics.h"
@@ -196,9 +197,11 @@ Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) 
   return s;
 }
 
-// The mesh the model-based methods reconstruct on: the file's, or a disk for the data's sensor.
+// The mesh the model-based methods reconstruct on: the file's, the mesh a set on a sensor of
+// another shape stores, or a disk for the data's sensor.
 Mesh reconstruction_mesh(Args* args, const CLI::App& cmd, std::optional<Mesh> mesh_file,
                          const Dataset& data) {
+  if (!mesh_file && has_sensor_mesh(data)) return stored_sensor_mesh(data);
   if (args->mesh.file.empty() && !cmd.count("--electrodes"))
     args->mesh.disk.electrodes = data.electrodes;
   args->mesh.disk.electrode_coverage = data.electrode_coverage;
@@ -386,7 +389,9 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
                               : sensor                      ? sensor->background
                               : s.data.preset == "imported" ? 1.0
                                                             : s.data.background;
-    const PixelGrid grid(s.data.image_size, s.data.radius);
+    // The disk's grid, or one covering a sensor of another shape (its labels' grid).
+    const PixelGrid grid = has_sensor_mesh(s.data) ? PixelGrid::covering(mesh, s.data.image_size)
+                                                   : PixelGrid(s.data.image_size, s.data.radius);
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Reconstructor> method;
     if (args->method == "dnn") {

@@ -19,7 +19,7 @@ namespace eitbench::cli {
 
 std::function<void()> add_run_command(CLI::App& app) {
   struct Args {
-    std::string preset = "quick", data, reference, out, device, sensor;
+    std::string preset = "quick", data, reference, out, device, sensor, mesh;
     std::uint64_t seed = 1;
     int threads = 2, electrodes = 16, epochs = 0, patience = -1;
     double learning_rate = 0;
@@ -43,6 +43,11 @@ std::function<void()> add_run_command(CLI::App& app) {
   cmd->add_option("--sensor", args->sensor,
                   "a calibrated sensor file (eitbench calibrate): the model-based methods' "
                   "contact impedances, current and background conductivity");
+  cmd->add_option("--mesh", args->mesh,
+                  "a sensor of any shape: Gmsh mesh with electrode_0.. groups (eitbench mesh "
+                  "--shape makes one). The preset's set is simulated on it, every method "
+                  "reconstructs on it, and the learned model augments by its symmetry group")
+      ->excludes("--data");
   cmd->add_option("--electrodes", args->electrodes, "electrodes of measured frames (--reference)")
       ->capture_default_str()
       ->check(CLI::Range(4, 256));
@@ -58,9 +63,10 @@ std::function<void()> add_run_command(CLI::App& app) {
       ->check(CLI::IsMember(model_based_method_names()));
   cmd->add_option("--augment", args->augments,
                   "augmentations of the learned reconstructor (default: the preset's; quick: "
-                  "none,d16,paper, the others none,rotations,d16,paper)")
+                  "none,d16,paper, the others none,rotations,d16,paper; with --mesh none,group: "
+                  "group is the sensor's whole symmetry group)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"none", "rotations", "d16", "paper", "mirror"}));
+      ->check(CLI::IsMember({"none", "rotations", "d16", "paper", "mirror", "group"}));
   cmd->add_option("--epochs", args->epochs,
                   "each learned model's training budget in epochs, an upper bound: training stops "
                   "earlier when validation stops improving (default: the preset's)")
@@ -84,6 +90,7 @@ std::function<void()> add_run_command(CLI::App& app) {
     c.data = args->data;
     c.reference = args->reference;
     c.sensor = args->sensor;
+    c.mesh_file = args->mesh;
     c.electrodes = args->electrodes;
     c.out = args->out.empty() ? "out/" + args->preset : args->out;
     c.seed = args->seed;
@@ -91,7 +98,7 @@ std::function<void()> add_run_command(CLI::App& app) {
     c.quiet = args->quiet;
     c.threads = args->threads;
     if (!args->methods.empty()) c.methods = args->methods;
-    if (!args->augments.empty()) c.augments = args->augments;
+    if (!args->augments.empty()) c.augments = args->augments, c.augments_chosen = true;
     if (args->epochs > 0) c.epochs = args->epochs;
     if (args->learning_rate > 0) c.learning_rate = args->learning_rate;
     if (args->patience >= 0) c.patience = args->patience;

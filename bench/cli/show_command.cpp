@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/report/figures.h"
 #include "eitbench/jacobian.h"
 #include "options.h"
@@ -32,13 +33,9 @@ std::function<void()> add_show_command(CLI::App& app) {
                        std::to_string(args->index) + " is past the last sample (" +
                            std::to_string(d.size() - 1) + ")");
     const int i = args->index;
-    DiskMeshOptions disk;
-    disk.electrodes = d.electrodes;
-    disk.density = MeshDensity::medium;
-    disk.radius = d.radius;
-    disk.electrode_coverage = d.electrode_coverage;
-    const Mesh outline = generate_disk_mesh(disk);
-    const PixelGrid grid(d.image_size, d.radius);
+    // The disk at the medium density, or the sensor mesh the set stores, and its labels' grid.
+    const Mesh outline = reconstruction_mesh(d, MeshDensity::medium);
+    const PixelGrid grid = image_grid(d);
     SampleFigure f;
     f.title =
         fmt::format("{} sample {} ({}{})", args->file, i, to_string(d.split[i]),

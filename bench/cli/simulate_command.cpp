@@ -2,12 +2,14 @@
 #include <fmt/core.h>
 
 #include <chrono>
+#include <filesystem>
 #include <memory>
 
 #include "commands.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/support/progress.h"
+#include "eitbench/jacobian/msh_io.h"
 #include "options.h"
 
 namespace eitbench::cli {
@@ -15,7 +17,7 @@ namespace eitbench::cli {
 std::function<void()> add_simulate_command(CLI::App& app) {
   struct Args {
     SimulationOptions options;
-    std::string density = "fine", out;
+    std::string density = "fine", mesh, out;
     bool quiet = false;
   };
   auto args = std::make_shared<Args>();
@@ -38,6 +40,12 @@ std::function<void()> add_simulate_command(CLI::App& app) {
                   "simulation mesh: coarse | medium | fine (reconstructions use medium)")
       ->capture_default_str()
       ->check(CLI::IsMember({"coarse", "medium", "fine"}));
+  cmd->add_option("--mesh", args->mesh,
+                  "a sensor of any shape: Gmsh mesh with electrode_0.. groups (eitbench mesh "
+                  "--shape makes one); frames on it refined once, touches inside it, its symmetry "
+                  "group and the mesh recorded in the set")
+      ->excludes("--electrodes")
+      ->excludes("--density");
   cmd->add_option("--background", args->options.background, "background conductivity sigma_0 (S/m)")
       ->capture_default_str()
       ->check(kPositive);
@@ -48,6 +56,10 @@ std::function<void()> add_simulate_command(CLI::App& app) {
   cmd->add_flag("--quiet", args->quiet, "no progress output");
   return [args] {
     args->options.density = parse_density(args->density);
+    if (!args->mesh.empty()) {
+      args->options.sensor_mesh = std::make_shared<const Mesh>(read_msh_file(args->mesh));
+      args->options.sensor_source = std::filesystem::path(args->mesh).filename().string();
+    }
     const auto counts = preset_counts(args->options.preset);
     int total = 0;
     for (int c : counts.circles) total += c;
@@ -56,13 +68,15 @@ std::function<void()> add_simulate_command(CLI::App& app) {
           "simulating {} samples ({} / {} / {} / {} with 1 / 2 / 3 / 4 circles), seed {}, {} "
           "mesh\n",
           total, counts.circles[0], counts.circles[1], counts.circles[2], counts.circles[3],
-          args->options.seed, args->density);
+          args->options.seed, args->mesh.empty() ? args->density : args->mesh + " refined once");
     Progress progress("simulate", total, args->quiet);
     const auto t0 = std::chrono::steady_clock::now();
     const Dataset data =
         simulate_dataset(args->options, [&](int done, int) { progress.update(done); });
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!data.sensor_mesh.empty() && !args->quiet)
+      fmt::print("sensor {}: symmetry group {}\n", args->options.sensor_source, data.sensor_group);
     write_dataset(args->out, data);
     fmt::print(
         "wrote {}: {} samples (train {}, validation {}, test {}) in {:.1f} s, {:.0f} samples/s\n",

@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/data/training_data.h"
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/training_run.h"
@@ -193,6 +194,7 @@ std::function<void()> add_train_command(CLI::App& app) {
     NetworkOptions network =
         NetworkOptions::preset(size, static_cast<int>(data.differences.cols()), data.image_size);
     network.radius = data.radius;
+    network.mask = sensor_mask(data);  // a sensor of another shape masks to its own
     if (args->dropout >= 0) network.dropout = args->dropout;
     if (parse_upsampling(args->decoder, "--decoder") == Upsampling::nearest) {
       // The same widths, with the decoder's last stage at full size (a channel per stage more).

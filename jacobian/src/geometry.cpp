@@ -1,5 +1,6 @@
 #include "eitbench/jacobian/geometry.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -81,6 +82,23 @@ double triangle_box_overlap(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
   double area = 0;
   for (std::size_t i = 0; i < poly.size(); ++i) area += cross(poly[i], poly[(i + 1) % poly.size()]);
   return std::abs(0.5 * area);
+}
+
+bool point_in_triangle(const Eigen::Vector2d& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                       const Eigen::Vector2d& c) {
+  const double d1 = cross(b - a, x - a), d2 = cross(c - b, x - b), d3 = cross(a - c, x - c);
+  const bool negative = d1 < 0 || d2 < 0 || d3<0, positive = d1> 0 || d2 > 0 || d3 > 0;
+  return !(negative && positive);
+}
+
+double boundary_distance(const Mesh& mesh, const Eigen::Vector2d& x) {
+  double best = INFINITY;
+  for (const auto& [i, j] : boundary_edges(mesh)) {
+    const Eigen::Vector2d a = mesh.nodes.row(i), b = mesh.nodes.row(j), ab = b - a;
+    const double t = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (a + t * ab - x).norm());
+  }
+  return best;
 }
 
 Eigen::VectorXd conductivity_from_circles(const Mesh& mesh, const std::vector<Circle>& circles,

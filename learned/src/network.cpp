@@ -52,11 +52,13 @@ NetworkImpl::NetworkImpl(const NetworkOptions& o) : options(o) {
   mean = register_buffer("input_mean", torch::zeros({o.inputs}));
   scale = register_buffer("input_scale", torch::ones({o.inputs}));
   // The disk as the rest of eitbench draws it (PixelGrid: pixel centres inside the rim).
+  // A sensor of another shape brings its own.
   const PixelGrid grid(o.image_size, o.radius);
   const auto& inside = grid.mask();
   auto m = torch::zeros({static_cast<long>(inside.size())});
   auto a = m.accessor<float, 1>();
-  for (Eigen::Index p = 0; p < inside.size(); ++p) a[p] = inside[p] ? 1.0f : 0.0f;
+  for (Eigen::Index p = 0; p < inside.size(); ++p)
+    a[p] = (o.mask.empty() ? inside[p] : o.mask[static_cast<std::size_t>(p)]) ? 1.0f : 0.0f;
   mask = register_buffer("disk_mask", m);
 }
 

@@ -65,6 +65,9 @@ void check_network_options(const NetworkOptions& o, const std::string& source) {
   if (!(o.dropout >= 0 && o.dropout < 1)) throw InputError(source, "dropout", "must lie in [0, 1)");
   if (!(o.radius > 0) || !std::isfinite(o.radius))
     throw InputError(source, "radius", "must be positive");
+  if (!o.mask.empty() && o.mask.size() != static_cast<std::size_t>(o.image_size) *
+                                              static_cast<std::size_t>(o.image_size))
+    throw InputError(source, "mask", "must have image_size^2 values, one a pixel");
 }
 
 void NetworkOptions::validate() const {

@@ -85,7 +85,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
   train_print = fingerprint(*train);
   validation_print = fingerprint(validation);
 
-  group_size = static_cast<int>(group_elements(setup.group, setup.electrodes).size());
+  group_size = static_cast<int>(augment_elements(setup).size());
   if (options.expanded) {
     expanded = expand_by_group(*train, setup);
     train_size = expanded.frames.rows();
@@ -135,7 +135,7 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
 // input i collects sum_t (Q[t_i] + N (m0[t_i] - mean_i)^2) about its mean: no cancellation.
 void Trainer::Impl::input_statistics() {
   const FrameSymmetry symmetry(setup.electrodes);
-  const auto elements = group_elements(setup.group, setup.electrodes);
+  const auto elements = augment_elements(setup);
   const SampleMatrix& x = train->frames;
   const Eigen::Index d = x.cols();
   const double n = double(x.rows()), count = n * double(elements.size());

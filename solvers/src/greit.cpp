@@ -23,13 +23,36 @@ void GreitOptions::validate() const {
   check_fixed_or_validation("GreitOptions", choice, candidates);
 }
 
+namespace {
+
+// Uniform over the disk of radius R - r about the origin; on a sensor of another shape, by
+// rejection over the grid's box: inside the mesh and at least r from its boundary.
+Eigen::Vector2d target_centre(const LinearProblem& problem, double r, RandomStream& rng) {
+  const PixelGrid& grid = problem.grid;
+  const double R = grid.radius();
+  if (grid.is_disk()) {
+    const double rho = (R - r) * std::sqrt(rng.uniform()), phi = 2 * M_PI * rng.uniform();
+    return {rho * std::cos(phi), rho * std::sin(phi)};
+  }
+  const Mesh& mesh = problem.model->mesh();
+  for (int attempt = 0; attempt < 100000; ++attempt) {
+    const Eigen::Vector2d x =
+        grid.box_centre() + Eigen::Vector2d(rng.uniform(-R, R), rng.uniform(-R, R));
+    if (point_in_mesh(mesh, x) && boundary_distance(mesh, x) >= r) return x;
+  }
+  throw InputError("GreitOptions", "target_radius",
+                   "no target of this radius fits inside the sensor");
+}
+
+}  // namespace
+
 Greit::Greit(std::shared_ptr<const LinearProblem> shared, const GreitOptions& options)
     : problem_(require_problem(std::move(shared), "Greit")),
       options_(options),
       lambda_(options.lambda) {
   options.validate();
   const LinearProblem& problem = *problem_;
-  const PixelGrid grid(problem.image_size, problem.radius);
+  const PixelGrid& grid = problem.grid;
   const double R = problem.radius;
   const int m = problem.measurements(), n = problem.unknowns();
   // Each target and desired image covers a few dozen pixels of thousands: Y = A X and D Y^T are
@@ -39,9 +62,9 @@ Greit::Greit(std::shared_ptr<const LinearProblem> shared, const GreitOptions& op
   RandomStream rng(options.seed, 0);
   const double rt = options.target_radius * R, rd = options.desired_radius * R;
   for (int k = 0; k < options.targets; ++k) {
-    // Uniform over the disk of radius R - rt (the target stays inside).
-    const double rho = (R - rt) * std::sqrt(rng.uniform()), phi = 2 * M_PI * rng.uniform();
-    const double x = rho * std::cos(phi), y = rho * std::sin(phi);
+    // Uniform over the points at least rt inside the sensor (the target stays inside).
+    const Eigen::Vector2d at = target_centre(problem, rt, rng);
+    const double x = at.x(), y = at.y();
     // A target of label intensity 1; the desired image carries the same total intensity on a disc
     // of radius rd (clipped by the rim, so its mass is normalised after rasterising).
     const Eigen::VectorXd target = problem.from_image(circles_image(grid, {{x, y, rt, 0.0}}, 1.0));

@@ -46,9 +46,10 @@ namespace {
 // a mesh in other units, off centre by a fifth of R or more, or of another shape falls short.
 constexpr double kDiskCoverage = 0.9;
 
-// The pixel basis assumes the mesh is the grid's disk: the disk of grid.radius() about the
-// origin. A mesh in other units, off centre or of another shape would give a wrong A without an
-// error, so the overlap of the mesh with the in-disk pixels must cover nearly all of both.
+// The pixel basis assumes the mesh is the grid's sensor: the disk of grid.radius() about the
+// origin, or the mesh the grid was made to cover. A mesh in other units, off centre or of another
+// shape would give a wrong A without an error, so the overlap of the mesh with the in-disk pixels
+// must cover nearly all of both.
 void check_mesh_is_the_grids_disk(const Mesh& mesh, const PixelGrid& grid,
                                   const Eigen::SparseMatrix<double, Eigen::RowMajor>& overlap) {
   double shared = 0;
@@ -60,11 +61,17 @@ void check_mesh_is_the_grids_disk(const Mesh& mesh, const PixelGrid& grid,
   const double of_mesh = shared / mesh_area, of_pixels = shared / pixel_area;
   if (of_mesh < kDiskCoverage || of_pixels < kDiskCoverage) {
     char message[256];
-    std::snprintf(message, sizeof message,
-                  "is not the pixel grid's disk (radius %g about the origin): the in-disk pixels "
-                  "cover %.1f %% of the mesh and the mesh %.1f %% of them (check the mesh's units "
-                  "and centre)",
-                  grid.radius(), 100 * of_mesh, 100 * of_pixels);
+    if (grid.is_disk())
+      std::snprintf(message, sizeof message,
+                    "is not the pixel grid's disk (radius %g about the origin): the in-disk pixels "
+                    "cover %.1f %% of the mesh and the mesh %.1f %% of them (check the mesh's "
+                    "units and centre)",
+                    grid.radius(), 100 * of_mesh, 100 * of_pixels);
+    else
+      std::snprintf(message, sizeof message,
+                    "is not the sensor the pixel grid covers: its unmasked pixels cover %.1f %% of "
+                    "the mesh and the mesh %.1f %% of them (make the grid from this mesh)",
+                    100 * of_mesh, 100 * of_pixels);
     throw InputError("mesh", "", message);
   }
 }
@@ -84,6 +91,7 @@ LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, dou
   LinearProblem p;
   p.model = model;
   p.background = background;
+  p.grid = grid;
   p.image_size = grid.size();
   p.radius = grid.radius();
   for (int k = 0; k < grid.num_pixels(); ++k)

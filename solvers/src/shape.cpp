@@ -53,7 +53,7 @@ struct ShapeReconstructor::Impl {
 
   Impl(const LinearProblem& p, const std::shared_ptr<const LinearProblem>& shared,
        const ShapeOptions& o)
-      : model(p, o.width * p.radius), noser(shared, noser_options()), grid(p.image_size, p.radius) {
+      : model(p, o.width * p.radius), noser(shared, noser_options()), grid(p.grid) {
     noser.set_lambda(o.seed_lambda * noser.scale(), "shape start");
   }
   static TikhonovOptions noser_options() {
@@ -228,9 +228,8 @@ ShapeFit ShapeReconstructor::fit_circles(const Eigen::VectorXd& frame) const {
     std::vector<const double*> fitted;
     for (const auto& c : current.circles) fitted.push_back(c.data());
     const Eigen::VectorXd unexplained = frame - impl_->model.difference(fitted, false, nullptr);
-    const auto seed =
-        detail::image_seeds(impl_->noser.reconstruct(unexplained), problem_->image_size,
-                            problem_->radius, options_.seed_threshold, 1, 0.5);
+    const auto seed = detail::image_seeds(impl_->noser.reconstruct(unexplained), problem_->grid,
+                                          options_.seed_threshold, 1, 0.5);
     if (seed.empty()) break;
     auto start = current.circles;
     start.push_back(seed[0]);

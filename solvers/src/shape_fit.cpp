@@ -101,6 +101,68 @@ class InsideCost final : public ceres::SizedCostFunction<1, kCircleParameters> {
   double radius_, weight_;
 };
 
+// A sensor of another shape: weight * max(0, |c_a - m_a| + r - h_a) on each axis a, zero while the
+// circle stays in the mesh's bounding box (centre m, half-extents h). Exact for a rectangle; on an
+// ellipse a circle may leave the sensor near the box's corners, where the mask clips its image.
+class InsideBoxCost final : public ceres::SizedCostFunction<2, kCircleParameters> {
+ public:
+  InsideBoxCost(const Eigen::Vector2d& middle, const Eigen::Vector2d& half, double weight)
+      : middle_(middle), half_(half), weight_(weight) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const double* p = parameters[0];
+    if (jacobians && jacobians[0])
+      std::fill(jacobians[0], jacobians[0] + 2 * kCircleParameters, 0.0);
+    for (int a = 0; a < 2; ++a) {
+      const double d = p[a] - middle_[a], excess = std::abs(d) + p[2] - half_[a];
+      residuals[a] = excess > 0 ? weight_ * excess : 0;
+      if (jacobians && jacobians[0] && excess > 0) {
+        jacobians[0][a * kCircleParameters + a] = d >= 0 ? weight_ : -weight_;
+        jacobians[0][a * kCircleParameters + 2] = weight_;
+      }
+    }
+    return true;
+  }
+
+ private:
+  Eigen::Vector2d middle_, half_;
+  double weight_;
+};
+
+// Where a circle's centre may go: the disk's box, or the mesh's bounding box.
+struct Domain {
+  bool disk = true;
+  double R = 1;
+  Eigen::Vector2d lo, hi;
+};
+
+Domain domain_of(const LinearProblem& p) {
+  Domain d;
+  d.disk = p.grid.is_disk();
+  d.R = p.radius;
+  if (d.disk) {
+    d.lo = Eigen::Vector2d::Constant(-d.R), d.hi = Eigen::Vector2d::Constant(d.R);
+  } else {
+    d.lo = p.model->mesh().nodes.colwise().minCoeff().transpose();
+    d.hi = p.model->mesh().nodes.colwise().maxCoeff().transpose();
+  }
+  return d;
+}
+
+// Moves a start's centre so that the circle lies inside the domain (as far as its radius allows).
+void move_inside(CircleParameters& c, const Domain& d) {
+  if (d.disk) {
+    const double rho = std::hypot(c[0], c[1]), room = std::max(0.0, d.R - c[2]);
+    if (rho > room) c[0] *= room / rho, c[1] *= room / rho;
+    return;
+  }
+  for (int a = 0; a < 2; ++a) {
+    const double m = 0.5 * (d.lo[a] + d.hi[a]),
+                 room = std::max(0.0, 0.5 * (d.hi[a] - d.lo[a]) - c[2]);
+    c[a] = std::clamp(c[a], m - room, m + room);
+  }
+}
+
 ceres::Solver::Options solver_options(int max_iterations) {
   ceres::Solver::Options o;
   o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -120,12 +182,12 @@ FitOutcome fit_shape(const ShapeModel& model, const Eigen::VectorXd& frame,
   const int K = static_cast<int>(start.size()), m = static_cast<int>(frame.size());
   FitOutcome out;
   out.circles = std::move(start);
-  const double R = model.problem().radius;
-  for (auto& c : out.circles) {  // Ceres starts inside the bounds, and inside the disk
+  const Domain domain = domain_of(model.problem());
+  const double R = domain.R;
+  for (auto& c : out.circles) {  // Ceres starts inside the bounds, and inside the sensor
     c[2] = std::clamp(c[2], settings.min_radius, settings.max_radius);
     c[3] = std::clamp(c[3], settings.min_intensity, settings.max_intensity);
-    const double rho = std::hypot(c[0], c[1]), room = std::max(0.0, R - c[2]);
-    if (rho > room) c[0] *= room / rho, c[1] *= room / rho;
+    move_inside(c, domain);
   }
   SharedEvaluation shared(model, frame, K, settings.full);
   ceres::Problem::Options po;
@@ -148,9 +210,15 @@ FitOutcome fit_shape(const ShapeModel& model, const Eigen::VectorXd& frame,
     problem.AddResidualBlock(new MeasurementCost(shared, 0, m, K), nullptr, blocks);
   const double weight = 10 * std::max(frame.norm(), 1e-300) / R;
   for (double* b : blocks) {
-    problem.AddResidualBlock(new InsideCost(R, weight), nullptr, b);
-    problem.SetParameterLowerBound(b, 0, -R), problem.SetParameterUpperBound(b, 0, R);
-    problem.SetParameterLowerBound(b, 1, -R), problem.SetParameterUpperBound(b, 1, R);
+    if (domain.disk)
+      problem.AddResidualBlock(new InsideCost(R, weight), nullptr, b);
+    else
+      problem.AddResidualBlock(
+          new InsideBoxCost(0.5 * (domain.lo + domain.hi), 0.5 * (domain.hi - domain.lo), weight),
+          nullptr, b);
+    for (int a = 0; a < 2; ++a)
+      problem.SetParameterLowerBound(b, a, domain.lo[a]),
+          problem.SetParameterUpperBound(b, a, domain.hi[a]);
     problem.SetParameterLowerBound(b, 2, settings.min_radius);
     problem.SetParameterUpperBound(b, 2, settings.max_radius);
     problem.SetParameterLowerBound(b, 3, settings.min_intensity);

@@ -36,8 +36,9 @@ std::vector<Peak> local_maxima(const cv::Mat& image, float floor) {
 
 }  // namespace
 
-std::vector<CircleParameters> image_seeds(const Eigen::VectorXd& image, int n, double radius,
+std::vector<CircleParameters> image_seeds(const Eigen::VectorXd& image, const PixelGrid& grid,
                                           double threshold, int max_seeds, double intensity) {
+  const int n = grid.size();
   cv::Mat m(n, n, CV_32F);
   for (int k = 0; k < n * n; ++k) m.at<float>(k / n, k % n) = static_cast<float>(image[k]);
   double top = 0;
@@ -50,13 +51,13 @@ std::vector<CircleParameters> image_seeds(const Eigen::VectorXd& image, int n, d
   if (static_cast<int>(peaks.size()) > max_seeds) peaks.resize(static_cast<std::size_t>(max_seeds));
   std::vector<int> sharing(static_cast<std::size_t>(stats.rows), 0);
   for (const Peak& p : peaks) ++sharing[static_cast<std::size_t>(labels.at<int>(p.row, p.col))];
-  const double w = 2 * radius / n;
+  const double w = grid.pixel_width();
   std::vector<CircleParameters> seeds;
   for (const Peak& p : peaks) {
     const int blob = labels.at<int>(p.row, p.col);
     const double area = stats.at<int>(blob, cv::CC_STAT_AREA) * w * w / sharing[blob];
-    seeds.push_back({-radius + (p.col + 0.5) * w, radius - (p.row + 0.5) * w, std::sqrt(area / kPi),
-                     intensity});
+    const Eigen::Vector2d at = grid.center(p.row, p.col);
+    seeds.push_back({at.x(), at.y(), std::sqrt(area / kPi), intensity});
   }
   return seeds;
 }

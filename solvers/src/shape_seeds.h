@@ -4,16 +4,16 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "eitbench/jacobian/pixel_grid.h"
 #include "shape_fit.h"
 
 namespace eitbench::detail {
 
-// Local maxima of `image` (image_size^2, row 0 at the top, over [-R, R]^2) of at least
+// Local maxima of `image` (on `grid`, row 0 at the top) of at least
 // `threshold` times its maximum, strongest first, at most `max_seeds`: centre at the pixel,
 // radius sqrt(area / pi) of the above-threshold blob it lies in (shared by the blob's peaks),
 // intensity `intensity`. None when the image has no positive value.
-std::vector<CircleParameters> image_seeds(const Eigen::VectorXd& image, int image_size,
-                                          double radius, double threshold, int max_seeds,
-                                          double intensity);
+std::vector<CircleParameters> image_seeds(const Eigen::VectorXd& image, const PixelGrid& grid,
+                                          double threshold, int max_seeds, double intensity);
 
 }  // namespace eitbench::detail

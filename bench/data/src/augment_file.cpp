@@ -6,6 +6,7 @@
 
 #include "eitbench/augment/augmented_set.h"
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/training_data.h"
 
 namespace eitbench {
 
@@ -13,10 +14,14 @@ long long augment_dataset_file(const std::string& in, const std::string& out,
                                const FileAugmentOptions& o) {
   Dataset data = read_dataset(in);
   const int L = data.electrodes;
+  // A set on a sensor of another shape moves by that sensor's group (training_data.h).
+  const AugmentSetup setup = sensor_of(data, o.group);
   const std::vector<GroupElement> elements =
-      o.elements.empty() ? group_elements(o.group, L) : o.elements;
+      o.elements.empty() ? augment_elements(setup) : o.elements;
   const FrameSymmetry symmetry(L);
-  const ImageSymmetry images(L, PixelGrid(data.image_size, data.radius));
+  const ImageSymmetry images = image_symmetry(setup);
+  if (setup.sensor)  // a named element the sensor lacks is refused before anything is written
+    for (const GroupElement& g : elements) images.move(Eigen::Vector2d::Zero(), g);
 
   // The writer takes the attributes and the reference from `data` itself (no copy of the samples).
   data.augmentation = o.elements.size() == 1 ? o.elements.front().to_string() : to_string(o.group);
@@ -53,11 +58,11 @@ long long augment_dataset_file(const std::string& in, const std::string& out,
                 .transpose();
         block.split[static_cast<std::size_t>(r)] = data.split[i];
         if (!data.circles.empty())
-          block.circles[static_cast<std::size_t>(r)] = transform_circles(data.circles[i], g, L);
+          block.circles[static_cast<std::size_t>(r)] = images.move(data.circles[i], g);
         if (data.has_labels())
           block.labels.row(r) = moved_label(data.labels.row(i).transpose(),
                                             data.circles.empty() ? nullptr : &data.circles[i],
-                                            data.background, g, L, images)
+                                            data.background, g, images)
                                     .transpose();
       }
     });

@@ -22,4 +22,9 @@ inline const H5::PredType& h5_type<int>() {
   return H5::PredType::NATIVE_INT;
 }
 
+template <>
+inline const H5::PredType& h5_type<unsigned char>() {
+  return H5::PredType::NATIVE_UCHAR;
+}
+
 }  // namespace eitbench::detail

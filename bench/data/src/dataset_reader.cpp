@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "dataset_hdf5.h"
@@ -16,6 +17,7 @@
 #include "eitbench/bench/io/wire.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/input_file.h"
+#include "eitbench/jacobian/msh_io.h"
 #include "eitbench/jacobian/read_budget.h"
 
 namespace eitbench {
@@ -204,6 +206,19 @@ Dataset read_dataset_checked(const std::string& path) {
   d.simulation_triangles = static_cast<int>(r.number("simulation_triangles", 0, 0, 1e9));
   d.program = r.text("program");
   d.augmentation = r.text("augmentation").empty() ? "none" : r.text("augmentation");
+  if (r.has("sensor_mesh")) {
+    std::vector<hsize_t> bytes{0};
+    const std::vector<unsigned char> text = r.array<unsigned char>("sensor_mesh", bytes);
+    d.sensor_mesh.assign(text.begin(), text.end());
+    // Checked here, in the child, as any mesh file is: the parent parses it again safely.
+    std::istringstream in(d.sensor_mesh);
+    const Mesh mesh = read_msh(in, path + ": sensor_mesh");
+    if (mesh.num_electrodes() != d.electrodes)
+      throw InputError(path, "sensor_mesh",
+                       "has " + std::to_string(mesh.num_electrodes()) + " electrodes; the file " +
+                           std::to_string(d.electrodes));
+    d.sensor_group = r.text("sensor_group");
+  }
 
   std::vector<hsize_t> dims{0, reduced};
   const std::vector<double> differences = r.array<double>("differences", dims);
@@ -262,7 +277,7 @@ std::string to_wire(const Dataset& d) {
   w.pod(d.electrodes), w.pod(d.radius), w.pod(d.background), w.pod(d.contact_impedance);
   w.pod(d.current), w.pod(d.electrode_coverage), w.pod(d.image_size), w.pod(d.seed);
   w.text(d.preset), w.text(d.simulation_mesh), w.pod(d.simulation_triangles);
-  w.text(d.program), w.text(d.augmentation);
+  w.text(d.program), w.text(d.augmentation), w.text(d.sensor_mesh), w.text(d.sensor_group);
   w.matrix(d.reference), w.matrix(d.frames), w.matrix(d.differences), w.matrix(d.labels);
   w.pod<std::uint64_t>(d.circles.size());
   for (const auto& list : d.circles) w.vector(list);
@@ -279,6 +294,7 @@ Dataset from_wire(const std::string& bytes) {
   d.seed = r.pod<std::uint64_t>();
   d.preset = r.text(), d.simulation_mesh = r.text(), d.simulation_triangles = r.pod<int>();
   d.program = r.text(), d.augmentation = r.text();
+  d.sensor_mesh = r.text(), d.sensor_group = r.text();
   d.reference = r.matrix<Eigen::VectorXd>();
   d.frames = r.matrix<SampleMatrix>(), d.differences = r.matrix<SampleMatrix>();
   d.labels = r.matrix<SampleMatrix>();

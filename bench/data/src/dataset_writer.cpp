@@ -80,6 +80,12 @@ void create_arrays(OpenFile& w, const Dataset& d, bool labels, bool circles) {
   detail::write_closed(
       w.file.createDataSet("reference", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &frame_size)),
       d.reference.data(), H5::PredType::NATIVE_DOUBLE);
+  if (!d.sensor_mesh.empty()) {
+    const hsize_t bytes = d.sensor_mesh.size();
+    detail::write_closed(
+        w.file.createDataSet("sensor_mesh", H5::PredType::NATIVE_UCHAR, H5::DataSpace(1, &bytes)),
+        d.sensor_mesh.data(), H5::PredType::NATIVE_UCHAR);
+  }
   w.differences = std::make_unique<GrowingArray>(w.file, "differences", H5::PredType::NATIVE_DOUBLE,
                                                  std::vector<hsize_t>{frame_size / 2});
   w.frames = std::make_unique<GrowingArray>(w.file, "frames", H5::PredType::NATIVE_DOUBLE,
@@ -117,6 +123,7 @@ void write_attributes(H5::H5File& file, const Dataset& d) {
                   "reduced: v(d,m), d < m, m - d >= 2, (d,m) != (0,L-1), row-major");
   write_attribute(file, "program", d.program);
   write_attribute(file, "augmentation", d.augmentation);
+  if (!d.sensor_mesh.empty()) write_attribute(file, "sensor_group", d.sensor_group);
   write_attribute(file, "format_version", static_cast<long long>(kDatasetFormatVersion));
 }
 

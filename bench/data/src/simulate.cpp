@@ -6,6 +6,8 @@
 #include <atomic>
 #include <cmath>
 
+#include "eitbench/augment/sensor_group.h"
+#include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/forward_model.h"
@@ -54,26 +56,69 @@ std::vector<Circle> draw_circles(int k, double R, RandomStream& rng) {
   }
 }
 
+// The same on a sensor of any shape: centres uniform over the grid's box, kept when inside the mesh
+// and at least r from its boundary; radii as on the disk, in units of the grid's R.
+std::vector<Circle> draw_circles(int k, const Mesh& mesh, const PixelGrid& grid,
+                                 RandomStream& rng) {
+  const double R = grid.radius();
+  for (;;) {
+    std::vector<Circle> circles;
+    for (int attempt = 0; static_cast<int>(circles.size()) < k && attempt < 10000; ++attempt) {
+      const double r = rng.uniform(0.05 * R, 0.25 * R);
+      const Eigen::Vector2d at =
+          grid.box_centre() + Eigen::Vector2d(rng.uniform(-R, R), rng.uniform(-R, R));
+      const double sigma = rng.uniform(0.0001, 0.05);
+      if (!point_in_mesh(mesh, at) || boundary_distance(mesh, at) < r) continue;
+      const Circle c{at.x(), at.y(), r, sigma};
+      bool free = true;
+      for (const Circle& o : circles) free &= std::hypot(c.x - o.x, c.y - o.y) >= c.r + o.r;
+      if (free) circles.push_back(c);
+    }
+    if (static_cast<int>(circles.size()) == k) return circles;
+  }
+}
+
+// The meshes and grid a simulation works on: the disk's, or a sensor mesh's.
+struct SimulationGeometry {
+  Mesh sensor;      // where touches are drawn (the reconstruction mesh for a sensor mesh)
+  Mesh simulation;  // where frames are made
+  PixelGrid grid;
+  std::string description;
+};
+
+SimulationGeometry simulation_geometry(const SimulationOptions& o) {
+  if (o.sensor_mesh) {
+    const Mesh& mesh = *o.sensor_mesh;
+    return {mesh, refine_mesh(mesh), PixelGrid::covering(mesh, o.image_size),
+            (o.sensor_source.empty() ? std::string("sensor mesh") : o.sensor_source) +
+                ", refined once"};
+  }
+  DiskMeshOptions disk;
+  disk.electrodes = o.electrodes;
+  disk.density = o.density;
+  disk.electrode_coverage = o.electrode_coverage;
+  Mesh mesh = generate_disk_mesh(disk);
+  return {mesh, mesh, PixelGrid(o.image_size, disk.radius),
+          "disk L=" + std::to_string(o.electrodes) + " " + to_string(o.density)};
+}
+
 }  // namespace
 
 Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress) {
   const PresetCounts counts = preset_counts(o.preset);
   if (!(o.background > 0)) throw InputError("--background", "", "must be positive");
-  DiskMeshOptions disk;
-  disk.electrodes = o.electrodes;
-  disk.density = o.density;
-  disk.electrode_coverage = o.electrode_coverage;
-  const Mesh mesh = generate_disk_mesh(disk);
+  const SimulationGeometry geometry = simulation_geometry(o);
+  const Mesh& mesh = geometry.simulation;
   ForwardOptions forward;
   forward.current = o.current;
   forward.contact_impedance = o.contact_impedance;
   const ForwardModel model(mesh, forward);
-  const PixelGrid grid(o.image_size, disk.radius);
+  const PixelGrid& grid = geometry.grid;
   const Protocol& protocol = model.protocol();
 
   Dataset data;
-  data.electrodes = o.electrodes;
-  data.radius = disk.radius;
+  data.electrodes = mesh.num_electrodes();
+  data.radius = grid.radius();
   data.background = o.background;
   data.contact_impedance = o.contact_impedance;
   data.current = o.current;
@@ -81,7 +126,11 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   data.image_size = o.image_size;
   data.seed = o.seed;
   data.preset = o.preset;
-  data.simulation_mesh = "disk L=" + std::to_string(o.electrodes) + " " + to_string(o.density);
+  data.simulation_mesh = geometry.description;
+  if (o.sensor_mesh) {
+    data.sensor_mesh = mesh_text(*o.sensor_mesh);
+    data.sensor_group = find_sensor_group(*o.sensor_mesh, {}, o.sensor_source).name();
+  }
   data.simulation_triangles = mesh.num_triangles();
   data.program = program_version();
   data.reference = model.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), o.background));
@@ -107,7 +156,8 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   arena.execute([&] {
     tbb::parallel_for(0, n, [&](int i) {
       RandomStream rng(o.seed, static_cast<std::uint64_t>(i));  // sample i's own stream
-      data.circles[i] = draw_circles(circle_count[i], disk.radius, rng);
+      data.circles[i] = o.sensor_mesh ? draw_circles(circle_count[i], geometry.sensor, grid, rng)
+                                      : draw_circles(circle_count[i], grid.radius(), rng);
       const Eigen::VectorXd frame =
           model.frame(conductivity_from_circles(mesh, data.circles[i], o.background));
       data.frames.row(i) = frame.transpose();

@@ -1,5 +1,7 @@
 #include "eitbench/bench/data/training_data.h"
 
+#include "eitbench/bench/data/sensor.h"
+
 #include <algorithm>
 
 #include "eitbench/jacobian/random.h"
@@ -44,6 +46,7 @@ AugmentSetup sensor_of(const Dataset& data, AugmentGroup group) {
   s.electrodes = data.electrodes;
   s.image_size = data.image_size;
   s.radius = data.radius;
+  s.sensor = shaped_sensor_of(data);
   return s;
 }
 

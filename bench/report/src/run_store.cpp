@@ -47,10 +47,21 @@ void draw_reconstructions(const std::string& path, const RunResults& results,
           Eigen::Map<const Eigen::VectorXd>(array.values.data() + (r * s[1] + k) * pixels, pixels));
     rows.push_back(std::move(row));
   }
-  // The mask depends on n only: a pixel is in when its centre is, whatever the radius.
-  const PixelGrid grid(static_cast<int>(s[2]));
+  // The disk's mask depends on n only: a pixel is in when its centre is, whatever the radius. A
+  // sensor of another shape stores its own.
+  const int n = static_cast<int>(s[2]);
+  Eigen::Array<bool, Eigen::Dynamic, 1> mask = PixelGrid(n).mask();
+  const fs::path mask_file = fs::path(path).parent_path() / "image_mask.npy";
+  if (fs::exists(mask_file)) {
+    const auto m =
+        detail::read_npy(read_file_bytes(mask_file.string(), 1LL << 26), mask_file.string(), "");
+    if (m.shape.size() != 2 || m.shape[0] != s[2] || m.shape[1] != s[3])
+      throw InputError(mask_file.string(), "shape",
+                       fmt::format("expected ({}, {}), the images' size", n, n));
+    for (Eigen::Index p = 0; p < mask.size(); ++p) mask[p] = m.values[p] > 0.5;
+  }
   const bool labelled = labels.front() == "truth";
-  draw_image_grid_png(rows, grid.mask(),
+  draw_image_grid_png(rows, mask,
                       labelled ? "test samples: truth, then each method (noise-free)"
                                : "measured frames: each method",
                       out);
@@ -59,7 +70,8 @@ void draw_reconstructions(const std::string& path, const RunResults& results,
 }  // namespace
 
 void write_run_store(const std::string& folder, const RunResults& results,
-                     const std::vector<ImageRow>& figure, int image_size) {
+                     const std::vector<ImageRow>& figure, const PixelGrid& grid) {
+  const int image_size = grid.size();
   write_results_json((fs::path(folder) / "results.json").string(), results);
   // The file keeps images only: their labels are results.json's, and must be the figure's.
   const std::vector<std::string> labels = figure_labels(results);
@@ -86,6 +98,15 @@ void write_run_store(const std::string& folder, const RunResults& results,
                                        static_cast<std::size_t>(image_size)};
   write_bytes_atomically((fs::path(folder) / "reconstructions.npy").string(),
                          detail::npy_bytes(values, shape));
+  const fs::path mask = fs::path(folder) / "image_mask.npy";
+  if (grid.is_disk()) {
+    std::error_code error;
+    fs::remove(mask, error);  // an earlier run's in this folder would mask the disk's images
+  } else {
+    std::vector<float> inside(grid.mask().size());
+    for (Eigen::Index p = 0; p < grid.mask().size(); ++p) inside[p] = grid.mask()[p] ? 1.0f : 0.0f;
+    write_bytes_atomically(mask.string(), detail::npy_bytes(inside, {shape[2], shape[3]}));
+  }
 }
 
 RunResults draw_run_report(const std::string& folder, bool quiet) {

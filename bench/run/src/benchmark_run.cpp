@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/io/folder_lock.h"
 #include "eitbench/bench/methods/touches.h"
 #include "eitbench/bench/report/report.h"
@@ -51,9 +52,25 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   c["test_frames"] = std::to_string(data.test.frames.rows());
   c["training_samples"] = std::to_string(data.source.indices(Split::train).size());
   c["validation_frames"] = std::to_string(data.validation.frames.rows());
-  c["reconstruction_mesh"] =
-      fmt::format("disk L={} {} ({} triangles)", data.data.electrodes, to_string(config.mesh),
-                  reconstruction.mesh.num_triangles());
+  if (has_sensor_mesh(data.sensor())) {
+    const auto sensor = shaped_sensor_of(data.sensor());
+    c["reconstruction_mesh"] = fmt::format(
+        "the sensor's own mesh ({} triangles, {} electrodes; images {} x {} over its "
+        "bounding box, {} pixels inside)",
+        reconstruction.mesh.num_triangles(), data.sensor().electrodes, reconstruction.grid.size(),
+        reconstruction.grid.size(), reconstruction.grid.num_inside());
+    c["sensor_group"] =
+        sensor->group.order() > 1
+            ? fmt::format(
+                  "{}, {} elements, found from the mesh: 'dnn group' trains on every "
+                  "frame moved by each element (x{})",
+                  sensor->group.name(), sensor->group.order(), sensor->group.order())
+            : "trivial: the sensor has no symmetry, so the learned model is not augmented";
+  } else {
+    c["reconstruction_mesh"] =
+        fmt::format("disk L={} {} ({} triangles)", data.data.electrodes, to_string(config.mesh),
+                    reconstruction.mesh.num_triangles());
+  }
   c["background"] = fmt::format("{:g}", data.sensor().background);
   if (!data.own_training) c["calibration"] = describe(data.calibration);
   std::string snrs;
@@ -69,7 +86,7 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   if (learned.gemm_flops > 0)
     c["gemm_peak"] = fmt::format("{:.0f} GFLOP/s (float32 2048 x 2048 matrix product, {} threads)",
                                  learned.gemm_flops / 1e9, config.threads);
-  if (!config.efficiency_sizes.empty())
+  if (!config.efficiency_sizes.empty() && !has_sensor_mesh(data.sensor()))
     c["efficiency"] = fmt::format(
         "sizes {} to {}: none and d16 to convergence, d16 at none's steps (equal compute)",
         config.efficiency_sizes.front(), config.efficiency_sizes.back());
@@ -98,6 +115,34 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   return c;
 }
 
+// The learned models to train: the configuration's augmentations on the disk; on a sensor of
+// another shape none and its whole group ("group"), or none alone when the group is trivial, unless
+// the user asked for others (which the group then filters: rotations are its rotations).
+std::vector<std::string> learned_augments(const Context& context, const RunData& data) {
+  const RunConfig& config = context.config;
+  if (!has_sensor_mesh(data.source)) return config.augments;
+  const auto sensor = shaped_sensor_of(data.source);
+  std::vector<std::string> out;
+  for (const std::string& a :
+       config.augments_chosen ? config.augments : std::vector<std::string>{"none", "group"}) {
+    if (a == "paper" || a == "d16")
+      throw InputError("--augment", "",
+                       a + " is the disk's; a sensor of another shape augments by its own group "
+                           "(group, rotations, mirror or none)");
+    if (a != "none" && sensor->group.order() == 1) continue;
+    out.push_back(a);
+  }
+  if (sensor->group.order() > 1)
+    context.say(fmt::format(
+        "sensor: symmetry group {} ({} elements): the learned model 'group' augments by {}",
+        sensor->group.name(), sensor->group.order(), sensor->group.order()));
+  else
+    context.say(
+        "sensor: no symmetry (the trivial group): no augmentation, the learned model trains on "
+        "the frames as they are");
+  return out;
+}
+
 // The fingerprint of the whole run (results.json): everything its stages' provenances hold.
 std::string run_fingerprint(const RunConfig& config, const RunData& data) {
   Provenance p = data.provenance;
@@ -107,6 +152,7 @@ std::string run_fingerprint(const RunConfig& config, const RunData& data) {
   p["methods"] = list;
   list.clear();
   for (const auto& a : config.augments) list += a + " ";
+  if (!config.mesh_file.empty()) p["sensor mesh"] = config.mesh_file;
   p["augments"] = list;
   list.clear();
   for (int n : config.efficiency_sizes) list += std::to_string(n) + " ";
@@ -152,14 +198,17 @@ RunResults run_benchmark(const RunConfig& config) {
   LearnedSetup learned = learned_setup(config, data.source);
   learned.gemm_flops = gemm_flops;
   long long parameters = 0;
-  for (const std::string& augment : config.augments) {
+  for (const std::string& augment : learned_augments(context, data)) {
     LearnedResults l = run_learned(context, augment, learned, data, reconstruction, noisy);
     results.rows.insert(results.rows.end(), l.method.rows.begin(), l.method.rows.end());
     results.training.push_back(l.training);
     figure.push_back({"dnn " + augment, l.method.images});
     parameters = l.parameters;
   }
-  results.efficiency = run_sweep(context, learned, data, reconstruction, results);
+  // The data-efficiency sweep compares none with d16 on the disk; a sensor of another shape has
+  // its own group, whose sweep is not made yet.
+  if (!has_sensor_mesh(data.sensor()))
+    results.efficiency = run_sweep(context, learned, data, reconstruction, results);
 
   const double total_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -167,7 +216,7 @@ RunResults run_benchmark(const RunConfig& config) {
   results.configuration = describe_run(config, data, reconstruction, learned, parameters, total_s);
   results.configuration["fingerprint"] = run_fingerprint(config, data);
   results.recommendation = recommend(results.rows, results.training);
-  write_run_store(out.string(), results, figure, reconstruction.grid.size());
+  write_run_store(out.string(), results, figure, reconstruction.grid);
   return draw_run_report(out.string());
 }
 

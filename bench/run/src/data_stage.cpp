@@ -4,10 +4,12 @@
 #include <cmath>
 
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/support/progress.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/msh_io.h"
 #include "stages.h"
 
 namespace eitbench::run {
@@ -26,10 +28,16 @@ FrameSet rows_of(const Dataset& d, const std::vector<int>& rows) {
   return f;
 }
 
+std::string sensor_name(const RunConfig& config) {
+  return fs::path(config.mesh_file).filename().string();
+}
+
 // What a simulated set must be to serve this run: "" when `d` is it, else the differences.
 std::string simulation_differs(const Dataset& d, const RunConfig& config) {
   const std::string mesh =
-      "disk L=" + std::to_string(config.electrodes) + " " + to_string(config.simulation);
+      config.mesh_file.empty()
+          ? "disk L=" + std::to_string(config.electrodes) + " " + to_string(config.simulation)
+          : sensor_name(config) + ", refined once";
   std::string diff;
   auto differs = [&](const std::string& what, const std::string& has, const std::string& asked) {
     if (has != asked)
@@ -39,6 +47,9 @@ std::string simulation_differs(const Dataset& d, const RunConfig& config) {
   differs("seed", std::to_string(d.seed), std::to_string(config.seed));
   differs("simulation mesh", d.simulation_mesh, mesh);
   differs("program", d.program, program_version());
+  if (!config.mesh_file.empty() && d.sensor_mesh != mesh_text(read_msh_file(config.mesh_file)))
+    diff += fmt::format("{}sensor mesh (this run: {}'s as it is now)", diff.empty() ? "" : ", ",
+                        config.mesh_file);
   return diff;
 }
 
@@ -62,11 +73,17 @@ Dataset simulated(const Context& context) {
   s.seed = config.seed;
   s.density = config.simulation;
   s.electrodes = config.electrodes;
+  if (!config.mesh_file.empty()) {
+    s.sensor_mesh = std::make_shared<const Mesh>(read_msh_file(config.mesh_file));
+    s.sensor_source = sensor_name(config);
+  }
   const auto counts = preset_counts(config.preset);
   int total = 0;
   for (int c : counts.circles) total += c;
   context.say(fmt::format("data: simulating the {} preset ({} samples, seed {}, {} mesh)",
-                          config.preset, total, config.seed, to_string(config.simulation)));
+                          config.preset, total, config.seed,
+                          config.mesh_file.empty() ? to_string(config.simulation)
+                                                   : config.mesh_file + " refined once"));
   Progress progress("simulate", total, config.quiet);
   Dataset d = simulate_dataset(s, [&](int done, int) { progress.update(done); });
   write_dataset(path, d);

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/data/training_data.h"
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/registry.h"
@@ -104,6 +105,7 @@ LearnedSetup learned_setup(const RunConfig& config, const Dataset& source) {
   s.network =
       NetworkOptions::preset(size, static_cast<int>(source.differences.cols()), source.image_size);
   s.network.radius = source.radius;
+  s.network.mask = sensor_mask(source);  // a sensor of another shape masks to its own
   s.training.batch_size = config.batch;
   s.training.learning_rate = config.learning_rate;
   s.training.schedule.kind = parse_schedule(config.schedule, "schedule");
@@ -154,6 +156,7 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
   LearnedResults out;
   LearnedModel model = trained_model(context, augment, setup, data);
   out.training = training_summary(model, model_path(context, augment), setup);
+  out.training.augment = augment;  // the run's name: "group" on a sensor of another shape
   const TrainingSummary& summary = out.training;
   if (model.info().electrodes != data.data.electrodes)
     throw InputError(model_path(context, augment), "electrodes",

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "eitbench/bench/data/noise.h"
+#include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/bench/methods/evaluate.h"
 #include "eitbench/bench/methods/registry.h"
@@ -34,12 +35,8 @@ std::string quality(const ResultRow& row) {
 Reconstruction set_up_reconstruction(const Context& context, const RunData& data) {
   const Dataset& sensor = data.sensor();
   const auto t0 = std::chrono::steady_clock::now();
-  DiskMeshOptions disk;
-  disk.electrodes = sensor.electrodes;
-  disk.density = context.config.mesh;
-  disk.radius = sensor.radius;
-  disk.electrode_coverage = sensor.electrode_coverage;
-  Reconstruction r{generate_disk_mesh(disk), PixelGrid(sensor.image_size, sensor.radius), {}, 0};
+  // The disk at the run's density, or a sensor of another shape on its own mesh and grid.
+  Reconstruction r{reconstruction_mesh(sensor, context.config.mesh), image_grid(sensor), {}, 0};
   ForwardOptions fo;
   fo.contact_impedance = sensor.contact_impedance;
   fo.current = sensor.current;

@@ -30,10 +30,21 @@ struct AugmentSetup {
   int electrodes = 16;  // L >= 4, as the protocol needs
   int image_size = 64;  // labels are image_size^2 pixels over [-R, R]^2; at least 1
   double radius = 1.0;  // positive and finite
+  // A sensor of another shape (docs/sensors.md): its group, found from the mesh, and the grid
+  // covering it, which replace D_L and the disk's grid (image_size and electrodes must agree).
+  // `group` then picks among the sensor's elements: dihedral all of them, rotations its rotations,
+  // mirror the identity and its first mirror, none the identity; paper is refused. Null: the disk.
+  std::shared_ptr<const ShapedSensor> sensor;
 
   // Throws InputError("AugmentSetup", field) for a value out of range.
   void validate() const;
 };
+
+// The elements `setup.group` stands for: group_elements(group, electrodes) on the disk, or the
+// sensor's own (see AugmentSetup::sensor). Validates the setup first.
+std::vector<GroupElement> augment_elements(const AugmentSetup& setup);
+// The label images' moves: on the disk's grid, or on the sensor's.
+ImageSymmetry image_symmetry(const AugmentSetup& setup);
 
 // Validates the setup, then throws InputError("frames", ...) when sizes disagree with it.
 void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup);

@@ -13,6 +13,7 @@
 
 #include "eitbench/augment/symmetry.h"
 #include "eitbench/jacobian/mesh.h"
+#include "eitbench/jacobian/pixel_grid.h"
 
 namespace eitbench {
 
@@ -62,6 +63,13 @@ struct SensorGroup {
   std::vector<GroupElement> frame_elements() const;
 };
 
+// A sensor of any shape as augmentation sees it: the group found from its mesh, whose isometries
+// move touches and labels, and the pixel grid covering it (PixelGrid::covering).
+struct ShapedSensor {
+  SensorGroup group;
+  PixelGrid grid;
+};
+
 // Throws InputError(source, ...) for a mesh with point electrodes all at one place, or for bad
 // options. Deterministic; O(candidates x boundary nodes^2) with at most 2L candidates surviving
 // the electrode test.
@@ -71,6 +79,11 @@ SensorGroup find_sensor_group(const Mesh& mesh, const SymmetrySearchOptions& opt
 // Refuses (InputError naming `source` and the electrode that breaks it) any element of `elements`
 // the sensor does not have, e.g. "rot:1 is not a symmetry of this sensor: turned so that electrode
 // 0 lands on electrode 15, electrode 3 lands 0.31 from electrode 2".
+// The group and the covering grid of `mesh`, images image_size pixels a side.
+ShapedSensor shaped_sensor(const Mesh& mesh, int image_size,
+                           const SymmetrySearchOptions& options = {},
+                           const std::string& source = "mesh");
+
 void require_sensor_symmetries(const std::vector<GroupElement>& elements, const Mesh& mesh,
                                const SensorGroup& group, const std::string& source);
 

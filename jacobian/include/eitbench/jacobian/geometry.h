@@ -20,6 +20,14 @@ double triangle_circle_overlap(const Eigen::Vector2d& a, const Eigen::Vector2d& 
 double triangle_box_overlap(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                             const Eigen::Vector2d& c, double x0, double x1, double y0, double y1);
 
+// Whether x lies in triangle (a, b, c) of either orientation, its edges included.
+bool point_in_triangle(const Eigen::Vector2d& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                       const Eigen::Vector2d& c);
+
+// The distance from x to the mesh's boundary (its edges of one triangle only): a circle of
+// radius r centred at a point inside the mesh lies inside it when r <= this distance.
+double boundary_distance(const Mesh& mesh, const Eigen::Vector2d& x);
+
 // Element conductivities of non-overlapping circles on a background: each triangle gets the
 // area-weighted mean, from exact circle-triangle overlaps.
 Eigen::VectorXd conductivity_from_circles(const Mesh& mesh, const std::vector<Circle>& circles,

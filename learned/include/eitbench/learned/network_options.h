@@ -38,6 +38,9 @@ struct NetworkOptions {
   Upsampling upsampling = Upsampling::pixel_shuffle;
   double dropout = 0.1;  // after every hidden encoder layer, in [0, 1)
   double radius = 1.0;   // the image spans [-R, R]^2; the disk mask. Positive and finite
+  // A sensor of another shape: its grid's mask (image_size^2, true inside; PixelGrid::covering),
+  // which replaces the disk's. Kept in the model file as the network's mask buffer, not here.
+  std::vector<bool> mask;
 
   // Throws InputError("NetworkOptions", field) when the shape is impossible (as
   // check_network_options).

@@ -18,8 +18,9 @@ namespace eitbench {
 struct LinearProblem {
   Eigen::MatrixXd A;        // m x n: m reduced measurements, n in-disk pixels
   std::vector<int> pixels;  // column j is image pixel pixels[j]
-  int image_size = 64;
-  double radius = 1.0;  // the grid covers [-radius, radius]^2
+  PixelGrid grid;           // the image grid: the disk's, or one covering a sensor of any shape
+  int image_size = 64;      // grid.size()
+  double radius = 1.0;      // grid.radius(): the grid's box is grid.box_centre() +- radius
   double background = 1.0;
   // What Gauss-Newton needs to re-linearise: the model and the pixel-to-element map.
   std::shared_ptr<const ForwardModel> model;

@@ -10,10 +10,13 @@
 //   /labels        N x n x n     float32  touch intensity (sigma_0 - sigma) / sigma_0 per pixel
 //   /circles       N x 4 x 4     float64  x, y, r, sigma of up to 4 circles, NaN-padded
 //   /circle_count  N             int32
+//   /sensor_mesh   bytes         uint8    a sensor of another shape: its mesh as Gmsh 4.1 text
+//                                         (absent for the disk, which the attributes describe)
 // Labels and circles are absent from imported measurements. Attributes on the root group:
 // electrodes, radius, background_conductivity, contact_impedance, current, electrode_coverage,
 // image_size, seed, preset, simulation_mesh, simulation_triangles, protocol, frame_order,
-// difference_layout, program, augmentation, format_version.
+// difference_layout, program, augmentation, format_version, and with a sensor mesh sensor_group
+// (the symmetry group found from it, for the reader's information).
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
@@ -43,6 +46,10 @@ struct Dataset {
   int simulation_triangles = 0;
   std::string program;
   std::string augmentation = "none";  // the group the set was expanded by, if any
+  // A sensor of another shape (docs/sensors.md): its mesh as Gmsh 4.1 text, on which the run
+  // reconstructs and whose grid the labels are on; empty for the disk of `radius`.
+  std::string sensor_mesh;
+  std::string sensor_group;  // its symmetry group's name ("D4"), as found when it was simulated
 
   Eigen::VectorXd reference;                 // L(L-3), rotating
   SampleMatrix frames;                       // N x L(L-3), rotating

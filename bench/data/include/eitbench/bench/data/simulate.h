@@ -2,6 +2,7 @@
 // The simulated tactile data set (docs/conventions.md): EdEIT-like circles on a fine mesh.
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "eitbench/bench/data/dataset.h"
@@ -20,6 +21,12 @@ struct SimulationOptions {
   double current = 1.0;
   double electrode_coverage = 0.5;
   int image_size = 64;
+  // A sensor of another shape (docs/sensors.md): its mesh, with electrode_k groups, and where it
+  // came from (a file name, for the set's description). Null: the disk of `electrodes`. The frames
+  // are then made on the mesh refined once (refine_mesh), touches drawn inside it, the labels on
+  // the grid covering it, and the set stores the mesh and its symmetry group.
+  std::shared_ptr<const Mesh> sensor_mesh;
+  std::string sensor_source;
 };
 
 // Samples with 1, 2, 3 and 4 circles for a preset: paper 7,035 / 7,298 / 7,500 / 7,500; standard

@@ -15,6 +15,8 @@ struct RunConfig {
   std::string reference;         // measured frames: the empty sensor's frame
   std::string sensor;  // a calibrated sensor file: the reconstruction model's impedances, sigma_0
   std::string out;     // the output folder
+  // A sensor of another shape: a Gmsh mesh the preset's set is simulated on (docs/sensors.md).
+  std::string mesh_file;
   std::uint64_t seed = 1;
   bool resume = false;  // reuse what an interrupted run in `out` finished
   bool quiet = false;
@@ -23,6 +25,7 @@ struct RunConfig {
   std::vector<double> snrs;           // dB; infinity: noise-free
   std::vector<std::string> methods;   // model-based
   std::vector<std::string> augments;  // the learned reconstructor's
+  bool augments_chosen = false;       // by the user: a sensor mesh then keeps them (if it can)
   MeshDensity mesh = MeshDensity::medium;
   MeshDensity simulation = MeshDensity::fine;
   std::string model = "small";
