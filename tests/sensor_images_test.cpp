@@ -12,7 +12,7 @@
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/jacobian.h"
 #include "eitbench/jacobian/shape_mesh.h"
-#include "eitbench/solvers/linear_problem.h"
+#include "eitbench/solvers.h"
 
 namespace eitbench {
 namespace {
@@ -98,10 +98,14 @@ TEST(SensorGrid, TheLinearProblemAcceptsTheGridOfItsOwnMeshOnly) {
 // (D4) and the ellipse (D2) centred in their boxes, every element permutes the pixels, so the
 // bilinear stencil equals re-rasterising the moved circles up to rounding.
 TEST(SensorImages, LabelsMoveAsTheirTouchesUnderEveryElement) {
-  for (const Mesh* mesh : {&square(), &ellipse()}) {
+  Mesh away = ellipse();  // the same ellipse off the origin: its box and isometries move with it
+  away.nodes.col(0).array() += 3.0, away.nodes.col(1).array() -= 2.0;
+  for (const Mesh* mesh : {&square(), &ellipse(), static_cast<const Mesh*>(&away)}) {
     const auto sensor = std::make_shared<const ShapedSensor>(shaped_sensor(*mesh, 48));
     const ImageSymmetry images(sensor);
-    const std::vector<Circle> touches{{0.31, 0.07, 0.12, 0.01}, {-0.4, -0.1, 0.08, 0.03}};
+    const Eigen::Vector2d o = sensor->grid.box_centre();
+    const std::vector<Circle> touches{{o.x() + 0.31, o.y() + 0.07, 0.12, 0.01},
+                                      {o.x() - 0.4, o.y() - 0.1, 0.08, 0.03}};
     const Eigen::VectorXd label = circles_image(sensor->grid, touches, 0.05);
     ASSERT_GT(label.sum(), 1);
     for (const SensorSymmetry& s : sensor->group.elements) {
@@ -210,6 +214,55 @@ TEST(SensorData, SimulatedSetKeepsTouchesInsideAndRecordsItsSensor) {
   SimulationOptions disk;
   disk.preset = "tiny", disk.density = MeshDensity::coarse;
   EXPECT_EQ(shaped_sensor_of(simulate_dataset(disk)), nullptr);  // the disk stores no mesh
+}
+
+// GREIT's targets and the shape fit follow the sensor: on the square, one touch's frame (made on
+// the refined mesh) puts GREIT's peak and the fitted circle where the touch is, near a side too.
+TEST(SensorMethods, GreitAndTheShapeFitFindATouchOnTheSquare) {
+  const auto model = std::make_shared<const ForwardModel>(square(), ForwardOptions{});
+  const double background = 0.05;
+  const auto problem = std::make_shared<const LinearProblem>(
+      make_linear_problem(model, background, PixelGrid::covering(square(), 32)));
+  const Mesh fine = refine_mesh(square());
+  const ForwardModel truth_model(fine, ForwardOptions{});
+  const Eigen::VectorXd empty =
+      truth_model.frame(Eigen::VectorXd::Constant(fine.num_triangles(), background));
+  GreitOptions go;
+  go.targets = 300;
+  const Greit greit(problem, go);
+  ShapeOptions so;
+  so.forward = ShapeForward::linear;
+  const ShapeReconstructor shape(problem, so);
+  for (const Circle& touch : {Circle{0.35, -0.2, 0.15, 0.005}, Circle{-0.62, 0.55, 0.15, 0.005}}) {
+    const Eigen::VectorXd frame =
+        truth_model.frame(conductivity_from_circles(fine, {touch}, background)) - empty;
+    const Eigen::VectorXd dv = model->protocol().reduce(frame, MeasurementOrder::rotating);
+    Eigen::Index peak;
+    greit.reconstruct(dv).maxCoeff(&peak);
+    const Eigen::Vector2d at =
+        problem->grid.center(static_cast<int>(peak / 32), static_cast<int>(peak % 32));
+    EXPECT_LT((at - Eigen::Vector2d(touch.x, touch.y)).norm(), 0.2) << touch.x;
+    Eigen::VectorXd image;
+    const std::vector<Circle> found = shape.touches(dv, image);
+    ASSERT_GE(found.size(), 1u);
+    EXPECT_LT(std::hypot(found[0].x - touch.x, found[0].y - touch.y), 0.05) << touch.x;
+    for (const Circle& c : found)  // inside the square
+      EXPECT_LE(std::max(std::abs(c.x), std::abs(c.y)) + c.r, 1.0 + 1e-6);
+  }
+}
+
+TEST(SensorData, ASensorTooThinForItsTouchesIsRefused) {
+  ShapeMeshOptions thin;
+  thin.width = 2, thin.height = 0.1, thin.density = MeshDensity::coarse;
+  SimulationOptions o;
+  o.preset = "tiny";
+  o.sensor_mesh = std::make_shared<const Mesh>(generate_shape_mesh(thin));
+  try {
+    simulate_dataset(o);
+    ADD_FAILURE() << "simulated touches that cannot fit";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no room for"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -389,9 +389,8 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
                               : sensor                      ? sensor->background
                               : s.data.preset == "imported" ? 1.0
                                                             : s.data.background;
-    // The disk's grid, or one covering a sensor of another shape (its labels' grid).
-    const PixelGrid grid = has_sensor_mesh(s.data) ? PixelGrid::covering(mesh, s.data.image_size)
-                                                   : PixelGrid(s.data.image_size, s.data.radius);
+    // The disk's grid, or the one covering the sensor mesh the set stores.
+    const PixelGrid grid = image_grid(s.data);  // the labels' grid: a --mesh must fit it
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Reconstructor> method;
     if (args->method == "dnn") {

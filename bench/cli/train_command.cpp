@@ -40,9 +40,9 @@ void add_options(CLI::App* cmd, Args* args) {
       ->required();
   cmd->add_option("--augment", args->augment,
                   "none | rotations (16x) | d16 (D_L, 32x) | paper (the paper's literal mirror) | "
-                  "mirror")
+                  "mirror | group (a set on a sensor of another shape: its whole group)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"none", "rotations", "d16", "dihedral", "paper", "mirror"}));
+      ->check(CLI::IsMember({"none", "rotations", "d16", "dihedral", "paper", "mirror", "group"}));
   auto* epochs = cmd->add_option("--epochs", args->options.epochs,
                                  "budget in epochs, an upper bound (default: 100 small, 300 paper)")
                      ->check(CLI::Range(1, 1000000));

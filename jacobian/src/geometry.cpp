@@ -91,10 +91,24 @@ bool point_in_triangle(const Eigen::Vector2d& x, const Eigen::Vector2d& a, const
   return !(negative && positive);
 }
 
-double boundary_distance(const Mesh& mesh, const Eigen::Vector2d& x) {
+MeshDomain::MeshDomain(const Mesh& mesh) {
+  for (const auto& [i, j] : boundary_edges(mesh))
+    segments_.emplace_back(mesh.nodes.row(i).transpose(), mesh.nodes.row(j).transpose());
+}
+
+bool MeshDomain::contains(const Eigen::Vector2d& x) const {
+  bool inside = false;
+  for (const auto& [a, b] : segments_)
+    if ((a.y() > x.y()) != (b.y() > x.y()) &&
+        x.x() < a.x() + (x.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
+      inside = !inside;
+  return inside;
+}
+
+double MeshDomain::boundary_distance(const Eigen::Vector2d& x) const {
   double best = INFINITY;
-  for (const auto& [i, j] : boundary_edges(mesh)) {
-    const Eigen::Vector2d a = mesh.nodes.row(i), b = mesh.nodes.row(j), ab = b - a;
+  for (const auto& [a, b] : segments_) {
+    const Eigen::Vector2d ab = b - a;
     const double t = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
     best = std::min(best, (a + t * ab - x).norm());
   }

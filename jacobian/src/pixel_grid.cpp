@@ -31,19 +31,20 @@ PixelGrid PixelGrid::covering(const Mesh& mesh, int size) {
   PixelGrid grid(size, 0.5 * (hi - lo).maxCoeff(), 0.5 * (lo + hi));
   grid.disk_ = false;
   grid.mask_.setConstant(false);
-  // Each triangle marks the pixel centres it holds: only those in its bounding box are tried.
+  // Each triangle marks the pixel centres it holds: only those in its bounding box are tried, one
+  // more on each side, so that rounding cannot drop a centre on the box's edge.
   const double w = grid.pixel_width();
   for (int t = 0; t < mesh.num_triangles(); ++t) {
     const Eigen::Vector2d a = mesh.nodes.row(mesh.triangles(t, 0)),
                           b = mesh.nodes.row(mesh.triangles(t, 1)),
                           c = mesh.nodes.row(mesh.triangles(t, 2));
     const Eigen::Vector2d tlo = a.cwiseMin(b).cwiseMin(c), thi = a.cwiseMax(b).cwiseMax(c);
-    const int j0 = std::max(0, static_cast<int>(std::ceil((tlo.x() - grid.left()) / w - 0.5)));
+    const int j0 = std::max(0, static_cast<int>(std::floor((tlo.x() - grid.left()) / w - 0.5)));
     const int j1 =
-        std::min(size - 1, static_cast<int>(std::floor((thi.x() - grid.left()) / w - 0.5)));
-    const int i0 = std::max(0, static_cast<int>(std::ceil((grid.top() - thi.y()) / w - 0.5)));
+        std::min(size - 1, static_cast<int>(std::ceil((thi.x() - grid.left()) / w - 0.5)));
+    const int i0 = std::max(0, static_cast<int>(std::floor((grid.top() - thi.y()) / w - 0.5)));
     const int i1 =
-        std::min(size - 1, static_cast<int>(std::floor((grid.top() - tlo.y()) / w - 0.5)));
+        std::min(size - 1, static_cast<int>(std::ceil((grid.top() - tlo.y()) / w - 0.5)));
     for (int i = i0; i <= i1; ++i)
       for (int j = j0; j <= j1; ++j)
         if (point_in_triangle(grid.center(i, j), a, b, c)) grid.mask_[i * size + j] = true;
@@ -63,15 +64,6 @@ std::pair<int, int> PixelGrid::pixel_at(const Eigen::Vector2d& x) const {
   const double col = std::floor((x.x() - left()) / w), row = std::floor((top() - x.y()) / w);
   if (!(col >= 0 && col < size_ && row >= 0 && row < size_)) return {-1, -1};
   return {static_cast<int>(row), static_cast<int>(col)};
-}
-
-bool point_in_mesh(const Mesh& mesh, const Eigen::Vector2d& x) {
-  for (int t = 0; t < mesh.num_triangles(); ++t)
-    if (point_in_triangle(x, mesh.nodes.row(mesh.triangles(t, 0)),
-                          mesh.nodes.row(mesh.triangles(t, 1)),
-                          mesh.nodes.row(mesh.triangles(t, 2))))
-      return true;
-  return false;
 }
 
 int PixelGrid::num_inside() const {

@@ -27,18 +27,18 @@ namespace {
 
 // Uniform over the disk of radius R - r about the origin; on a sensor of another shape, by
 // rejection over the grid's box: inside the mesh and at least r from its boundary.
-Eigen::Vector2d target_centre(const LinearProblem& problem, double r, RandomStream& rng) {
+Eigen::Vector2d target_centre(const LinearProblem& problem, const MeshDomain& domain, double r,
+                              RandomStream& rng) {
   const PixelGrid& grid = problem.grid;
   const double R = grid.radius();
   if (grid.is_disk()) {
     const double rho = (R - r) * std::sqrt(rng.uniform()), phi = 2 * M_PI * rng.uniform();
     return {rho * std::cos(phi), rho * std::sin(phi)};
   }
-  const Mesh& mesh = problem.model->mesh();
   for (int attempt = 0; attempt < 100000; ++attempt) {
-    const Eigen::Vector2d x =
-        grid.box_centre() + Eigen::Vector2d(rng.uniform(-R, R), rng.uniform(-R, R));
-    if (point_in_mesh(mesh, x) && boundary_distance(mesh, x) >= r) return x;
+    const double u = rng.uniform(-R, R), v = rng.uniform(-R, R);  // in this order, always
+    const Eigen::Vector2d x = grid.box_centre() + Eigen::Vector2d(u, v);
+    if (domain.contains(x) && domain.boundary_distance(x) >= r) return x;
   }
   throw InputError("GreitOptions", "target_radius",
                    "no target of this radius fits inside the sensor");
@@ -60,10 +60,11 @@ Greit::Greit(std::shared_ptr<const LinearProblem> shared, const GreitOptions& op
   Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(m, options.targets);
   std::vector<Eigen::Triplet<double>> desired_entries;
   RandomStream rng(options.seed, 0);
+  const MeshDomain domain(problem.model->mesh());
   const double rt = options.target_radius * R, rd = options.desired_radius * R;
   for (int k = 0; k < options.targets; ++k) {
     // Uniform over the points at least rt inside the sensor (the target stays inside).
-    const Eigen::Vector2d at = target_centre(problem, rt, rng);
+    const Eigen::Vector2d at = target_centre(problem, domain, rt, rng);
     const double x = at.x(), y = at.y();
     // A target of label intensity 1; the desired image carries the same total intensity on a disc
     // of radius rd (clipped by the rim, so its mass is normalised after rasterising).

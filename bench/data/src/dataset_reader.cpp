@@ -217,6 +217,14 @@ Dataset read_dataset_checked(const std::string& path) {
       throw InputError(path, "sensor_mesh",
                        "has " + std::to_string(mesh.num_electrodes()) + " electrodes; the file " +
                            std::to_string(d.electrodes));
+    // The radius is the grid's R everywhere the set is used: it must be the mesh's.
+    const Eigen::Vector2d extent =
+        mesh.nodes.colwise().maxCoeff() - mesh.nodes.colwise().minCoeff();
+    if (!(std::abs(0.5 * extent.maxCoeff() - d.radius) <= 1e-9 * d.radius))
+      throw InputError(path, "radius",
+                       fmt::format("is {:g}, but sensor_mesh's bounding box is {:g} x {:g} (the "
+                                   "radius must be half its larger side)",
+                                   d.radius, extent.x(), extent.y()));
     d.sensor_group = r.text("sensor_group");
   }
 

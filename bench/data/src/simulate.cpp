@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <memory>
 
 #include "eitbench/augment/sensor_group.h"
 #include "eitbench/bench/data/sensor.h"
@@ -57,18 +58,19 @@ std::vector<Circle> draw_circles(int k, double R, RandomStream& rng) {
 }
 
 // The same on a sensor of any shape: centres uniform over the grid's box, kept when inside the mesh
-// and at least r from its boundary; radii as on the disk, in units of the grid's R.
-std::vector<Circle> draw_circles(int k, const Mesh& mesh, const PixelGrid& grid,
+// and at least r from its boundary; radii as on the disk, in units of the grid's R. A sensor too
+// thin for k touches of these sizes is refused rather than tried for ever.
+std::vector<Circle> draw_circles(int k, const MeshDomain& domain, const PixelGrid& grid,
                                  RandomStream& rng) {
   const double R = grid.radius();
-  for (;;) {
+  for (int restart = 0; restart < 100; ++restart) {
     std::vector<Circle> circles;
     for (int attempt = 0; static_cast<int>(circles.size()) < k && attempt < 10000; ++attempt) {
       const double r = rng.uniform(0.05 * R, 0.25 * R);
-      const Eigen::Vector2d at =
-          grid.box_centre() + Eigen::Vector2d(rng.uniform(-R, R), rng.uniform(-R, R));
+      const double x = rng.uniform(-R, R), y = rng.uniform(-R, R);  // in this order, always
+      const Eigen::Vector2d at = grid.box_centre() + Eigen::Vector2d(x, y);
       const double sigma = rng.uniform(0.0001, 0.05);
-      if (!point_in_mesh(mesh, at) || boundary_distance(mesh, at) < r) continue;
+      if (!domain.contains(at) || domain.boundary_distance(at) < r) continue;
       const Circle c{at.x(), at.y(), r, sigma};
       bool free = true;
       for (const Circle& o : circles) free &= std::hypot(c.x - o.x, c.y - o.y) >= c.r + o.r;
@@ -76,6 +78,10 @@ std::vector<Circle> draw_circles(int k, const Mesh& mesh, const PixelGrid& grid,
     }
     if (static_cast<int>(circles.size()) == k) return circles;
   }
+  throw InputError("sensor mesh", "",
+                   "no room for " + std::to_string(k) +
+                       " separate touches of radius 0.05 R to 0.25 R inside it (R = " +
+                       std::to_string(R) + ", half its larger side): is it very thin?");
 }
 
 // The meshes and grid a simulation works on: the disk's, or a sensor mesh's.
@@ -114,6 +120,7 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   forward.contact_impedance = o.contact_impedance;
   const ForwardModel model(mesh, forward);
   const PixelGrid& grid = geometry.grid;
+  const auto domain = o.sensor_mesh ? std::make_unique<MeshDomain>(geometry.sensor) : nullptr;
   const Protocol& protocol = model.protocol();
 
   Dataset data;
@@ -156,7 +163,7 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   arena.execute([&] {
     tbb::parallel_for(0, n, [&](int i) {
       RandomStream rng(o.seed, static_cast<std::uint64_t>(i));  // sample i's own stream
-      data.circles[i] = o.sensor_mesh ? draw_circles(circle_count[i], geometry.sensor, grid, rng)
+      data.circles[i] = o.sensor_mesh ? draw_circles(circle_count[i], *domain, grid, rng)
                                       : draw_circles(circle_count[i], grid.radius(), rng);
       const Eigen::VectorXd frame =
           model.frame(conductivity_from_circles(mesh, data.circles[i], o.background));

@@ -166,6 +166,11 @@ RunData load_data(const Context& context) {
                    !r.data.indices(Split::validation).empty();
   if (r.own_training) {
     r.source = r.data;
+  } else if (has_sensor_mesh(r.data)) {
+    // The simulated preset is the disk's (or --mesh's): its grid and model are not this sensor's.
+    throw InputError(config.data, "split",
+                     "a set on a sensor of another shape needs its own train and validation "
+                     "splits; simulate them on its mesh (run --mesh, or simulate --mesh)");
   } else {
     r.labelled = r.data.has_labels();
     context.say(

@@ -72,6 +72,8 @@ std::string content_hash(const Dataset& d) {
     for (const Circle& c : list) h.add(c.x), h.add(c.y), h.add(c.r), h.add(c.conductivity);
   }
   for (Split s : d.split) h.add(static_cast<std::uint64_t>(s));
+  // A sensor of another shape: its mesh too (a disk's hash stays what it was).
+  if (!d.sensor_mesh.empty()) h.add(d.sensor_mesh);
   return h.hex();
 }
 

@@ -2,6 +2,7 @@
 // Exact planar geometry the physics needs: triangle-circle and triangle-rectangle overlap areas.
 #include <Eigen/Core>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "eitbench/jacobian/mesh.h"
@@ -24,9 +25,21 @@ double triangle_box_overlap(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
 bool point_in_triangle(const Eigen::Vector2d& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                        const Eigen::Vector2d& c);
 
-// The distance from x to the mesh's boundary (its edges of one triangle only): a circle of
-// radius r centred at a point inside the mesh lies inside it when r <= this distance.
-double boundary_distance(const Mesh& mesh, const Eigen::Vector2d& x);
+// A mesh's domain as point queries need it: its boundary (the edges of one triangle only), found
+// once, so that each query costs one pass over the boundary's segments.
+class MeshDomain {
+ public:
+  explicit MeshDomain(const Mesh& mesh);
+  // Inside by the even-odd rule over the boundary (holes excluded); a point on the boundary may
+  // count either way.
+  bool contains(const Eigen::Vector2d& x) const;
+  // The distance from x to the boundary: a circle of radius r about a point inside lies inside
+  // the domain when r <= this distance.
+  double boundary_distance(const Eigen::Vector2d& x) const;
+
+ private:
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segments_;
+};
 
 // Element conductivities of non-overlapping circles on a background: each triangle gets the
 // area-weighted mean, from exact circle-triangle overlaps.

@@ -55,9 +55,6 @@ class PixelGrid {
   Eigen::Array<bool, Eigen::Dynamic, 1> mask_;
 };
 
-// Whether point x lies in one of the mesh's triangles (on an edge counts as inside).
-bool point_in_mesh(const Mesh& mesh, const Eigen::Vector2d& x);
-
 // Exact area of triangle t intersected with pixel p, as a triangles x pixels sparse matrix.
 Eigen::SparseMatrix<double, Eigen::RowMajor> pixel_overlap(const Mesh& mesh, const PixelGrid& grid);
 
