@@ -131,6 +131,17 @@ TEST_F(SensorCli, RunOnASquareAugmentsByItsGroup) {
                          path("images.h5"));
   ASSERT_EQ(rec.exit_code, 0) << rec.output;
   EXPECT_NE(rec.output.find("CC"), std::string::npos) << rec.output;
+  // Its training split augmented by the sensor's own group: 60 frames x 8, the others copied.
+  const Result aug =
+      run("augment --in " + path("run/data.h5") + " --group auto --out " + path("aug.h5"));
+  ASSERT_EQ(aug.exit_code, 0) << aug.output;
+  EXPECT_NE(aug.output.find("501 samples"), std::string::npos) << aug.output;
+  const Result info = run("info " + path("aug.h5"));
+  EXPECT_NE(info.output.find("symmetry group D4"), std::string::npos) << info.output;
+  EXPECT_EQ(
+      run("augment --in " + path("run/data.h5") + " --group paper --out " + path("p.h5")).exit_code,
+      2);
+  EXPECT_FALSE(fs::exists(path("p.h5")));
   // The disk's options cannot be mixed with a sensor mesh.
   EXPECT_EQ(run("simulate --preset tiny --mesh " + path("sq.msh") + " --electrodes 8 --out " +
                 path("x.h5"))

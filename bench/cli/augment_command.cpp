@@ -41,7 +41,7 @@ std::function<void()> add_augment_command(CLI::App& app) {
       "--group", args->group,
       "rotations | mirror | d16 | paper: each frame becomes |G| lines (rot:0..L-1, then "
       "mirror:0..L-1), identity first; auto (with --mesh, its default): the sensor's own group, "
-      "found from the mesh");
+      "found from the mesh, or for a data set the group of the sensor it was made on");
   auto* element = cmd->add_option(
       "--element", args->element,
       "rot:S (rotation by S electrode steps: the touch turns by -S) or mirror:S (the mirror "
@@ -62,8 +62,6 @@ std::function<void()> add_augment_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 1.0));
   return [args, cmd] {
-    if (args->group == "auto" && args->mesh.empty())
-      throw InputError("--group", "", "auto needs --mesh: the group is found from the sensor");
     if (!cmd->count("--group") && !cmd->count("--element")) {
       if (args->mesh.empty()) throw InputError("augment", "", "give --group or --element");
       args->group = "auto";
@@ -74,8 +72,9 @@ std::function<void()> add_augment_command(CLI::App& app) {
                          "applies to CSV frames: a data set is augmented by the group of the "
                          "sensor it was simulated on");
       FileAugmentOptions o;
-      o.group =
-          cmd->count("--group") ? parse_group(args->group, "--group") : AugmentGroup::dihedral;
+      // auto: the group of the sensor the set was made on (D_L for the disk).
+      o.group = cmd->count("--group") && args->group != "auto" ? parse_group(args->group, "--group")
+                                                               : AugmentGroup::dihedral;
       if (cmd->count("--element"))
         o.elements = {parse_element(args->element, read_dataset(args->in).electrodes, "--element")};
       if (args->split == "all")
@@ -90,6 +89,8 @@ std::function<void()> add_augment_command(CLI::App& app) {
                  cmd->count("--group") ? args->group : args->element);
       return;
     }
+    if (args->group == "auto" && args->mesh.empty())
+      throw InputError("--group", "", "auto needs --mesh: the group is found from the sensor");
     std::optional<Mesh> mesh;
     if (!args->mesh.empty()) mesh = read_msh_file(args->mesh);
     const int L = mesh ? mesh->num_electrodes() : args->electrodes;

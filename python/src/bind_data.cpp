@@ -45,6 +45,8 @@ py::dict to_dict(const Dataset& d) {
   out["image_size"] = d.image_size, out["seed"] = d.seed, out["preset"] = d.preset;
   out["simulation_mesh"] = d.simulation_mesh, out["program"] = d.program;
   out["augmentation"] = d.augmentation;
+  if (!d.sensor_mesh.empty())  // a sensor of another shape: its mesh (Gmsh text) and group
+    out["sensor_mesh"] = d.sensor_mesh, out["sensor_group"] = d.sensor_group;
   return out;
 }
 
@@ -74,6 +76,8 @@ Dataset from_dict(const py::dict& x) {
   d.simulation_mesh = get<std::string>(x, "simulation_mesh", "python");
   d.program = get<std::string>(x, "program", "eitbench (Python)");
   d.augmentation = get<std::string>(x, "augmentation", "none");
+  d.sensor_mesh = get<std::string>(x, "sensor_mesh", "");
+  d.sensor_group = get<std::string>(x, "sensor_group", "");
   const int n = d.size();
   d.split.assign(static_cast<std::size_t>(n), Split::test);
   if (x.contains("split")) {

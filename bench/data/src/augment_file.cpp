@@ -24,7 +24,11 @@ long long augment_dataset_file(const std::string& in, const std::string& out,
     for (const GroupElement& g : elements) images.move(Eigen::Vector2d::Zero(), g);
 
   // The writer takes the attributes and the reference from `data` itself (no copy of the samples).
-  data.augmentation = o.elements.size() == 1 ? o.elements.front().to_string() : to_string(o.group);
+  // A sensor's whole group by its name ("D4"); on the disk the group's ("d16").
+  const bool whole = setup.sensor && o.group == AugmentGroup::dihedral;
+  data.augmentation = o.elements.size() == 1 ? o.elements.front().to_string()
+                      : whole                ? setup.sensor->group.name()
+                                             : to_string(o.group);
   DatasetWriter writer(out, data, data.has_labels(), !data.circles.empty());
   for (int begin = 0; begin < data.size(); begin += o.block) {
     const int end = std::min(data.size(), begin + o.block);
