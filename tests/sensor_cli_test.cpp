@@ -142,6 +142,20 @@ TEST_F(SensorCli, RunOnASquareAugmentsByItsGroup) {
       run("augment --in " + path("run/data.h5") + " --group paper --out " + path("p.h5")).exit_code,
       2);
   EXPECT_FALSE(fs::exists(path("p.h5")));
+  // train takes the sensor from the set; a --mesh must be that sensor's.
+  const Result trained = run("train --data " + path("run/data.h5") + " --mesh " + path("sq.msh") +
+                             " --augment group --epochs 1 --out " + path("m.pt"));
+  EXPECT_EQ(trained.exit_code, 0) << trained.output;
+  ASSERT_EQ(
+      run("mesh --shape ellipse --width 2 --height 1 --density coarse --out " + path("el.msh"))
+          .exit_code,
+      0);
+  const Result other = run("train --data " + path("run/data.h5") + " --mesh " + path("el.msh") +
+                           " --epochs 1 --out " + path("m2.pt"));
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_NE(other.output.find("is not the mesh the data set was simulated on"), std::string::npos)
+      << other.output;
+  EXPECT_FALSE(fs::exists(path("m2.pt")));
   // The disk's options cannot be mixed with a sensor mesh.
   EXPECT_EQ(run("simulate --preset tiny --mesh " + path("sq.msh") + " --electrodes 8 --out " +
                 path("x.h5"))

@@ -11,6 +11,7 @@
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/training_run.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/msh_io.h"
 #include "eitbench/learned.h"
 #include "options.h"
 
@@ -27,7 +28,7 @@ TrainingOptions default_options() {
 
 struct Args {
   std::string data, augment = "none", model = "small", device = "cpu", out, schedule = "cosine",
-                    decoder = "pixel_shuffle";
+                    decoder = "pixel_shuffle", mesh;
   TrainingOptions options = default_options();
   int threads = 2, train_size = 0;
   double dropout = -1;
@@ -38,6 +39,9 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--data", args->data,
                   "an eitbench data set with labels and train/validation splits (HDF5)")
       ->required();
+  cmd->add_option("--mesh", args->mesh,
+                  "the sensor's Gmsh mesh, checked against the one the data set was simulated on "
+                  "(a set made with simulate --mesh carries it; the disk's carries none)");
   cmd->add_option("--augment", args->augment,
                   "none | rotations (16x) | d16 (D_L, 32x) | paper (the paper's literal mirror) | "
                   "mirror | group (a set on a sensor of another shape: its whole group)")
@@ -194,6 +198,12 @@ std::function<void()> add_train_command(CLI::App& app) {
     NetworkOptions network =
         NetworkOptions::preset(size, static_cast<int>(data.differences.cols()), data.image_size);
     network.radius = data.radius;
+    if (!args->mesh.empty() && mesh_text(read_msh_file(args->mesh)) != data.sensor_mesh)
+      throw InputError(args->mesh, "",
+                       data.sensor_mesh.empty()
+                           ? "the data set was simulated on the disk, not on this mesh"
+                           : "is not the mesh the data set was simulated on (simulate --mesh "
+                             "stores it; leave out --mesh to use it)");
     network.mask = sensor_mask(data);  // a sensor of another shape masks to its own
     if (args->dropout >= 0) network.dropout = args->dropout;
     if (parse_upsampling(args->decoder, "--decoder") == Upsampling::nearest) {
