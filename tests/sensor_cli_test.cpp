@@ -156,6 +156,17 @@ TEST_F(SensorCli, RunOnASquareAugmentsByItsGroup) {
   EXPECT_NE(other.output.find("is not the mesh the data set was simulated on"), std::string::npos)
       << other.output;
   EXPECT_FALSE(fs::exists(path("m2.pt")));
+  // The square's model reconstructs the square's frames, and refuses the disk's.
+  const Result dnn = run("reconstruct --method dnn --model " + path("m.pt") + " --data " +
+                         path("run/data.h5") + " --out " + path("dnn.h5"));
+  EXPECT_EQ(dnn.exit_code, 0) << dnn.output;
+  ASSERT_EQ(
+      run("simulate --preset tiny --density coarse --quiet --out " + path("disk.h5")).exit_code, 0);
+  const Result disk = run("reconstruct --method dnn --model " + path("m.pt") + " --data " +
+                          path("disk.h5") + " --out " + path("dnn2.h5"));
+  EXPECT_EQ(disk.exit_code, 2) << disk.output;
+  EXPECT_NE(disk.output.find("the model draws another sensor's shape"), std::string::npos)
+      << disk.output;
   // The disk's options cannot be mixed with a sensor mesh.
   EXPECT_EQ(run("simulate --preset tiny --mesh " + path("sq.msh") + " --electrodes 8 --out " +
                 path("x.h5"))

@@ -278,7 +278,7 @@ std::unique_ptr<Reconstructor> learned(const Args* args, const CLI::App& cmd, co
   if (cmd.count("--lambda") || cmd.count("--choose"))
     throw InputError("--method dnn", "", "a trained model has no lambda to set or choose");
   LearnedModel model = read_model_file(args->model);
-  check_model_fits(model, args->model, data.electrodes, data.image_size);
+  check_model_fits(model, args->model, data.electrodes, image_grid(data));
   return make_learned_reconstructor(std::move(model));
 }
 

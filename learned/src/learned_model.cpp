@@ -72,6 +72,14 @@ long long LearnedModel::parameters() const {
   return n;
 }
 
+std::vector<bool> LearnedModel::image_mask() const {
+  const torch::Tensor m = impl_->net->mask.to(torch::kCPU).contiguous();
+  std::vector<bool> out(static_cast<std::size_t>(m.numel()));
+  const float* v = m.data_ptr<float>();
+  for (std::size_t p = 0; p < out.size(); ++p) out[p] = v[p] > 0.5f;
+  return out;
+}
+
 void LearnedModel::to_device(const std::string& device) {
   impl_->device = torch::Device(resolve_device(device, "device"));
   impl_->net->to(impl_->device);

@@ -26,4 +26,18 @@ void check_model_fits(const LearnedModel& model, const std::string& path, int el
                          " px images, the data's are " + std::to_string(image_size) + " px");
 }
 
+void check_model_fits(const LearnedModel& model, const std::string& path, int electrodes,
+                      const PixelGrid& grid) {
+  check_model_fits(model, path, electrodes, grid.size());
+  const std::vector<bool> drawn = model.image_mask();
+  int differ = 0;
+  for (Eigen::Index p = 0; p < grid.mask().size(); ++p)
+    differ += drawn[static_cast<std::size_t>(p)] != grid.mask()[p];
+  if (differ > 0)
+    throw InputError(path, "mask",
+                     "the model draws another sensor's shape: " + std::to_string(differ) +
+                         " of its pixels differ from the data's sensor (" +
+                         std::to_string(grid.num_inside()) + " inside); train it on this sensor");
+}
+
 }  // namespace eitbench

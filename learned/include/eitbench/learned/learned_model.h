@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "eitbench/jacobian/sample_matrix.h"
 #include "eitbench/learned/network_options.h"
@@ -31,6 +32,8 @@ class LearnedModel {
   const ModelInfo& info() const;
   ModelInfo& info();
   long long parameters() const;
+  // The pixels the model draws (its decoder's mask, n^2): the disk's, or a sensor's own shape.
+  std::vector<bool> image_mask() const;
   // Frames (N x inputs, reduced layout, difference voltages) -> images (N x n^2, 0 outside the
   // disk), in evaluation mode, in batches of `batch`. InputError("frames") on a wrong length.
   SampleMatrix reconstruct(const SampleMatrix& frames, int batch = 512) const;

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/jacobian/pixel_grid.h"
 #include "eitbench/learned.h"
 
 namespace eitbench {
@@ -14,5 +15,9 @@ void write_model_file(const std::string& path, const LearnedModel& model);
 // image size differ.
 void check_model_fits(const LearnedModel& model, const std::string& path, int electrodes,
                       int image_size);
+// The same, and that the model draws on `grid`'s pixels: a model trained on the disk does not fit
+// a square sensor's set of the same size, nor one trained on the square the disk's.
+void check_model_fits(const LearnedModel& model, const std::string& path, int electrodes,
+                      const PixelGrid& grid);
 
 }  // namespace eitbench
