@@ -63,8 +63,9 @@ TEST(LinearProblem, IsTheLinearisedForwardModelOnTheLabelScale) {
   const Eigen::VectorXd x = circles_image(s.grid, touch, 1.0);
   const Mesh& mesh = s.model->mesh();
   const Eigen::VectorXd v0 = s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles()));
-  const Eigen::VectorXd v1 = s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles()) -
-                                            s.problem->element_from_pixels * s.problem->from_image(x));
+  const Eigen::VectorXd v1 =
+      s.model->frame(Eigen::VectorXd::Ones(mesh.num_triangles()) -
+                     s.problem->element_from_pixels * s.problem->from_image(x));
   const Eigen::VectorXd dv = s.model->protocol().reduce(v1 - v0, MeasurementOrder::rotating);
   EXPECT_LT((s.problem->A * s.problem->from_image(x) - dv).norm() / dv.norm(), 0.01);
 }
@@ -469,7 +470,7 @@ double tv_objective(const LinearProblem& p, const Eigen::VectorXd& image, const 
                     double alpha) {
   const Eigen::VectorXd x = p.from_image(image);
   const Eigen::VectorXd columns = p.A.colwise().norm().transpose();
-  const int n = p.image_size;
+  const int n = p.grid.size();
   std::vector<int> column(static_cast<std::size_t>(n) * n, -1);
   for (std::size_t j = 0; j < p.pixels.size(); ++j) column[p.pixels[j]] = static_cast<int>(j);
   double tv = 0;

@@ -46,23 +46,16 @@ void AugmentSetup::validate() const {
 std::vector<GroupElement> augment_elements(const AugmentSetup& setup) {
   setup.validate();
   if (!setup.sensor) return group_elements(setup.group, setup.electrodes);
+  // The sensor lists the identity first, then its rotations, then its mirrors.
   std::vector<GroupElement> out;
-  bool first_mirror = true;
   for (const GroupElement& g : setup.sensor->group.frame_elements()) {
     const bool identity = g == GroupElement{};
-    switch (setup.group) {
-      case AugmentGroup::none:
-        if (identity) out.push_back(g);
-        break;
-      case AugmentGroup::rotations:
-        if (!g.mirror) out.push_back(g);
-        break;
-      case AugmentGroup::mirror:
-        if (identity || (g.mirror && first_mirror)) out.push_back(g), first_mirror &= !g.mirror;
-        break;
-      default:
-        out.push_back(g);
-    }
+    const bool first_mirror = g.mirror && (out.empty() || !out.back().mirror);
+    if (setup.group == AugmentGroup::dihedral ||
+        (setup.group == AugmentGroup::rotations && !g.mirror) ||
+        (setup.group == AugmentGroup::mirror && (identity || first_mirror)) ||
+        (setup.group == AugmentGroup::none && identity))
+      out.push_back(g);
   }
   return out;
 }

@@ -81,7 +81,6 @@ Eigen::Vector2d ImageSymmetry::move(const Eigen::Vector2d& x, const GroupElement
 
 std::vector<Circle> ImageSymmetry::move(const std::vector<Circle>& circles,
                                         const GroupElement& g) const {
-  if (!sensor_) return transform_circles(circles, g, electrodes_);
   std::vector<Circle> out = circles;
   for (Circle& c : out) {
     const Eigen::Vector2d p = move(Eigen::Vector2d(c.x, c.y), g);

@@ -86,9 +86,11 @@ double triangle_box_overlap(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
 
 bool point_in_triangle(const Eigen::Vector2d& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                        const Eigen::Vector2d& c) {
+  // Inside (or on an edge) when x is on no two sides' opposite sides.
   const double d1 = cross(b - a, x - a), d2 = cross(c - b, x - b), d3 = cross(a - c, x - c);
-  const bool negative = d1 < 0 || d2 < 0 || d3<0, positive = d1> 0 || d2 > 0 || d3 > 0;
-  return !(negative && positive);
+  const bool some_negative = std::min({d1, d2, d3}) < 0;
+  const bool some_positive = std::max({d1, d2, d3}) > 0;
+  return !(some_negative && some_positive);
 }
 
 MeshDomain::MeshDomain(const Mesh& mesh) {

@@ -59,13 +59,6 @@ Eigen::Vector2d PixelGrid::center(int i, int j) const {
   return {left() + (j + 0.5) * w, top() - (i + 0.5) * w};
 }
 
-std::pair<int, int> PixelGrid::pixel_at(const Eigen::Vector2d& x) const {
-  const double w = pixel_width();
-  const double col = std::floor((x.x() - left()) / w), row = std::floor((top() - x.y()) / w);
-  if (!(col >= 0 && col < size_ && row >= 0 && row < size_)) return {-1, -1};
-  return {static_cast<int>(row), static_cast<int>(col)};
-}
-
 int PixelGrid::num_inside() const {
   return static_cast<int>(mask_.count());
 }

@@ -53,7 +53,7 @@ Greit::Greit(std::shared_ptr<const LinearProblem> shared, const GreitOptions& op
   options.validate();
   const LinearProblem& problem = *problem_;
   const PixelGrid& grid = problem.grid;
-  const double R = problem.radius;
+  const double R = grid.radius();
   const int m = problem.measurements(), n = problem.unknowns();
   // Each target and desired image covers a few dozen pixels of thousands: Y = A X and D Y^T are
   // formed from their non-zeros only (X and D sparse).

@@ -10,7 +10,7 @@
 namespace eitbench {
 
 Eigen::VectorXd LinearProblem::to_image(const Eigen::VectorXd& x) const {
-  Eigen::VectorXd image = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(image_size) * image_size);
+  Eigen::VectorXd image = Eigen::VectorXd::Zero(grid.num_pixels());
   for (std::size_t j = 0; j < pixels.size(); ++j)
     image[pixels[j]] = x[static_cast<Eigen::Index>(j)];
   return image;
@@ -24,8 +24,7 @@ Eigen::VectorXd LinearProblem::from_image(const Eigen::VectorXd& image) const {
 }
 
 SampleMatrix LinearProblem::to_images(const Eigen::MatrixXd& rows) const {
-  SampleMatrix images =
-      SampleMatrix::Zero(rows.rows(), static_cast<Eigen::Index>(image_size) * image_size);
+  SampleMatrix images = SampleMatrix::Zero(rows.rows(), grid.num_pixels());
   for (std::size_t j = 0; j < pixels.size(); ++j)
     images.col(pixels[j]) = rows.col(static_cast<Eigen::Index>(j));
   return images;
@@ -92,8 +91,6 @@ LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, dou
   p.model = model;
   p.background = background;
   p.grid = grid;
-  p.image_size = grid.size();
-  p.radius = grid.radius();
   for (int k = 0; k < grid.num_pixels(); ++k)
     if (grid.mask()[k]) p.pixels.push_back(k);
   const Mesh& mesh = model->mesh();

@@ -49,11 +49,10 @@ void ShapeOptions::validate() const {
 struct ShapeReconstructor::Impl {
   detail::ShapeModel model;
   Tikhonov noser;  // the start's one-step image
-  PixelGrid grid;
 
   Impl(const LinearProblem& p, const std::shared_ptr<const LinearProblem>& shared,
        const ShapeOptions& o)
-      : model(p, o.width * p.radius), noser(shared, noser_options()), grid(p.grid) {
+      : model(p, o.width * p.grid.radius()), noser(shared, noser_options()) {
     noser.set_lambda(o.seed_lambda * noser.scale(), "shape start");
   }
   static TikhonovOptions noser_options() {
@@ -97,7 +96,7 @@ void ShapeReconstructor::fit(const SampleMatrix& frames, const SampleMatrix& lab
 }
 
 Eigen::VectorXd ShapeReconstructor::draw(const std::vector<Circle>& circles) const {
-  return circles_image(impl_->grid, circles, problem_->background);
+  return circles_image(problem_->grid, circles, problem_->background);
 }
 
 Eigen::VectorXd ShapeReconstructor::reconstruct(const Eigen::VectorXd& frame) const {
@@ -172,7 +171,7 @@ ShapeFit ShapeReconstructor::fit_circles(const Eigen::VectorXd& frame, std::vect
   auto parameters = to_parameters(start, problem_->background);
   if (forward == ShapeForward::linear) map_intensities(parameters, born);
   auto fit = detail::fit_shape(impl_->model, frame, std::move(parameters),
-                               fit_settings(options_, problem_->radius, forward));
+                               fit_settings(options_, problem_->grid.radius(), forward));
   if (forward == ShapeForward::linear) map_intensities(fit.circles, from_born);
   return {to_circles(fit.circles, problem_->background), fit.rss, fit.iterations, fit.converged};
 }
@@ -223,7 +222,7 @@ ShapeFit ShapeReconstructor::fit_circles(const Eigen::VectorXd& frame) const {
   const double floor = std::pow(options_.noise_floor, 2) * frame.squaredNorm();
   double best_bic = bic(best.rss, floor, m, 0, penalty_);
   int iterations = 0;
-  const auto linear = fit_settings(options_, problem_->radius, ShapeForward::linear);
+  const auto linear = fit_settings(options_, problem_->grid.radius(), ShapeForward::linear);
   for (int K = 1; K <= options_.max_touches; ++K) {
     std::vector<const double*> fitted;
     for (const auto& c : current.circles) fitted.push_back(c.data());
@@ -242,7 +241,7 @@ ShapeFit ShapeReconstructor::fit_circles(const Eigen::VectorXd& frame) const {
   map_intensities(best.circles, from_born);  // the linear fits' intensities are Born's
   if (options_.forward == ShapeForward::full && !best.circles.empty())
     best = refine_full(impl_->model, frame, std::move(best),
-                       fit_settings(options_, problem_->radius, ShapeForward::full), floor,
+                       fit_settings(options_, problem_->grid.radius(), ShapeForward::full), floor,
                        penalty_, iterations);
   return {to_circles(best.circles, problem_->background), best.rss, iterations, best.converged};
 }

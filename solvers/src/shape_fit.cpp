@@ -139,7 +139,7 @@ struct Domain {
 Domain domain_of(const LinearProblem& p) {
   Domain d;
   d.disk = p.grid.is_disk();
-  d.R = p.radius;
+  d.R = p.grid.radius();
   if (d.disk) {
     d.lo = Eigen::Vector2d::Constant(-d.R), d.hi = Eigen::Vector2d::Constant(d.R);
   } else {

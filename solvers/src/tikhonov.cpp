@@ -13,7 +13,7 @@ namespace {
 
 // The 4-neighbour graph Laplacian of the in-disk pixels.
 Eigen::SparseMatrix<double> pixel_laplacian(const LinearProblem& p) {
-  const int n = p.image_size;
+  const int n = p.grid.size();
   const std::vector<int> column = detail::unknown_of_pixel(p.pixels, n * n);
   std::vector<Eigen::Triplet<double>> entries;
   for (std::size_t j = 0; j < p.pixels.size(); ++j) {

@@ -10,7 +10,7 @@ namespace eitbench::detail {
 
 TvGradient TvGradient::pixels(const LinearProblem& problem, const Eigen::VectorXd& sensitivity) {
   TvGradient d;
-  const int n = problem.image_size;
+  const int n = problem.grid.size();
   const std::vector<int> column = unknown_of_pixel(problem.pixels, n * n);
   for (int pixel : problem.pixels) {
     const int i = pixel / n, k = pixel % n;
@@ -25,7 +25,7 @@ TvGradient TvGradient::pixels(const LinearProblem& problem, const Eigen::VectorX
 TvGradient TvGradient::elements(const LinearProblem& problem, const Eigen::VectorXd& sensitivity) {
   TvGradient d;
   const Mesh& mesh = problem.model->mesh();
-  const double h = 2.0 * problem.radius / problem.image_size;
+  const double h = problem.grid.pixel_width();
   const Eigen::VectorXd element_sensitivity = problem.element_from_pixels * sensitivity;
   std::vector<Eigen::Triplet<double>> entries;
   std::vector<double> weights;

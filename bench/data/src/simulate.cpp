@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "eitbench/augment/sensor_group.h"
 #include "eitbench/bench/data/sensor.h"
@@ -40,48 +41,51 @@ PresetCounts preset_counts(const std::string& preset) {
 
 namespace {
 
-// k non-overlapping circles fully inside the disk of radius R, by rejection (docs/conventions.md).
-std::vector<Circle> draw_circles(int k, double R, RandomStream& rng) {
-  for (;;) {  // a fresh start in the (rare) case the last circle finds no room
-    std::vector<Circle> circles;
-    for (int attempt = 0; static_cast<int>(circles.size()) < k && attempt < 10000; ++attempt) {
-      const double r = rng.uniform(0.05 * R, 0.25 * R);
-      const double rho = (R - r) * std::sqrt(rng.uniform()), phi = 2 * M_PI * rng.uniform();
-      const double sigma = rng.uniform(0.0001, 0.05);
-      const Circle c{rho * std::cos(phi), rho * std::sin(phi), r, sigma};
-      bool free = true;
-      for (const Circle& o : circles) free &= std::hypot(c.x - o.x, c.y - o.y) >= c.r + o.r;
-      if (free) circles.push_back(c);
-    }
-    if (static_cast<int>(circles.size()) == k) return circles;
-  }
-}
-
-// The same on a sensor of any shape: centres uniform over the grid's box, kept when inside the mesh
-// and at least r from its boundary; radii as on the disk, in units of the grid's R. A sensor too
-// thin for k touches of these sizes is refused rather than tried for ever.
-std::vector<Circle> draw_circles(int k, const MeshDomain& domain, const PixelGrid& grid,
-                                 RandomStream& rng) {
-  const double R = grid.radius();
+// k non-overlapping circles by rejection (docs/conventions.md): `propose` draws one candidate, or
+// none when it falls outside the sensor; a fresh start in the (rare) case the last circle finds no
+// room. A sensor too thin for k touches of these sizes is refused rather than tried for ever.
+template <typename Propose>
+std::vector<Circle> draw_circles(int k, RandomStream& rng, Propose propose) {
   for (int restart = 0; restart < 100; ++restart) {
     std::vector<Circle> circles;
     for (int attempt = 0; static_cast<int>(circles.size()) < k && attempt < 10000; ++attempt) {
-      const double r = rng.uniform(0.05 * R, 0.25 * R);
-      const double x = rng.uniform(-R, R), y = rng.uniform(-R, R);  // in this order, always
-      const Eigen::Vector2d at = grid.box_centre() + Eigen::Vector2d(x, y);
-      const double sigma = rng.uniform(0.0001, 0.05);
-      if (!domain.contains(at) || domain.boundary_distance(at) < r) continue;
-      const Circle c{at.x(), at.y(), r, sigma};
+      const std::optional<Circle> c = propose(rng);
+      if (!c) continue;
       bool free = true;
-      for (const Circle& o : circles) free &= std::hypot(c.x - o.x, c.y - o.y) >= c.r + o.r;
-      if (free) circles.push_back(c);
+      for (const Circle& o : circles) free &= std::hypot(c->x - o.x, c->y - o.y) >= c->r + o.r;
+      if (free) circles.push_back(*c);
     }
     if (static_cast<int>(circles.size()) == k) return circles;
   }
   throw InputError("sensor mesh", "",
                    "no room for " + std::to_string(k) +
-                       " separate touches of radius 0.05 R to 0.25 R inside it (R = " +
-                       std::to_string(R) + ", half its larger side): is it very thin?");
+                       " separate touches of radius 0.05 R to 0.25 R inside it (R: half its "
+                       "larger side): is it very thin?");
+}
+
+// Fully inside the disk of radius R: centres uniform over the disk of radius R - r.
+std::vector<Circle> draw_circles(int k, double R, RandomStream& rng) {
+  return draw_circles(k, rng, [R](RandomStream& g) -> std::optional<Circle> {
+    const double r = g.uniform(0.05 * R, 0.25 * R);
+    const double rho = (R - r) * std::sqrt(g.uniform()), phi = 2 * M_PI * g.uniform();
+    const double sigma = g.uniform(0.0001, 0.05);
+    return Circle{rho * std::cos(phi), rho * std::sin(phi), r, sigma};
+  });
+}
+
+// On a sensor of any shape: centres uniform over the grid's box, kept when inside the mesh and at
+// least r from its boundary; radii as on the disk, in units of the grid's R.
+std::vector<Circle> draw_circles(int k, const MeshDomain& domain, const PixelGrid& grid,
+                                 RandomStream& rng) {
+  const double R = grid.radius();
+  return draw_circles(k, rng, [&](RandomStream& g) -> std::optional<Circle> {
+    const double r = g.uniform(0.05 * R, 0.25 * R);
+    const double x = g.uniform(-R, R), y = g.uniform(-R, R);  // in this order, always
+    const Eigen::Vector2d at = grid.box_centre() + Eigen::Vector2d(x, y);
+    const double sigma = g.uniform(0.0001, 0.05);
+    if (!domain.contains(at) || domain.boundary_distance(at) < r) return std::nullopt;
+    return Circle{at.x(), at.y(), r, sigma};
+  });
 }
 
 // The meshes and grid a simulation works on: the disk's, or a sensor mesh's.

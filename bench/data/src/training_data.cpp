@@ -1,9 +1,8 @@
 #include "eitbench/bench/data/training_data.h"
 
-#include "eitbench/bench/data/sensor.h"
-
 #include <algorithm>
 
+#include "eitbench/bench/data/sensor.h"
 #include "eitbench/jacobian/random.h"
 
 namespace eitbench {

@@ -152,8 +152,8 @@ std::string run_fingerprint(const RunConfig& config, const RunData& data) {
   p["methods"] = list;
   list.clear();
   for (const auto& a : config.augments) list += a + " ";
-  if (!config.mesh_file.empty()) p["sensor mesh"] = config.mesh_file;
   p["augments"] = list;
+  if (!config.mesh_file.empty()) p["sensor mesh"] = config.mesh_file;
   list.clear();
   for (int n : config.efficiency_sizes) list += std::to_string(n) + " ";
   p["efficiency sizes"] = list;

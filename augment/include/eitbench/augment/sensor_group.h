@@ -76,14 +76,14 @@ struct ShapedSensor {
 SensorGroup find_sensor_group(const Mesh& mesh, const SymmetrySearchOptions& options = {},
                               const std::string& source = "mesh");
 
-// Refuses (InputError naming `source` and the electrode that breaks it) any element of `elements`
-// the sensor does not have, e.g. "rot:1 is not a symmetry of this sensor: turned so that electrode
-// 0 lands on electrode 15, electrode 3 lands 0.31 from electrode 2".
 // The group and the covering grid of `mesh`, images image_size pixels a side.
 ShapedSensor shaped_sensor(const Mesh& mesh, int image_size,
                            const SymmetrySearchOptions& options = {},
                            const std::string& source = "mesh");
 
+// Refuses (InputError naming `source` and the electrode that breaks it) any element of `elements`
+// the sensor does not have, e.g. "rot:1 is not a symmetry of this sensor: turned so that electrode
+// 0 lands on electrode 15, electrode 3 lands 0.31 from electrode 2".
 void require_sensor_symmetries(const std::vector<GroupElement>& elements, const Mesh& mesh,
                                const SensorGroup& group, const std::string& source);
 

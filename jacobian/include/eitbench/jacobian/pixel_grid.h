@@ -5,7 +5,6 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include <utility>
 #include <vector>
 
 #include "eitbench/jacobian/geometry.h"
@@ -38,8 +37,6 @@ class PixelGrid {
   double top() const { return centre_.y() + radius_; }   // y of row 0's top edge
   // Pixel (i, j) -> index i * size + j; row 0 at the top, y up.
   Eigen::Vector2d center(int i, int j) const;
-  // The pixel (row, column) holding point x, or (-1, -1) off the box.
-  std::pair<int, int> pixel_at(const Eigen::Vector2d& x) const;
   // True for pixels whose centre lies inside the sensor; the others are masked and hold 0.
   const Eigen::Array<bool, Eigen::Dynamic, 1>& mask() const { return mask_; }
   int num_inside() const;

@@ -19,8 +19,6 @@ struct LinearProblem {
   Eigen::MatrixXd A;        // m x n: m reduced measurements, n in-disk pixels
   std::vector<int> pixels;  // column j is image pixel pixels[j]
   PixelGrid grid;           // the image grid: the disk's, or one covering a sensor of any shape
-  int image_size = 64;      // grid.size()
-  double radius = 1.0;      // grid.radius(): the grid's box is grid.box_centre() +- radius
   double background = 1.0;
   // What Gauss-Newton needs to re-linearise: the model and the pixel-to-element map.
   std::shared_ptr<const ForwardModel> model;
@@ -29,10 +27,11 @@ struct LinearProblem {
 
   int measurements() const { return static_cast<int>(A.rows()); }
   int unknowns() const { return static_cast<int>(A.cols()); }
-  // An n-vector of pixel values as an image of image_size^2 values (masked pixels 0), and back.
+  // An n-vector of pixel values as an image of grid.num_pixels() values (masked pixels 0), and
+  // back.
   Eigen::VectorXd to_image(const Eigen::VectorXd& x) const;
   Eigen::VectorXd from_image(const Eigen::VectorXd& image) const;
-  // Rows of pixel values (N x n) as images (N x image_size^2).
+  // Rows of pixel values (N x n) as images (N x grid.num_pixels()).
   SampleMatrix to_images(const Eigen::MatrixXd& rows) const;
   // Throws InputError when frames do not have `measurements()` values.
   void check_frame_size(Eigen::Index values) const;
