@@ -17,6 +17,8 @@
 
 #include "eitbench/jacobian/error.h"
 
+#include "drive_patterns.h"
+
 namespace eitbench {
 namespace {
 
@@ -63,6 +65,7 @@ struct ForwardModel::Impl {
   Mesh mesh;
   ForwardOptions options;
   Protocol protocol;
+  MeasurementProtocol measurement;
   Eigen::VectorXd z;     // contact impedance per electrode
   Eigen::VectorXd area;  // per triangle
   Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> grad;  // dphi/dx (3), dphi/dy (3)
@@ -103,7 +106,10 @@ struct ForwardModel::Impl {
   }
 
   explicit Impl(const Mesh& m, const ForwardOptions& o)
-      : mesh(m), options(o), protocol(m.num_electrodes()) {}
+      : mesh(m),
+        options(o),
+        protocol(m.num_electrodes()),
+        measurement(o.protocol ? *o.protocol : adjacent_protocol(m.num_electrodes())) {}
   ~Impl() {
     pool.clear();
     if (symbolic) cholmod_free_factor(&symbolic, analysis_common.get());
@@ -295,6 +301,11 @@ ForwardModel::ForwardModel(const Mesh& mesh, const ForwardOptions& options,
   } else {
     impl_->z = Eigen::VectorXd::Constant(L, options.contact_impedance);
   }
+  if (impl_->measurement.electrodes() != L)
+    throw InputError("ForwardOptions", "protocol",
+                     "the " + impl_->measurement.name() + " protocol is for " +
+                         std::to_string(impl_->measurement.electrodes()) +
+                         " electrodes, the mesh has " + std::to_string(L));
   impl_->build();
   impl_->rhs = Eigen::MatrixXd::Zero(impl_->dofs, L);
   for (int d = 0; d < L; ++d) {
@@ -312,6 +323,9 @@ const Mesh& ForwardModel::mesh() const {
 }
 const Protocol& ForwardModel::protocol() const {
   return impl_->protocol;
+}
+const MeasurementProtocol& ForwardModel::measurement_protocol() const {
+  return impl_->measurement;
 }
 const ForwardOptions& ForwardModel::options() const {
   return impl_->options;
@@ -454,9 +468,22 @@ Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s) const {
 
 Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
                                        const std::vector<MeasurementPair>& pairs) const {
+  const int L = impl_->mesh.num_electrodes();
+  std::vector<Channel> channels;
+  channels.reserve(pairs.size());
+  for (const auto& [d, m] : pairs) {
+    if (d < 0 || d >= L || m < 0 || m >= L)
+      throw std::invalid_argument("ForwardModel::jacobian: a pair names no electrode");
+    channels.push_back({d, (d + 1) % L, m, (m + 1) % L});
+  }
+  return jacobian(s, channels);
+}
+
+Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
+                                       const std::vector<Channel>& channels) const {
   const Impl& m = *impl_;
   const int T = m.mesh.num_triangles(), L = m.mesh.num_electrodes();
-  // Field gradients per element, all drives side by side: gx(t, d), gy(t, d).
+  // Field gradients per element, all adjacent drives side by side: gx(t, d), gy(t, d).
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> gx(T, L), gy(T, L);
   for (int t = 0; t < T; ++t) {
     const auto u0 = s.node_potentials.row(m.mesh.triangles(t, 0));
@@ -465,24 +492,63 @@ Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
     gx.row(t) = m.grad(t, 0) * u0 + m.grad(t, 1) * u1 + m.grad(t, 2) * u2;
     gy.row(t) = m.grad(t, 3) * u0 + m.grad(t, 4) * u1 + m.grad(t, 5) * u2;
   }
-  const int rows = static_cast<int>(pairs.size());
-  std::vector<int> drive(rows), measure(rows);
-  for (int r = 0; r < rows; ++r) {
-    drive[r] = pairs[r].drive, measure[r] = pairs[r].measure;
-    if (drive[r] < 0 || drive[r] >= L || measure[r] < 0 || measure[r] >= L)
-      throw std::invalid_argument("ForwardModel::jacobian: a pair names no electrode");
-  }
+  // The same gradients per drive pattern (an adjacent pattern's column is copied unchanged).
+  const detail::DrivePatterns patterns = detail::drive_patterns(channels, L);
+  const auto px = patterns.combine(gx), py = patterns.combine(gy);
+  const int rows = static_cast<int>(channels.size());
+  const std::vector<int>&drive = patterns.drive, &measure = patterns.measure;
   Eigen::MatrixXd J(rows, T);
   const double inv_current = 1.0 / m.options.current;
   for (int t = 0; t < T; ++t) {
-    const double* x = gx.row(t).data();
-    const double* y = gy.row(t).data();
+    const double* x = px.row(t).data();
+    const double* y = py.row(t).data();
     const double scale = -m.area[t] * inv_current;
     double* column = J.col(t).data();
     for (int r = 0; r < rows; ++r)
       column[r] = scale * (x[drive[r]] * x[measure[r]] + y[drive[r]] * y[measure[r]]);
   }
   return J;
+}
+
+Eigen::MatrixXd ForwardModel::input_jacobian(const ForwardSolution& s) const {
+  const MeasurementProtocol& p = impl_->measurement;
+  const std::vector<Channel> channels = p.input_channels();
+  Eigen::MatrixXd J = jacobian(s, channels);
+  if (p.magnitude()) {
+    const Eigen::VectorXd v = voltages(s, channels);
+    for (Eigen::Index r = 0; r < J.rows(); ++r)
+      if (v[r] < 0) J.row(r) *= -1.0;
+  }
+  return J;
+}
+
+Eigen::VectorXd ForwardModel::voltages(const ForwardSolution& s,
+                                       const std::vector<Channel>& channels) const {
+  const int L = impl_->mesh.num_electrodes();
+  const detail::DrivePatterns patterns = detail::drive_patterns(channels, L);
+  const auto U = patterns.combine(s.electrode_potentials);  // electrode x drive pattern
+  Eigen::VectorXd v(channels.size());
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    const int d = patterns.drive[i];
+    v[i] = U(channels[i].meas_plus, d) - U(channels[i].meas_minus, d);
+  }
+  return v;
+}
+
+Eigen::VectorXd ForwardModel::measured(const ForwardSolution& s) const {
+  const MeasurementProtocol& p = impl_->measurement;
+  const Eigen::VectorXd v = voltages(s, p.channels());
+  return p.magnitude() ? Eigen::VectorXd(v.cwiseAbs()) : v;
+}
+
+Eigen::VectorXd ForwardModel::inputs(const ForwardSolution& s) const {
+  const MeasurementProtocol& p = impl_->measurement;
+  const Eigen::VectorXd v = voltages(s, p.input_channels());
+  return p.magnitude() ? Eigen::VectorXd(v.cwiseAbs()) : v;
+}
+
+Eigen::VectorXd ForwardModel::inputs(const Eigen::VectorXd& sigma) const {
+  return inputs(solve(sigma));
 }
 
 Eigen::MatrixXd ForwardModel::jacobian(const Eigen::VectorXd& sigma) const {

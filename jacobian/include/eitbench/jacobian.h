@@ -7,6 +7,7 @@
 #include "eitbench/jacobian/forward_model.h"
 #include "eitbench/jacobian/frame_layout.h"
 #include "eitbench/jacobian/geometry.h"
+#include "eitbench/jacobian/measurement_protocol.h"
 #include "eitbench/jacobian/mesh.h"
 #include "eitbench/jacobian/msh_io.h"
 #include "eitbench/jacobian/pixel_grid.h"

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <memory>
 
+#include "eitbench/jacobian/measurement_protocol.h"
 #include "eitbench/jacobian/mesh.h"
 #include "eitbench/jacobian/protocol.h"
 
@@ -17,6 +18,9 @@ struct ForwardOptions {
   double contact_impedance = 0.01;
   // One z_c per electrode (each positive and finite); overrides contact_impedance when non-empty.
   Eigen::VectorXd contact_impedances{};
+  // The channels frames are read on (docs/protocols.md); null: the adjacent protocol in rotating
+  // order. Its electrode count must be the mesh's.
+  std::shared_ptr<const MeasurementProtocol> protocol{};
 
   // Throws InputError("ForwardOptions", field) for a value out of range; whether
   // contact_impedances has one value per electrode is checked against the mesh by ForwardModel.
@@ -39,7 +43,9 @@ class ForwardModel {
   ForwardModel& operator=(ForwardModel&&) noexcept;
 
   const Mesh& mesh() const;
-  const Protocol& protocol() const;
+  const Protocol& protocol() const;  // the adjacent protocol's index arithmetic
+  // The protocol frames follow: ForwardOptions::protocol, or the adjacent one.
+  const MeasurementProtocol& measurement_protocol() const;
   const ForwardOptions& options() const;
 
   // Solves all drives; sigma has one positive, finite value per triangle (InputError otherwise).
@@ -50,6 +56,16 @@ class ForwardModel {
                         MeasurementOrder order = MeasurementOrder::rotating) const;
   Eigen::VectorXd frame(const Eigen::VectorXd& sigma,
                         MeasurementOrder order = MeasurementOrder::rotating) const;
+
+  // Any protocol's frames come from the same L adjacent solves (see drive_patterns.h).
+  // The signed voltages of `channels`.
+  Eigen::VectorXd voltages(const ForwardSolution& solution,
+                           const std::vector<Channel>& channels) const;
+  // What a board on measurement_protocol() reports: every channel, |v| for a magnitude protocol.
+  Eigen::VectorXd measured(const ForwardSolution& solution) const;
+  // The protocol's inputs (the values reconstructors take), |v| for a magnitude protocol.
+  Eigen::VectorXd inputs(const ForwardSolution& solution) const;
+  Eigen::VectorXd inputs(const Eigen::VectorXd& sigma) const;
 
   // Every adjacent pair under every drive, the three that touch a driven electrode included:
   // L x L values, v(d, m) = U_m - U_{m+1} at d * L + m (the layout import reads as an L x L map).
@@ -69,6 +85,12 @@ class ForwardModel {
   Eigen::MatrixXd jacobian(const ForwardSolution& solution,
                            const std::vector<MeasurementPair>& pairs) const;
   Eigen::MatrixXd jacobian(const Eigen::VectorXd& sigma) const;
+  // Rows for any channels (signed voltages): J = -area * grad u_drive . grad u_meas / I, with
+  // each field the sum of adjacent drives' fields.
+  Eigen::MatrixXd jacobian(const ForwardSolution& solution,
+                           const std::vector<Channel>& channels) const;
+  // The inputs' rows: for a magnitude protocol d|v| = sign(v) dv, the sign at this solution.
+  Eigen::MatrixXd input_jacobian(const ForwardSolution& solution) const;
 
  private:
   struct Impl;
