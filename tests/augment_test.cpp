@@ -11,32 +11,11 @@
 
 #include "eitbench/augment.h"
 #include "eitbench/jacobian.h"
+#include "group_support.h"
 #include "test_support.h"
 
 namespace eitbench {
 namespace {
-
-// sigma moved by g on a symmetric mesh: the triangle t goes to where g sends it.
-Eigen::VectorXd move_conductivity(const Mesh& mesh, const Eigen::VectorXd& sigma,
-                                  const GroupElement& g) {
-  const int L = mesh.num_electrodes();
-  const testing::NodeLocator nodes(mesh.nodes);
-  std::map<std::array<int, 3>, int> by_nodes;
-  for (int t = 0; t < mesh.num_triangles(); ++t) {
-    std::array<int, 3> key{mesh.triangles(t, 0), mesh.triangles(t, 1), mesh.triangles(t, 2)};
-    std::sort(key.begin(), key.end());
-    by_nodes[key] = t;
-  }
-  Eigen::VectorXd moved = Eigen::VectorXd::Constant(sigma.size(), NAN);
-  for (int t = 0; t < mesh.num_triangles(); ++t) {
-    std::array<int, 3> key{};
-    for (int k = 0; k < 3; ++k)
-      key[k] = nodes.find(transform_point(mesh.nodes.row(mesh.triangles(t, k)), g, L), 1e-12);
-    std::sort(key.begin(), key.end());
-    moved[by_nodes.at(key)] = sigma[t];
-  }
-  return moved;
-}
 
 TEST(Group, TransformPointIsRotationByMinusSStepsAfterTheMirror) {
   const Eigen::Vector2d p(0.3, 0.4);
@@ -116,7 +95,7 @@ TEST_P(ForwardCommutes, WithEveryGroupElementOnASymmetricMesh) {
   const Eigen::VectorXd v = model.frame(sigma);
   double worst = 0;
   for (const GroupElement& g : group_elements(AugmentGroup::dihedral, L)) {
-    const Eigen::VectorXd simulated = model.frame(move_conductivity(mesh, sigma, g));
+    const Eigen::VectorXd simulated = model.frame(testing::move_conductivity(mesh, sigma, g));
     for (auto layout : {FrameLayout::rotating, FrameLayout::ascending}) {
       const MeasurementOrder order = layout == FrameLayout::rotating ? MeasurementOrder::rotating
                                                                      : MeasurementOrder::ascending;

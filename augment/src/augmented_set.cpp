@@ -19,6 +19,14 @@ Eigen::VectorXd transformed_label(const LabelledFrames& set, int i, const GroupE
       set.circles.empty() ? nullptr : &set.circles[i], set.background, g, images);
 }
 
+// An explicit protocol that is the adjacent one (either order: its inputs are the reduced
+// layout), for which FrameSymmetry's tables, the paper's variant included, apply.
+bool adjacent(const MeasurementProtocol& p) {
+  return p.electrodes() >= 4 &&
+         (p.same_channels(adjacent_protocol(p.electrodes(), MeasurementOrder::rotating)) ||
+          p.same_channels(adjacent_protocol(p.electrodes(), MeasurementOrder::ascending)));
+}
+
 }  // namespace
 
 void AugmentSetup::validate() const {
@@ -29,6 +37,15 @@ void AugmentSetup::validate() const {
     fail("electrodes", "the protocol needs at least 4, got " + std::to_string(electrodes));
   if (image_size < 1) fail("image_size", "must be positive, not " + std::to_string(image_size));
   if (!(radius > 0) || !std::isfinite(radius)) fail("radius", "must be positive and finite");
+  if (protocol && protocol->electrodes() != electrodes)
+    fail("protocol", "the " + protocol->name() + " protocol has " +
+                         std::to_string(protocol->electrodes()) + " electrodes, not " +
+                         std::to_string(electrodes));
+  if (protocol && group == AugmentGroup::paper && !adjacent(*protocol))
+    fail("group",
+         "the paper's column reversal is defined on the adjacent protocol's map only, not "
+         "on the " +
+             protocol->name() + " protocol");
   if (sensor) {
     if (sensor->group.electrodes != electrodes)
       fail("sensor", "has " + std::to_string(sensor->group.electrodes) + " electrodes, not " +
@@ -60,6 +77,25 @@ std::vector<GroupElement> augment_elements(const AugmentSetup& setup) {
   return out;
 }
 
+int frame_width(const AugmentSetup& setup) {
+  return setup.protocol ? setup.protocol->input_size()
+                        : static_cast<int>(frame_size(setup.layout, setup.electrodes));
+}
+
+std::vector<SignedPermutation> frame_actions(const AugmentSetup& setup) {
+  const auto elements = augment_elements(setup);
+  if (setup.protocol && !adjacent(*setup.protocol))
+    return channel_actions(*setup.protocol, elements);
+  const FrameLayout layout = setup.protocol ? FrameLayout::reduced : setup.layout;
+  const FrameSymmetry symmetry(setup.electrodes);
+  std::vector<SignedPermutation> out;
+  for (const GroupElement& g : elements) {
+    const auto& table = symmetry.table(setup.group, g, layout);
+    out.push_back({table, std::vector<double>(table.size(), 1.0)});
+  }
+  return out;
+}
+
 ImageSymmetry image_symmetry(const AugmentSetup& setup) {
   if (setup.sensor) return ImageSymmetry(setup.sensor);
   return ImageSymmetry(setup.electrodes, PixelGrid(setup.image_size, setup.radius));
@@ -69,12 +105,15 @@ void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup)
   setup.validate();
   const Eigen::Index n = set.frames.rows();
   if (n == 0) throw InputError("frames", "", "the set is empty");
-  if (set.frames.cols() != frame_size(setup.layout, setup.electrodes))
-    throw InputError("frames", "columns",
-                     std::to_string(set.frames.cols()) + " values a frame, but " +
-                         std::to_string(setup.electrodes) + " electrodes in the " +
-                         to_string(setup.layout) + " layout give " +
-                         std::to_string(frame_size(setup.layout, setup.electrodes)));
+  if (set.frames.cols() != frame_width(setup))
+    throw InputError(
+        "frames", "columns",
+        std::to_string(set.frames.cols()) + " values a frame, but " +
+            (setup.protocol ? "the " + setup.protocol->name() + " protocol has " +
+                                  std::to_string(frame_width(setup)) + " inputs"
+                            : std::to_string(setup.electrodes) + " electrodes in the " +
+                                  to_string(setup.layout) + " layout give " +
+                                  std::to_string(frame_width(setup))));
   if (!set.frames.allFinite()) throw InputError("frames", "values", "NaN or infinite values");
   if (set.labels.cols() > 0 &&
       (set.labels.rows() != n || set.labels.cols() != setup.image_size * setup.image_size))
@@ -91,7 +130,7 @@ void check_labelled_frames(const LabelledFrames& set, const AugmentSetup& setup)
 LabelledFrames expand_by_group(const LabelledFrames& set, const AugmentSetup& setup) {
   check_labelled_frames(set, setup);
   const auto elements = augment_elements(setup);
-  const FrameSymmetry symmetry(setup.electrodes);
+  const auto actions = frame_actions(setup);
   const ImageSymmetry images = image_symmetry(setup);
   const bool labelled = set.labels.cols() > 0 || !set.circles.empty();
   const Eigen::Index n = set.frames.rows(), k = static_cast<Eigen::Index>(elements.size());
@@ -105,7 +144,7 @@ LabelledFrames expand_by_group(const LabelledFrames& set, const AugmentSetup& se
     const Eigen::VectorXd frame = set.frames.row(i).transpose();
     for (Eigen::Index e = 0; e < k; ++e) {
       const GroupElement& g = elements[e];
-      out.frames.row(i * k + e) = symmetry.apply(setup.group, g, frame, setup.layout).transpose();
+      out.frames.row(i * k + e) = actions[e].apply(frame).transpose();
       if (labelled)
         out.labels.row(i * k + e) =
             transformed_label(set, static_cast<int>(i), g, images).transpose();
@@ -121,7 +160,7 @@ OnTheFlyAugmenter::OnTheFlyAugmenter(std::shared_ptr<const LabelledFrames> set,
       setup_((setup.validate(), setup)),  // before the tables are built from it
       seed_(seed),
       elements_(augment_elements(setup)),
-      symmetry_(setup.electrodes),
+      actions_(frame_actions(setup)),
       images_(image_symmetry(setup)) {
   if (!set_) throw std::invalid_argument("OnTheFlyAugmenter: no set");
   check_labelled_frames(*set_, setup);
@@ -134,7 +173,10 @@ const GroupElement& OnTheFlyAugmenter::element(int sample, int epoch) const {
 }
 
 Eigen::VectorXd OnTheFlyAugmenter::frame(int i, const GroupElement& g) const {
-  return symmetry_.apply(setup_.group, g, set_->frames.row(i).transpose(), setup_.layout);
+  for (std::size_t e = 0; e < elements_.size(); ++e)
+    if (elements_[e] == g) return actions_[e].apply(set_->frames.row(i).transpose());
+  throw std::invalid_argument("OnTheFlyAugmenter::frame: " + g.to_string() +
+                              " is not one of the augmenting elements");
 }
 
 Eigen::VectorXd OnTheFlyAugmenter::label(int i, const GroupElement& g) const {

@@ -129,30 +129,26 @@ Trainer::Impl::Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledF
 }
 
 // Mean and standard deviation of every input over the augmented training set. A frame's orbit is
-// the frame gathered through one index table per group element, so the orbit's moments follow
-// from the plain per-input moments, gathered: O(N d + |G| d) work instead of O(N |G| d). With
-// m0, Q the plain mean and centred sum of squares of input j, and t a table, the augmented
+// the frame gathered through one signed index table per group element, so the orbit's moments
+// follow from the plain per-input moments, gathered: O(N d + |G| d) work instead of O(N |G| d).
+// With m0, Q the plain mean and centred sum of squares of input j, and t a table, the augmented
 // input i collects sum_t (Q[t_i] + N (m0[t_i] - mean_i)^2) about its mean: no cancellation.
 void Trainer::Impl::input_statistics() {
-  const FrameSymmetry symmetry(setup.electrodes);
-  const auto elements = augment_elements(setup);
+  const auto actions = frame_actions(setup);  // signed gathers, one per group element
   const SampleMatrix& x = train->frames;
   const Eigen::Index d = x.cols();
-  const double n = double(x.rows()), count = n * double(elements.size());
+  const double n = double(x.rows()), count = n * double(actions.size());
   const Eigen::VectorXd m0 = x.colwise().mean().transpose();
   const Eigen::VectorXd q = (x.rowwise() - m0.transpose()).colwise().squaredNorm().transpose();
-  std::vector<const std::vector<int>*> tables;
-  for (const GroupElement& g : elements)
-    tables.push_back(&symmetry.table(setup.group, g, setup.layout));
   mean = Eigen::VectorXd::Zero(d);
-  for (const auto* t : tables)
-    for (Eigen::Index i = 0; i < d; ++i) mean[i] += m0[(*t)[i]];
-  mean /= double(tables.size());
+  for (const auto& a : actions)
+    for (Eigen::Index i = 0; i < d; ++i) mean[i] += a.sign[i] * m0[a.index[i]];
+  mean /= double(actions.size());
   Eigen::VectorXd square = Eigen::VectorXd::Zero(d);
-  for (const auto* t : tables)
+  for (const auto& a : actions)
     for (Eigen::Index i = 0; i < d; ++i) {
-      const int j = (*t)[i];
-      square[i] += q[j] + n * (m0[j] - mean[i]) * (m0[j] - mean[i]);
+      const double moved = a.sign[i] * m0[a.index[i]];  // a sign flips the mean, not Q
+      square[i] += q[a.index[i]] + n * (moved - mean[i]) * (moved - mean[i]);
     }
   std = (square / count).cwiseSqrt();
   // A constant input (e.g. a single frame) would divide by zero: scale it by 1.

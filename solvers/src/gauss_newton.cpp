@@ -13,7 +13,7 @@ namespace {
 struct State {
   Eigen::VectorXd x;  // relative conductivities sigma_pix / sigma_0 - 1
   ForwardSolution solution;
-  Eigen::VectorXd v;  // reduced frame of sigma(x)
+  Eigen::VectorXd v;  // the protocol's inputs of sigma(x)
   Eigen::MatrixXd J;  // d v / d x (m x n), once linearised
   double phi = INFINITY;
 };
@@ -22,7 +22,7 @@ State forward(const LinearProblem& p, Eigen::VectorXd x) {
   State s;
   const Eigen::VectorXd sigma_pix = p.background * (1.0 + x.array()).matrix();
   s.solution = p.model->solve(p.element_from_pixels * sigma_pix);
-  s.v = p.model->protocol().reduce(p.model->frame(s.solution), MeasurementOrder::rotating);
+  s.v = p.model->inputs(s.solution);
   s.x = std::move(x);
   return s;
 }
@@ -30,15 +30,13 @@ State forward(const LinearProblem& p, Eigen::VectorXd x) {
 // The Jacobian at a state, from the fields its forward solve already holds (the line search
 // solved the accepted step; solving it again only to linearise would double that cost).
 void linearise(const LinearProblem& p, State& s) {
-  s.J =
-      (p.model->jacobian(s.solution, p.model->protocol().reduced_pairs()) * p.element_from_pixels) *
-      p.background;
+  s.J = (p.model->input_jacobian(s.solution) * p.element_from_pixels) * p.background;
 }
 
 // One frame's objective: data misfit plus the weighted prior, over the box on x.
 struct Objective {
   const LinearProblem& p;
-  Eigen::VectorXd target;  // the reduced frame to fit
+  Eigen::VectorXd target;  // the inputs to fit
   Eigen::VectorXd prior;   // x_prior
   const Eigen::VectorXd& weight;
   double lambda;  // absolute: relative lambda times the scale

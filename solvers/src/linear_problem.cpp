@@ -34,7 +34,9 @@ void LinearProblem::check_frame_size(Eigen::Index values) const {
   if (values != measurements())
     throw InputError("frame", "",
                      "has " + std::to_string(values) + " values; the model expects " +
-                         std::to_string(measurements()) + " (the reduced layout)");
+                         std::to_string(measurements()) + " (the " +
+                         (model ? model->measurement_protocol().name() : std::string("adjacent")) +
+                         " protocol's inputs)");
 }
 
 namespace {
@@ -105,9 +107,8 @@ LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, dou
       entries.emplace_back(t, column[it.col()], it.value());
   p.element_from_pixels.resize(full.rows(), static_cast<Eigen::Index>(p.pixels.size()));
   p.element_from_pixels.setFromTriplets(entries.begin(), entries.end());
-  const Eigen::MatrixXd J =
-      model->jacobian(model->solve(Eigen::VectorXd::Constant(mesh.num_triangles(), background)),
-                      model->protocol().reduced_pairs());
+  const Eigen::MatrixXd J = model->input_jacobian(
+      model->solve(Eigen::VectorXd::Constant(mesh.num_triangles(), background)));
   p.A = -background * (J * p.element_from_pixels);
   return p;
 }

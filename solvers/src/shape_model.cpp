@@ -29,8 +29,8 @@ ShapeModel::ShapeModel(const LinearProblem& problem, double width)
   width_ = width > 0 ? width : 0.5 * mean_size;
   const auto background = Eigen::VectorXd::Constant(mesh.num_triangles(), problem.background);
   const ForwardSolution s0 = problem.model->solve(background);
-  J0_ = problem.model->jacobian(s0, problem.model->protocol().reduced_pairs());
-  v0_ = problem.model->protocol().reduce(problem.model->frame(s0), MeasurementOrder::rotating);
+  J0_ = problem.model->input_jacobian(s0);
+  v0_ = problem.model->inputs(s0);
 }
 
 std::vector<int> ShapeModel::support(const std::vector<const double*>& circles) const {
@@ -132,9 +132,8 @@ Eigen::VectorXd ShapeModel::difference(const std::vector<const double*>& circles
   const ForwardModel& model = *problem_.model;
   const ForwardSolution solution = model.solve(sigma0 * s);
   if (jacobian)
-    *jacobian = sigma0 * (model.jacobian(solution, model.protocol().reduced_pairs()) *
-                          relative_sigma_jacobian(circles));
-  return model.protocol().reduce(model.frame(solution), MeasurementOrder::rotating) - v0_;
+    *jacobian = sigma0 * (model.input_jacobian(solution) * relative_sigma_jacobian(circles));
+  return model.inputs(solution) - v0_;
 }
 
 }  // namespace eitbench::detail

@@ -23,7 +23,7 @@ class ShapeModel {
   const LinearProblem& problem() const { return problem_; }
   double width() const { return width_; }
   int measurements() const { return static_cast<int>(J0_.rows()); }
-  const Eigen::VectorXd& reference() const { return v0_; }  // v(sigma_0), reduced
+  const Eigen::VectorXd& reference() const { return v0_; }  // v(sigma_0), the inputs
 
   // s = sigma / sigma_0 per element: prod_j (1 - c_j H_j), H_j = (1 + tanh((r_j - d_j) / w)) / 2
   // with d_j the element centroid's distance from centre j. The product keeps sigma positive
@@ -46,7 +46,7 @@ class ShapeModel {
   static constexpr double kReach = 9.5;
   std::vector<int> support(const std::vector<const double*>& circles) const;
 
-  // The reduced difference frame v(sigma) - v(sigma_0) and its Jacobian d/dp (m x 4K, when given):
+  // The difference inputs v(sigma) - v(sigma_0) and its Jacobian d/dp (m x 4K, when given):
   // linear, J0 sigma_0 (s - 1); or full, one FEM solve and the element Jacobian at sigma.
   Eigen::VectorXd difference(const std::vector<const double*>& circles, bool full,
                              Eigen::MatrixXd* jacobian) const;
@@ -61,7 +61,7 @@ class ShapeModel {
   const LinearProblem& problem_;
   Eigen::Matrix2Xd centroids_;
   double width_;
-  Eigen::MatrixXd J0_;  // d v / d sigma at sigma_0, reduced rows x triangles
+  Eigen::MatrixXd J0_;  // d v / d sigma at sigma_0, input rows x triangles
   Eigen::VectorXd v0_;
 };
 

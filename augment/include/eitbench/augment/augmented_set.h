@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "eitbench/augment/channel_symmetry.h"
 #include "eitbench/augment/label_transform.h"
 #include "eitbench/augment/symmetry.h"
 #include "eitbench/jacobian/sample_matrix.h"
@@ -35,6 +36,10 @@ struct AugmentSetup {
   // `group` then picks among the sensor's elements: dihedral all of them, rotations its rotations,
   // mirror the identity and its first mirror, none the identity; paper is refused. Null: the disk.
   std::shared_ptr<const ShapedSensor> sensor;
+  // The protocol the frames are read on (docs/protocols.md): frames are then its inputs and
+  // `layout` is not used. Null: the adjacent protocol in `layout`. The paper's column reversal is
+  // the adjacent map's only; any other protocol is refused with it.
+  std::shared_ptr<const MeasurementProtocol> protocol;
 
   // Throws InputError("AugmentSetup", field) for a value out of range.
   void validate() const;
@@ -43,6 +48,12 @@ struct AugmentSetup {
 // The elements `setup.group` stands for: group_elements(group, electrodes) on the disk, or the
 // sensor's own (see AugmentSetup::sensor). Validates the setup first.
 std::vector<GroupElement> augment_elements(const AugmentSetup& setup);
+// Values a frame has: the protocol's inputs, or the adjacent layout's size.
+int frame_width(const AugmentSetup& setup);
+// How each of augment_elements(setup) acts on a frame, in that order: FrameSymmetry's tables for
+// the adjacent protocol (the paper's variant included), channel_actions for any other. Throws
+// InputError naming the first channel an element cannot map.
+std::vector<SignedPermutation> frame_actions(const AugmentSetup& setup);
 // The label images' moves: on the disk's grid, or on the sensor's.
 ImageSymmetry image_symmetry(const AugmentSetup& setup);
 
@@ -75,7 +86,7 @@ class OnTheFlyAugmenter {
   AugmentSetup setup_;
   std::uint64_t seed_;
   std::vector<GroupElement> elements_;
-  FrameSymmetry symmetry_;
+  std::vector<SignedPermutation> actions_;  // one per element
   ImageSymmetry images_;
 };
 

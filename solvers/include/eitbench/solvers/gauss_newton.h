@@ -14,7 +14,8 @@
 // (image values near -100 on noise-free quick frames). On x the charge grows with the square of
 // the image value, as in the one-step methods, and the box keeps sigma positive.
 //   difference mode: v_target = v(sigma_0) + dv (the frame is a difference frame), x_prior = 0
-//   absolute mode:   v_target = the frame itself (absolute, reduced layout), starting from and
+//   absolute mode:   v_target = the frame itself (absolute, the protocol's inputs), starting from
+//   and
 //                    regularised towards the best homogeneous conductivity
 #include <memory>
 #include <string>
@@ -71,7 +72,7 @@ class GaussNewton : public Reconstructor {
  private:
   std::shared_ptr<const LinearProblem> problem_;  // never null
   GaussNewtonOptions options_;
-  Eigen::VectorXd reference_;  // v(sigma_0), reduced
+  Eigen::VectorXd reference_;  // v(sigma_0), the inputs
   Eigen::VectorXd weight_;     // W (diagonal)
   double scale_ = 1;           // mean eigenvalue of J W^-1 J^T at sigma_0
   double lambda_;              // relative

@@ -2,8 +2,8 @@
 // The linearised inverse problem every model-based reconstructor starts from, on the label scale:
 //   dv ~= A x,   x = -dsigma / sigma_0 on the in-disk pixels,   A = -sigma_0 J_pix,
 // with the Jacobian J_pix = J_elem P taken at the background sigma_0 on the reconstruction mesh,
-// rows in the reduced (104) layout. Solutions are images on the label scale directly
-// (docs/conventions.md).
+// rows the protocol's inputs (the reduced 104 for the adjacent one). Solutions are images on the
+// label scale directly (docs/conventions.md).
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <memory>
@@ -16,7 +16,7 @@
 namespace eitbench {
 
 struct LinearProblem {
-  Eigen::MatrixXd A;        // m x n: m reduced measurements, n in-disk pixels
+  Eigen::MatrixXd A;        // m x n: m inputs of the protocol, n in-disk pixels
   std::vector<int> pixels;  // column j is image pixel pixels[j]
   PixelGrid grid;           // the image grid: the disk's, or one covering a sensor of any shape
   double background = 1.0;

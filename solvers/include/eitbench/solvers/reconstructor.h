@@ -1,8 +1,8 @@
 #pragma once
 // One interface for every reconstructor (docs/conventions.md): an optional fit on labelled data,
-// then difference frame -> image. Frames are difference voltages in the reduced (104) layout;
-// images are image_size^2 values on the label scale, -dsigma/sigma_0, row-major, 0 outside the
-// disk.
+// then difference frame -> image. Frames are difference voltages, the protocol's inputs (the
+// reduced 104 for the adjacent protocol); images are image_size^2 values on the label scale,
+// -dsigma/sigma_0, row-major, 0 outside the disk.
 #include <Eigen/Core>
 #include <functional>
 #include <string>

@@ -3,8 +3,8 @@
 // nonlinear least squares (Ceres, Levenberg-Marquardt). Each circle has a centre, a radius and an
 // intensity c (sigma = sigma_0 (1 - c) inside, the label scale's value); the conductivity is the
 // product of smoothed indicators over the reconstruction mesh's elements (about one element
-// wide), and the residuals are the frame's reduced values, with analytic derivatives through the
-// element Jacobian. Two forward models: `linear` (the Jacobian at the background: fast) and
+// wide), and the residuals are the frame's inputs (any protocol), with analytic derivatives through
+// the element Jacobian. Two forward models: `linear` (the Jacobian at the background: fast) and
 // `full` (the FEM re-solved at every step, starting from the linear fit). The start is the
 // peaks of a one-step NOSER image; K is chosen in 1..max_touches by the Bayesian information
 // criterion, whose penalty weight can be chosen on validation frames. The output is the circles,
@@ -75,8 +75,8 @@ class ShapeReconstructor : public Reconstructor {
   bool finds_circles() const override { return true; }
   std::vector<Circle> touches(const Eigen::VectorXd& frame, Eigen::VectorXd& image) const override;
 
-  // The circles of one difference frame (reduced layout); InputError for a frame of the wrong
-  // length or with a non-finite value.
+  // The circles of one difference frame (the protocol's inputs); InputError for a frame of the
+  // wrong length or with a non-finite value.
   ShapeFit fit_circles(const Eigen::VectorXd& frame) const;
   // The fit with exactly K circles from the given start ([cx, cy, r, c] each): what
   // fit_circles does for each K.

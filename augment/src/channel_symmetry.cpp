@@ -1,0 +1,67 @@
+#include "eitbench/augment/channel_symmetry.h"
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+
+Eigen::VectorXd SignedPermutation::apply(const Eigen::VectorXd& frame) const {
+  if (frame.size() != static_cast<Eigen::Index>(index.size()))
+    throw InputError("frame", "values",
+                     "has " + std::to_string(frame.size()) + " values, not the protocol's " +
+                         std::to_string(index.size()) + " inputs");
+  Eigen::VectorXd out(frame.size());
+  for (std::size_t i = 0; i < index.size(); ++i) out[i] = sign[i] * frame[index[i]];
+  return out;
+}
+
+SignedPermutation channel_action(const MeasurementProtocol& protocol, const GroupElement& g) {
+  const int L = protocol.electrodes();
+  // P undoes g's move of the electrodes: v'(c) = v(P(c)), as FrameSymmetry's p(d) = d + s.
+  std::vector<int> P(L);
+  for (int e = 0; e < L; ++e) P[electrode_image(g, e, L)] = e;
+  std::vector<int> input_of(protocol.size(), -1);
+  for (int i = 0; i < protocol.input_size(); ++i) input_of[protocol.inputs()[i]] = i;
+  SignedPermutation out;
+  for (int i = 0; i < protocol.input_size(); ++i) {
+    const Channel& c = protocol.channels()[protocol.inputs()[i]];
+    const Channel image{P[c.drive_plus], P[c.drive_minus], P[c.meas_plus], P[c.meas_minus]};
+    int sign = 1, j = protocol.find(image, &sign);
+    if (j >= 0 && input_of[j] < 0) {  // a reciprocal protocol's second of a pair: its partner
+      const Channel& d = protocol.channels()[j];
+      int partner_sign = 1;
+      j = protocol.find({d.meas_plus, d.meas_minus, d.drive_plus, d.drive_minus}, &partner_sign);
+      sign *= partner_sign;
+    }
+    if (j < 0 || input_of[j] < 0)
+      throw InputError("protocol", "channel " + std::to_string(protocol.inputs()[i]),
+                       "(" + std::to_string(c.drive_plus) + "," + std::to_string(c.drive_minus) +
+                           "," + std::to_string(c.meas_plus) + "," + std::to_string(c.meas_minus) +
+                           ") has no image under " + g.to_string() + " in the " + protocol.name() +
+                           " protocol: the protocol is not symmetric under that element");
+    out.index.push_back(input_of[j]);
+    out.sign.push_back(protocol.magnitude() ? 1 : sign);  // |-v| = |v|
+  }
+  return out;
+}
+
+std::vector<SignedPermutation> channel_actions(const MeasurementProtocol& protocol,
+                                               const std::vector<GroupElement>& elements) {
+  std::vector<SignedPermutation> out;
+  out.reserve(elements.size());
+  for (const GroupElement& g : elements) out.push_back(channel_action(protocol, g));
+  return out;
+}
+
+std::vector<GroupElement> protocol_elements(const MeasurementProtocol& protocol,
+                                            const std::vector<GroupElement>& candidates) {
+  std::vector<GroupElement> out;
+  for (const GroupElement& g : candidates) try {
+      channel_action(protocol, g);
+      out.push_back(g);
+    } catch (const InputError&) {
+      // g breaks the protocol: not in its subgroup
+    }
+  return out;
+}
+
+}  // namespace eitbench
