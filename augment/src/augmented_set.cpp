@@ -19,14 +19,6 @@ Eigen::VectorXd transformed_label(const LabelledFrames& set, int i, const GroupE
       set.circles.empty() ? nullptr : &set.circles[i], set.background, g, images);
 }
 
-// An explicit protocol that is the adjacent one (either order: its inputs are the reduced
-// layout), for which FrameSymmetry's tables, the paper's variant included, apply.
-bool adjacent(const MeasurementProtocol& p) {
-  return p.electrodes() >= 4 &&
-         (p.same_channels(adjacent_protocol(p.electrodes(), MeasurementOrder::rotating)) ||
-          p.same_channels(adjacent_protocol(p.electrodes(), MeasurementOrder::ascending)));
-}
-
 }  // namespace
 
 void AugmentSetup::validate() const {
@@ -41,7 +33,7 @@ void AugmentSetup::validate() const {
     fail("protocol", "the " + protocol->name() + " protocol has " +
                          std::to_string(protocol->electrodes()) + " electrodes, not " +
                          std::to_string(electrodes));
-  if (protocol && group == AugmentGroup::paper && !adjacent(*protocol))
+  if (protocol && group == AugmentGroup::paper && !is_adjacent(*protocol))
     fail("group",
          "the paper's column reversal is defined on the adjacent protocol's map only, not "
          "on the " +
@@ -84,7 +76,7 @@ int frame_width(const AugmentSetup& setup) {
 
 std::vector<SignedPermutation> frame_actions(const AugmentSetup& setup) {
   const auto elements = augment_elements(setup);
-  if (setup.protocol && !adjacent(*setup.protocol))
+  if (setup.protocol && !is_adjacent(*setup.protocol))
     return channel_actions(*setup.protocol, elements);
   const FrameLayout layout = setup.protocol ? FrameLayout::reduced : setup.layout;
   const FrameSymmetry symmetry(setup.electrodes);

@@ -154,6 +154,22 @@ void add_model_options(CLI::App& app, ModelSetup& s) {
       ->capture_default_str();
 }
 
+void add_protocol_options(CLI::App& app, ProtocolChoice& c) {
+  app.add_option("--protocol", c.spec,
+                 "measurement protocol: adjacent | adjacent-ascending | opposite (drive e -> "
+                 "e+L/2, OpenEIT's 192 for 16 electrodes) | skip-K (drive e -> e+K+1) | FILE.csv "
+                 "(a header, then drive+,drive-,meas+,meas- a line, electrodes 0-based)")
+      ->capture_default_str();
+  app.add_flag("--magnitude", c.magnitude,
+               "frames are magnitudes |v| (OpenEIT and similar boards): the model's frames and "
+               "Jacobian are those of |v|, the sign taken from the homogeneous solution");
+}
+
+std::shared_ptr<const MeasurementProtocol> load_protocol(const ProtocolChoice& c, int electrodes) {
+  return std::make_shared<const MeasurementProtocol>(
+      make_protocol(c.spec, electrodes).with_magnitude(c.magnitude));
+}
+
 std::optional<SensorFile> load_sensor(const std::string& path, int electrodes) {
   if (path.empty()) return std::nullopt;
   SensorFile sensor = read_sensor_file(path);

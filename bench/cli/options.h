@@ -2,6 +2,7 @@
 // Options that several subcommands share: where the mesh and the conductivity come from, and how
 // the forward model and its output are set up. Names are a contract (issue 2): scripts use them.
 #include <CLI/CLI.hpp>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -51,6 +52,15 @@ void add_model_options(CLI::App& app, ModelSetup& setup);
 void apply_sensor(ModelSetup& setup, const Mesh& mesh);
 // The sensor file at `path` (none for an empty path), checked against the electrode count.
 std::optional<SensorFile> load_sensor(const std::string& path, int electrodes);
+// --protocol and --magnitude (docs/protocols.md).
+struct ProtocolChoice {
+  std::string spec = "adjacent";  // adjacent | adjacent-ascending | opposite | skip-K | FILE.csv
+  bool magnitude = false;         // frames are |v|, as boards such as OpenEIT report
+};
+void add_protocol_options(CLI::App& app, ProtocolChoice& choice);
+// The protocol for `electrodes` (InputError naming --protocol or the CSV file).
+std::shared_ptr<const MeasurementProtocol> load_protocol(const ProtocolChoice& choice,
+                                                         int electrodes);
 // True for the reciprocity-reduced L(L-3)/2 values; checks --values against L.
 bool reduced_values(const ModelSetup& setup, int electrodes);
 

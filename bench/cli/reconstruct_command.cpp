@@ -183,13 +183,12 @@ Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) 
   labels.resize(static_cast<Eigen::Index>(selected.size()), data.labels.cols());
   if (args->absolute && args->method != "gn")
     throw InputError("--absolute", "", "only the gn method fits absolute frames");
-  const Protocol data_protocol(data.electrodes);
+  const MeasurementProtocol data_protocol = measurement_protocol(data);
   for (std::size_t k = 0; k < selected.size(); ++k) {
-    frames.row(k) = args->absolute ? data_protocol
-                                         .reduce(data.frames.row(selected[k]).transpose(),
-                                                 MeasurementOrder::rotating)
-                                         .transpose()
-                                   : Eigen::RowVectorXd(data.differences.row(selected[k]));
+    frames.row(k) =
+        args->absolute
+            ? data_protocol.to_inputs(data.frames.row(selected[k]).transpose()).transpose()
+            : Eigen::RowVectorXd(data.differences.row(selected[k]));
     if (data.has_labels()) labels.row(k) = data.labels.row(selected[k]);
   }
   if (std::isfinite(args->snr)) add_noise(frames, args->snr, args->noise_seed);
@@ -244,6 +243,7 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   ForwardOptions forward;
   forward.contact_impedance = s.data.contact_impedance;
   forward.current = s.data.current;
+  forward.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(s.data));
   if (const auto sensor = load_sensor(args->sensor, mesh.num_electrodes())) {
     forward.contact_impedances = sensor->contact_impedances;
     forward.current = sensor->current;
@@ -279,6 +279,7 @@ std::unique_ptr<Reconstructor> learned(const Args* args, const CLI::App& cmd, co
     throw InputError("--method dnn", "", "a trained model has no lambda to set or choose");
   LearnedModel model = read_model_file(args->model);
   check_model_fits(model, args->model, data.electrodes, image_grid(data));
+  check_model_protocol(model, args->model, measurement_protocol(data));
   return make_learned_reconstructor(std::move(model));
 }
 

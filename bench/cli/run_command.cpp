@@ -24,6 +24,7 @@ std::function<void()> add_run_command(CLI::App& app) {
     int threads = 2, electrodes = 16, epochs = 0, patience = -1;
     double learning_rate = 0;
     std::vector<std::string> methods, augments;
+    ProtocolChoice protocol;
     bool resume = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
@@ -85,6 +86,7 @@ std::function<void()> add_run_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", args->quiet, "no progress output");
+  add_protocol_options(*cmd, args->protocol);
   return [args] {
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;
@@ -92,6 +94,8 @@ std::function<void()> add_run_command(CLI::App& app) {
     c.sensor = args->sensor;
     c.mesh_file = args->mesh;
     c.electrodes = args->electrodes;
+    c.protocol = args->protocol.spec;
+    c.magnitude = args->protocol.magnitude;
     c.out = args->out.empty() ? "out/" + args->preset : args->out;
     c.seed = args->seed;
     c.resume = args->resume;

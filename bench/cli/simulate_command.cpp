@@ -19,6 +19,7 @@ std::function<void()> add_simulate_command(CLI::App& app) {
     SimulationOptions options;
     std::string density = "fine", mesh, out;
     bool quiet = false;
+    ProtocolChoice protocol;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -54,21 +55,27 @@ std::function<void()> add_simulate_command(CLI::App& app) {
       ->check(kPositive);
   cmd->add_option("--out", args->out, "HDF5 file to write")->required();
   cmd->add_flag("--quiet", args->quiet, "no progress output");
+  add_protocol_options(*cmd, args->protocol);
   return [args] {
     args->options.density = parse_density(args->density);
     if (!args->mesh.empty()) {
       args->options.sensor_mesh = std::make_shared<const Mesh>(read_msh_file(args->mesh));
       args->options.sensor_source = std::filesystem::path(args->mesh).filename().string();
     }
+    args->options.protocol = load_protocol(
+        args->protocol, args->options.sensor_mesh ? args->options.sensor_mesh->num_electrodes()
+                                                  : args->options.electrodes);
     const auto counts = preset_counts(args->options.preset);
     int total = 0;
     for (int c : counts.circles) total += c;
     if (!args->quiet)
       fmt::print(
           "simulating {} samples ({} / {} / {} / {} with 1 / 2 / 3 / 4 circles), seed {}, {} "
-          "mesh\n",
+          "protocol ({} channels{}), {} mesh\n",
           total, counts.circles[0], counts.circles[1], counts.circles[2], counts.circles[3],
-          args->options.seed, args->mesh.empty() ? args->density : args->mesh + " refined once");
+          args->options.seed, args->options.protocol->name(), args->options.protocol->size(),
+          args->options.protocol->magnitude() ? ", magnitudes" : "",
+          args->mesh.empty() ? args->density : args->mesh + " refined once");
     Progress progress("simulate", total, args->quiet);
     const auto t0 = std::chrono::steady_clock::now();
     const Dataset data =

@@ -347,6 +347,21 @@ Eigen::VectorXd adjacent_differences(const std::vector<MeasurementPair>& pairs,
   return v;
 }
 
+// The voltages of `channels` from the adjacent drives' electrode potentials U (electrode e,
+// drive d), each drive pattern's potentials summed from them (drive_patterns.h).
+template <typename Potentials>
+Eigen::VectorXd channel_voltages(const std::vector<Channel>& channels, const Potentials& U) {
+  const detail::DrivePatterns patterns =
+      detail::drive_patterns(channels, static_cast<int>(U.rows()));
+  const auto W = patterns.combine(U);  // electrode x drive pattern
+  Eigen::VectorXd v(channels.size());
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    const int d = patterns.drive[i];
+    v[i] = W(channels[i].meas_plus, d) - W(channels[i].meas_minus, d);
+  }
+  return v;
+}
+
 }  // namespace
 
 std::unique_ptr<Workspace> ForwardModel::Impl::solve(const Eigen::VectorXd& sigma) const {
@@ -524,21 +539,26 @@ Eigen::MatrixXd ForwardModel::input_jacobian(const ForwardSolution& s) const {
 
 Eigen::VectorXd ForwardModel::voltages(const ForwardSolution& s,
                                        const std::vector<Channel>& channels) const {
-  const int L = impl_->mesh.num_electrodes();
-  const detail::DrivePatterns patterns = detail::drive_patterns(channels, L);
-  const auto U = patterns.combine(s.electrode_potentials);  // electrode x drive pattern
-  Eigen::VectorXd v(channels.size());
-  for (std::size_t i = 0; i < channels.size(); ++i) {
-    const int d = patterns.drive[i];
-    v[i] = U(channels[i].meas_plus, d) - U(channels[i].meas_minus, d);
-  }
-  return v;
+  return channel_voltages(channels, s.electrode_potentials);
 }
 
 Eigen::VectorXd ForwardModel::measured(const ForwardSolution& s) const {
   const MeasurementProtocol& p = impl_->measurement;
   const Eigen::VectorXd v = voltages(s, p.channels());
   return p.magnitude() ? Eigen::VectorXd(v.cwiseAbs()) : v;
+}
+
+Eigen::VectorXd ForwardModel::measured(const Eigen::VectorXd& sigma) const {
+  // Only the electrode rows of the solution are read, as frame(sigma) does.
+  const Impl& m = *impl_;
+  std::unique_ptr<Workspace> w = m.solve(sigma);
+  const int L = m.mesh.num_electrodes();
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> U(
+      static_cast<const double*>(w->X->x) + m.dofs - L, L, L,
+      Eigen::OuterStride<>(static_cast<Eigen::Index>(w->X->d)));
+  const Eigen::VectorXd v = channel_voltages(m.measurement.channels(), U);
+  m.give_back(std::move(w));
+  return m.measurement.magnitude() ? Eigen::VectorXd(v.cwiseAbs()) : v;
 }
 
 Eigen::VectorXd ForwardModel::inputs(const ForwardSolution& s) const {

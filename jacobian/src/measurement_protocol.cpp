@@ -128,6 +128,12 @@ MeasurementProtocol adjacent_protocol(int electrodes, MeasurementOrder order) {
       std::move(channels));
 }
 
+bool is_adjacent(const MeasurementProtocol& p) {
+  return p.electrodes() >= 4 && !p.magnitude() &&
+         (p.same_channels(adjacent_protocol(p.electrodes(), MeasurementOrder::rotating)) ||
+          p.same_channels(adjacent_protocol(p.electrodes(), MeasurementOrder::ascending)));
+}
+
 MeasurementProtocol skip_protocol(int electrodes, int skip) {
   const int L = electrodes;
   if (L < 4)

@@ -59,6 +59,10 @@ LearnedModel& LearnedModel::operator=(const LearnedModel& other) {
   return *this;
 }
 
+MeasurementProtocol LearnedModel::protocol() const {
+  return impl_->info.protocol ? *impl_->info.protocol : adjacent_protocol(impl_->info.electrodes);
+}
+
 const ModelInfo& LearnedModel::info() const {
   return impl_->info;
 }
@@ -119,9 +123,17 @@ Eigen::VectorXd LearnedModel::reconstruct(const Eigen::VectorXd& frame) const {
 std::string LearnedModel::to_bytes() const {
   torch::serialize::OutputArchive archive, weights;
   const ModelInfo& i = impl_->info;
-  const nlohmann::json meta = {{"electrodes", i.electrodes},
-                               {"augment", i.augment},
-                               {"training", nlohmann::json::parse(i.training)}};
+  nlohmann::json meta = {{"electrodes", i.electrodes},
+                         {"augment", i.augment},
+                         {"training", nlohmann::json::parse(i.training)}};
+  if (i.protocol) {
+    nlohmann::json channels = nlohmann::json::array();
+    for (const Channel& c : i.protocol->channels())
+      channels.push_back({c.drive_plus, c.drive_minus, c.meas_plus, c.meas_minus});
+    meta["protocol"] = {{"name", i.protocol->name()},
+                        {"magnitude", i.protocol->magnitude()},
+                        {"channels", channels}};
+  }
   archive.write("format", c10::IValue(std::string(kModelFormat)));
   archive.write("network", c10::IValue(network_to_json(i.network)));
   archive.write("meta", c10::IValue(meta.dump()));
@@ -158,18 +170,29 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
     impl->info.electrodes = j.at("electrodes").get<int>();
     impl->info.augment = j.at("augment").get<std::string>();
     impl->info.training = j.at("training").dump();
+    if (j.contains("protocol")) {
+      const auto& p = j.at("protocol");
+      std::vector<Channel> channels;
+      for (const auto& c : p.at("channels"))
+        channels.push_back(
+            {c.at(0).get<int>(), c.at(1).get<int>(), c.at(2).get<int>(), c.at(3).get<int>()});
+      impl->info.protocol = std::make_shared<const MeasurementProtocol>(
+          MeasurementProtocol(p.at("name").get<std::string>(), impl->info.electrodes, channels,
+                              source + ": protocol")
+              .with_magnitude(p.at("magnitude").get<bool>()));
+    }
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, "meta", std::string("unreadable: ") + e.what());
   }
-  // The adjacent protocol needs 4 electrodes, and the network reads a frame's L(L-3)/2 values.
+  // A protocol needs 4 electrodes, and the network reads a frame's inputs.
   const int L = impl->info.electrodes;
   if (L < 4 || L > 1024)
     throw InputError(source, "electrodes", std::to_string(L) + " is not between 4 and 1024");
-  if (impl->info.network.inputs != L * (L - 3) / 2)
+  const int inputs = impl->info.protocol ? impl->info.protocol->input_size() : L * (L - 3) / 2;
+  if (impl->info.network.inputs != inputs)
     throw InputError(source, "network",
                      "takes " + std::to_string(impl->info.network.inputs) +
-                         " values a frame, but " + std::to_string(L) + " electrodes give " +
-                         std::to_string(L * (L - 3) / 2));
+                         " values a frame, but its protocol gives " + std::to_string(inputs));
   impl->net = Network(impl->info.network);
   const auto expected = shapes(impl->net);
   try {

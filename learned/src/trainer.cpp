@@ -348,6 +348,7 @@ LearnedModel Trainer::best_model() const {
   copy_state(m.best_round > 0 ? m.best : m.net, model.impl().net);
   ModelInfo& info = model.info();
   info.augment = to_string(m.options.augment);
+  info.protocol = m.setup.protocol;
   info.training = nlohmann::json{{"options", options_to_json(m.options)},
                                  {"train_samples", m.train->frames.rows()},
                                  {"samples_per_epoch", m.train_size},

@@ -21,4 +21,17 @@ std::vector<int> Dataset::indices(Split which) const {
   return out;
 }
 
+MeasurementProtocol measurement_protocol(const Dataset& d) {
+  if (d.protocol_channels.empty())
+    return adjacent_protocol(d.electrodes).with_magnitude(d.magnitude);
+  return MeasurementProtocol(d.protocol, d.electrodes, d.protocol_channels, "protocol")
+      .with_magnitude(d.magnitude);
+}
+
+void set_protocol(Dataset& d, const MeasurementProtocol& p) {
+  d.protocol = p.name();
+  d.protocol_channels = p.channels();
+  d.magnitude = p.magnitude();
+}
+
 }  // namespace eitbench

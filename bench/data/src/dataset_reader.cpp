@@ -190,8 +190,6 @@ Dataset read_dataset_checked(const std::string& path) {
   if (electrodes != std::floor(electrodes))
     throw InputError(path, "electrodes", "must be a whole number from 4 to 256");
   d.electrodes = static_cast<int>(electrodes);
-  const int L = d.electrodes;
-  const hsize_t full = static_cast<hsize_t>(L * (L - 3)), reduced = full / 2;
   d.radius = r.number("radius", 1.0, 0, kHuge);
   d.background = r.number("background_conductivity", 0.05, 0, kHuge);
   d.contact_impedance = r.number("contact_impedance", 0.01, -kHuge, kHuge);
@@ -227,6 +225,24 @@ Dataset read_dataset_checked(const std::string& path) {
                                    d.radius, extent.x(), extent.y()));
     d.sensor_group = r.text("sensor_group");
   }
+  d.magnitude = r.number("magnitude", 0, 0, 1) != 0;
+  if (r.has("protocol_channels")) {  // checked by the protocol itself: range, pairs, repeats
+    std::vector<hsize_t> shape{0, 4};
+    const std::vector<int> c = r.array<int>("protocol_channels", shape);
+    for (std::size_t k = 0; k + 3 < c.size(); k += 4)
+      d.protocol_channels.push_back({c[k], c[k + 1], c[k + 2], c[k + 3]});
+    d.protocol = r.text("protocol").empty() ? "unnamed" : r.text("protocol");
+  }
+  const MeasurementProtocol protocol = [&] {
+    try {
+      return measurement_protocol(d);
+    } catch (const InputError& e) {
+      throw InputError(path, "protocol_channels", e.field() + ": " + e.message());
+    }
+  }();
+  if (d.protocol_channels.empty()) d.protocol = protocol.name();
+  const hsize_t full = static_cast<hsize_t>(protocol.size()),
+                reduced = static_cast<hsize_t>(protocol.input_size());
 
   std::vector<hsize_t> dims{0, reduced};
   const std::vector<double> differences = r.array<double>("differences", dims);
@@ -286,6 +302,7 @@ std::string to_wire(const Dataset& d) {
   w.pod(d.current), w.pod(d.electrode_coverage), w.pod(d.image_size), w.pod(d.seed);
   w.text(d.preset), w.text(d.simulation_mesh), w.pod(d.simulation_triangles);
   w.text(d.program), w.text(d.augmentation), w.text(d.sensor_mesh), w.text(d.sensor_group);
+  w.text(d.protocol), w.vector(d.protocol_channels), w.pod(d.magnitude);
   w.matrix(d.reference), w.matrix(d.frames), w.matrix(d.differences), w.matrix(d.labels);
   w.pod<std::uint64_t>(d.circles.size());
   for (const auto& list : d.circles) w.vector(list);
@@ -303,6 +320,7 @@ Dataset from_wire(const std::string& bytes) {
   d.preset = r.text(), d.simulation_mesh = r.text(), d.simulation_triangles = r.pod<int>();
   d.program = r.text(), d.augmentation = r.text();
   d.sensor_mesh = r.text(), d.sensor_group = r.text();
+  d.protocol = r.text(), d.protocol_channels = r.vector<Channel>(), d.magnitude = r.pod<bool>();
   d.reference = r.matrix<Eigen::VectorXd>();
   d.frames = r.matrix<SampleMatrix>(), d.differences = r.matrix<SampleMatrix>();
   d.labels = r.matrix<SampleMatrix>();

@@ -75,8 +75,15 @@ struct OpenFile {
 };
 
 void create_arrays(OpenFile& w, const Dataset& d, bool labels, bool circles) {
-  const int L = d.electrodes;
-  const hsize_t frame_size = static_cast<hsize_t>(L * (L - 3));
+  const MeasurementProtocol protocol = measurement_protocol(d);
+  const hsize_t frame_size = static_cast<hsize_t>(protocol.size());
+  std::vector<int> channels;
+  for (const Channel& c : protocol.channels())
+    channels.insert(channels.end(), {c.drive_plus, c.drive_minus, c.meas_plus, c.meas_minus});
+  const hsize_t channel_dims[2] = {frame_size, 4};
+  detail::write_closed(w.file.createDataSet("protocol_channels", H5::PredType::NATIVE_INT,
+                                            H5::DataSpace(2, channel_dims)),
+                       channels.data(), H5::PredType::NATIVE_INT);
   detail::write_closed(
       w.file.createDataSet("reference", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &frame_size)),
       d.reference.data(), H5::PredType::NATIVE_DOUBLE);
@@ -86,8 +93,9 @@ void create_arrays(OpenFile& w, const Dataset& d, bool labels, bool circles) {
         w.file.createDataSet("sensor_mesh", H5::PredType::NATIVE_UCHAR, H5::DataSpace(1, &bytes)),
         d.sensor_mesh.data(), H5::PredType::NATIVE_UCHAR);
   }
-  w.differences = std::make_unique<GrowingArray>(w.file, "differences", H5::PredType::NATIVE_DOUBLE,
-                                                 std::vector<hsize_t>{frame_size / 2});
+  w.differences = std::make_unique<GrowingArray>(
+      w.file, "differences", H5::PredType::NATIVE_DOUBLE,
+      std::vector<hsize_t>{static_cast<hsize_t>(protocol.input_size())});
   w.frames = std::make_unique<GrowingArray>(w.file, "frames", H5::PredType::NATIVE_DOUBLE,
                                             std::vector<hsize_t>{frame_size});
   w.split = std::make_unique<GrowingArray>(w.file, "split", H5::PredType::NATIVE_INT,
@@ -117,10 +125,14 @@ void write_attributes(H5::H5File& file, const Dataset& d) {
   write_attribute(file, "preset", d.preset);
   write_attribute(file, "simulation_mesh", d.simulation_mesh);
   write_attribute(file, "simulation_triangles", static_cast<long long>(d.simulation_triangles));
-  write_attribute(file, "protocol", "adjacent drive, adjacent measurement (SPEC section 1)");
-  write_attribute(file, "frame_order", "rotating");
+  const MeasurementProtocol protocol = measurement_protocol(d);
+  write_attribute(file, "protocol", protocol.name());
+  write_attribute(file, "magnitude", static_cast<long long>(protocol.magnitude()));
+  write_attribute(file, "frame_order", "the rows of /protocol_channels");
   write_attribute(file, "difference_layout",
-                  "reduced: v(d,m), d < m, m - d >= 2, (d,m) != (0,L-1), row-major");
+                  protocol.reciprocal()
+                      ? "reciprocity-reduced: the first channel of each reciprocal pair, in order"
+                      : "every channel (the protocol is not reciprocal)");
   write_attribute(file, "program", d.program);
   write_attribute(file, "augmentation", d.augmentation);
   if (!d.sensor_mesh.empty()) write_attribute(file, "sensor_group", d.sensor_group);
@@ -169,13 +181,13 @@ struct DatasetWriter::Impl {
 DatasetWriter::DatasetWriter(const std::string& path, const Dataset& d, bool labels, bool circles)
     : impl_(std::make_unique<Impl>()), path_(path) {
   Impl& w = *impl_;
-  const int L = d.electrodes;
-  w.frame_size = L * (L - 3);
-  w.difference_size = w.frame_size / 2;
+  const MeasurementProtocol protocol = measurement_protocol(d);
+  w.frame_size = protocol.size();
+  w.difference_size = protocol.input_size();
   w.pixels = static_cast<Eigen::Index>(d.image_size) * d.image_size;
   w.labels = labels, w.circles = circles;
   if (d.reference.size() != w.frame_size)
-    throw InputError(path, "reference", "does not fit the electrode count");
+    throw InputError(path, "reference", "does not fit the " + protocol.name() + " protocol");
   temp_ = temporary_path_for(path);
   auto file = std::make_shared<OpenFile>();  // filled in the child, which has its own copy
   const std::string temp = temp_;

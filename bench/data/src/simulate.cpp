@@ -122,10 +122,11 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   ForwardOptions forward;
   forward.current = o.current;
   forward.contact_impedance = o.contact_impedance;
+  forward.protocol = o.protocol;
   const ForwardModel model(mesh, forward);
   const PixelGrid& grid = geometry.grid;
   const auto domain = o.sensor_mesh ? std::make_unique<MeshDomain>(geometry.sensor) : nullptr;
-  const Protocol& protocol = model.protocol();
+  const MeasurementProtocol& protocol = model.measurement_protocol();
 
   Dataset data;
   data.electrodes = mesh.num_electrodes();
@@ -144,7 +145,8 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   }
   data.simulation_triangles = mesh.num_triangles();
   data.program = program_version();
-  data.reference = model.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), o.background));
+  set_protocol(data, protocol);
+  data.reference = model.measured(Eigen::VectorXd::Constant(mesh.num_triangles(), o.background));
 
   int n = 0;
   for (int c : counts.circles) n += c;
@@ -157,8 +159,8 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
                            : j < counts.validation ? Split::validation
                                                    : Split::test);
     }
-  data.frames.resize(n, protocol.frame_size());
-  data.differences.resize(n, protocol.reduced_size());
+  data.frames.resize(n, protocol.size());
+  data.differences.resize(n, protocol.input_size());
   data.labels.resize(n, grid.num_pixels());
   data.circles.resize(n);
 
@@ -170,10 +172,9 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
       data.circles[i] = o.sensor_mesh ? draw_circles(circle_count[i], *domain, grid, rng)
                                       : draw_circles(circle_count[i], grid.radius(), rng);
       const Eigen::VectorXd frame =
-          model.frame(conductivity_from_circles(mesh, data.circles[i], o.background));
+          model.measured(conductivity_from_circles(mesh, data.circles[i], o.background));
       data.frames.row(i) = frame.transpose();
-      data.differences.row(i) =
-          protocol.reduce(frame - data.reference, MeasurementOrder::rotating).transpose();
+      data.differences.row(i) = protocol.to_inputs(frame - data.reference).transpose();
       // Labels are float32 in the file: rounded here too, so that a set in memory and the same
       // set read back are identical (a training checkpoint hashes them).
       data.labels.row(i) = circles_image(grid, data.circles[i], o.background)

@@ -46,6 +46,7 @@ AugmentSetup sensor_of(const Dataset& data, AugmentGroup group) {
   s.image_size = data.image_size;
   s.radius = data.radius;
   s.sensor = shaped_sensor_of(data);
+  s.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(data));
   return s;
 }
 

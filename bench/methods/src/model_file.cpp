@@ -26,6 +26,20 @@ void check_model_fits(const LearnedModel& model, const std::string& path, int el
                          " px images, the data's are " + std::to_string(image_size) + " px");
 }
 
+void check_model_protocol(const LearnedModel& model, const std::string& path,
+                          const MeasurementProtocol& protocol) {
+  const MeasurementProtocol trained = model.protocol();
+  if (trained.same_channels(protocol)) return;
+  auto describe = [](const MeasurementProtocol& p) {
+    return p.name() + (p.magnitude() ? " (magnitudes)" : "") + ", " + std::to_string(p.size()) +
+           " channels, " + std::to_string(p.input_size()) + " inputs";
+  };
+  throw InputError(path, "protocol",
+                   "the model was trained on the " + describe(trained) +
+                       "; the data are read on the " + describe(protocol) +
+                       ": train a model on this protocol");
+}
+
 void check_model_fits(const LearnedModel& model, const std::string& path, int electrodes,
                       const PixelGrid& grid) {
   check_model_fits(model, path, electrodes, grid.size());

@@ -71,6 +71,11 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
         fmt::format("disk L={} {} ({} triangles)", data.data.electrodes, to_string(config.mesh),
                     reconstruction.mesh.num_triangles());
   }
+  const MeasurementProtocol protocol = measurement_protocol(data.sensor());
+  c["protocol"] = fmt::format(
+      "{}: {} channels, {} inputs{}{}", protocol.name(), protocol.size(), protocol.input_size(),
+      protocol.reciprocal() ? " (reciprocity-reduced)" : " (not reciprocal: every channel)",
+      protocol.magnitude() ? "; magnitudes |v|, model frames and Jacobian those of |v|" : "");
   c["background"] = fmt::format("{:g}", data.sensor().background);
   if (!data.own_training) c["calibration"] = describe(data.calibration);
   std::string snrs;
@@ -120,7 +125,19 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
 // the user asked for others (which the group then filters: rotations are its rotations).
 std::vector<std::string> learned_augments(const Context& context, const RunData& data) {
   const RunConfig& config = context.config;
-  if (!has_sensor_mesh(data.source)) return config.augments;
+  const MeasurementProtocol protocol = measurement_protocol(data.source);
+  if (!has_sensor_mesh(data.source) && is_adjacent(protocol)) return config.augments;
+  if (!has_sensor_mesh(data.source)) {  // another protocol: the paper's variant is the map's only
+    std::vector<std::string> out;
+    for (const std::string& a : config.augments) {
+      if (a == "paper" && config.augments_chosen)
+        throw InputError("--augment", "",
+                         "paper is defined on the adjacent protocol's map; the " + protocol.name() +
+                             " protocol augments by none, rotations, mirror or d16");
+      if (a != "paper") out.push_back(a);
+    }
+    return out;
+  }
   const auto sensor = shaped_sensor_of(data.source);
   std::vector<std::string> out;
   for (const std::string& a :

@@ -28,6 +28,10 @@ FrameSet rows_of(const Dataset& d, const std::vector<int>& rows) {
   return f;
 }
 
+MeasurementProtocol config_protocol(const RunConfig& config, int electrodes) {
+  return make_protocol(config.protocol, electrodes).with_magnitude(config.magnitude);
+}
+
 std::string sensor_name(const RunConfig& config) {
   return fs::path(config.mesh_file).filename().string();
 }
@@ -47,6 +51,10 @@ std::string simulation_differs(const Dataset& d, const RunConfig& config) {
   differs("seed", std::to_string(d.seed), std::to_string(config.seed));
   differs("simulation mesh", d.simulation_mesh, mesh);
   differs("program", d.program, program_version());
+  differs("protocol", measurement_protocol(d).name() + (d.magnitude ? " (magnitudes)" : ""),
+          config_protocol(config, d.electrodes).name() + (config.magnitude ? " (magnitudes)" : ""));
+  if (!measurement_protocol(d).same_channels(config_protocol(config, d.electrodes)))
+    diff += fmt::format("{}protocol channels", diff.empty() ? "" : ", ");
   if (!config.mesh_file.empty() && d.sensor_mesh != mesh_text(read_msh_file(config.mesh_file)))
     diff += fmt::format("{}sensor mesh (this run: {}'s as it is now)", diff.empty() ? "" : ", ",
                         config.mesh_file);
@@ -77,13 +85,17 @@ Dataset simulated(const Context& context) {
     s.sensor_mesh = std::make_shared<const Mesh>(read_msh_file(config.mesh_file));
     s.sensor_source = sensor_name(config);
   }
+  s.protocol = std::make_shared<const MeasurementProtocol>(
+      config_protocol(config, s.sensor_mesh ? s.sensor_mesh->num_electrodes() : config.electrodes));
   const auto counts = preset_counts(config.preset);
   int total = 0;
   for (int c : counts.circles) total += c;
-  context.say(fmt::format("data: simulating the {} preset ({} samples, seed {}, {} mesh)",
-                          config.preset, total, config.seed,
-                          config.mesh_file.empty() ? to_string(config.simulation)
-                                                   : config.mesh_file + " refined once"));
+  context.say(fmt::format(
+      "data: simulating the {} preset ({} samples, seed {}, {} protocol{}, "
+      "{} mesh)",
+      config.preset, total, config.seed, s.protocol->name(), config.magnitude ? ", magnitudes" : "",
+      config.mesh_file.empty() ? to_string(config.simulation)
+                               : config.mesh_file + " refined once"));
   Progress progress("simulate", total, config.quiet);
   Dataset d = simulate_dataset(s, [&](int done, int) { progress.update(done); });
   write_dataset(path, d);

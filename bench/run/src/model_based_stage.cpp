@@ -40,6 +40,7 @@ Reconstruction set_up_reconstruction(const Context& context, const RunData& data
   ForwardOptions fo;
   fo.contact_impedance = sensor.contact_impedance;
   fo.current = sensor.current;
+  fo.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(sensor));
   double background = sensor.background;
   if (!context.config.sensor.empty()) {  // a calibrated sensor replaces the data set's values
     const SensorFile calibrated = read_sensor_file(context.config.sensor);

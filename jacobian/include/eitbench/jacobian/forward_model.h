@@ -63,6 +63,7 @@ class ForwardModel {
                            const std::vector<Channel>& channels) const;
   // What a board on measurement_protocol() reports: every channel, |v| for a magnitude protocol.
   Eigen::VectorXd measured(const ForwardSolution& solution) const;
+  Eigen::VectorXd measured(const Eigen::VectorXd& sigma) const;  // reads electrode rows only
   // The protocol's inputs (the values reconstructors take), |v| for a magnitude protocol.
   Eigen::VectorXd inputs(const ForwardSolution& solution) const;
   Eigen::VectorXd inputs(const Eigen::VectorXd& sigma) const;

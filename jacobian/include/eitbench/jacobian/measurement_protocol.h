@@ -77,6 +77,9 @@ class MeasurementProtocol {
 // channels, reciprocal, L(L-3)/2 inputs (the reduced layout).
 MeasurementProtocol adjacent_protocol(int electrodes,
                                       MeasurementOrder order = MeasurementOrder::rotating);
+// True when `p` has the adjacent protocol's channels (either order), whatever its name: its inputs
+// are then the reduced layout, on which the adjacent-only tools (the paper's map) work.
+bool is_adjacent(const MeasurementProtocol& p);
 // Drive e -> e + K + 1 for e = 0..L-1; measurement (k+1, k) for k = 0..L-1 ascending, the pairs
 // that touch a drive electrode skipped: pyEIT's protocol.create(L, dist_exc=K+1, step_meas=1,
 // parser_meas='std') row for row. 0 <= K <= L-2 (InputError("protocol", "skip") otherwise).

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "eitbench/jacobian/measurement_protocol.h"
 #include "eitbench/jacobian/sample_matrix.h"
 #include "eitbench/learned/network_options.h"
 #include "eitbench/learned/runtime.h"
@@ -16,7 +17,10 @@ struct ModelInfo {
   NetworkOptions network;
   int electrodes = 16;
   std::string augment = "none";  // the group it was trained with
-  std::string training = "{}";   // JSON: the training options, budget, history, best epoch
+  // The protocol its frames were read on (the network's inputs are this protocol's); null: the
+  // adjacent protocol (model files from before protocols).
+  std::shared_ptr<const MeasurementProtocol> protocol;
+  std::string training = "{}";  // JSON: the training options, budget, history, best epoch
 };
 
 class LearnedModel {
@@ -30,12 +34,14 @@ class LearnedModel {
   LearnedModel& operator=(LearnedModel&&) noexcept;
 
   const ModelInfo& info() const;
+  // info().protocol, or the adjacent protocol of info().electrodes.
+  MeasurementProtocol protocol() const;
   ModelInfo& info();
   long long parameters() const;
   // The pixels the model draws (its decoder's mask, n^2): the disk's, or a sensor's own shape.
   std::vector<bool> image_mask() const;
-  // Frames (N x inputs, reduced layout, difference voltages) -> images (N x n^2, 0 outside the
-  // disk), in evaluation mode, in batches of `batch`. InputError("frames") on a wrong length.
+  // Frames (N x inputs, the protocol's inputs, difference voltages) -> images (N x n^2, 0 outside
+  // the disk), in evaluation mode, in batches of `batch`. InputError("frames") on a wrong length.
   SampleMatrix reconstruct(const SampleMatrix& frames, int batch = 512) const;
   Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const;
   // Runs on "cpu" or "cuda" (see resolve_device).

@@ -3,9 +3,13 @@
 // holds it is dataset_file.h's.
 //
 // File layout (HDF5, readable by h5py and MATLAB's h5read; N samples, L electrodes, n x n image):
-//   /differences   N x L(L-3)/2  float64  difference voltages v(sigma) - v(sigma_0), reduced layout
-//   /frames        N x L(L-3)    float64  absolute frames, rotating order
-//   /reference     L(L-3)        float64  the reference (empty sensor) frame, rotating order
+//   /differences   N x I         float64  difference voltages v(sigma) - v(sigma_0): the protocol's
+//                                         I inputs (the adjacent protocol's reduced 104)
+//   /frames        N x C         float64  absolute frames, the protocol's C channels in order
+//                                         (the adjacent protocol's 208 in rotating order)
+//   /reference     C             float64  the reference (empty sensor) frame
+//   /protocol_channels C x 4     int32    drive+, drive-, meas+, meas- per channel (0-based);
+//                                         absent in files before protocols: the adjacent one
 //   /split         N             int32    0 train, 1 validation, 2 test
 //   /labels        N x n x n     float32  touch intensity (sigma_0 - sigma) / sigma_0 per pixel
 //   /circles       N x 4 x 4     float64  x, y, r, sigma of up to 4 circles, NaN-padded
@@ -14,15 +18,17 @@
 //                                         (absent for the disk, which the attributes describe)
 // Labels and circles are absent from imported measurements. Attributes on the root group:
 // electrodes, radius, background_conductivity, contact_impedance, current, electrode_coverage,
-// image_size, seed, preset, simulation_mesh, simulation_triangles, protocol, frame_order,
-// difference_layout, program, augmentation, format_version, and with a sensor mesh sensor_group
-// (the symmetry group found from it, for the reader's information).
+// image_size, seed, preset, simulation_mesh, simulation_triangles, protocol (its name),
+// magnitude (1 when the frames are |v|), frame_order, difference_layout, program, augmentation,
+// format_version, and with a sensor mesh sensor_group (the symmetry group found from it, for the
+// reader's information).
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "eitbench/jacobian/geometry.h"
+#include "eitbench/jacobian/measurement_protocol.h"
 #include "eitbench/jacobian/sample_matrix.h"
 
 namespace eitbench {
@@ -50,10 +56,15 @@ struct Dataset {
   // reconstructs and whose grid the labels are on; empty for the disk of `radius`.
   std::string sensor_mesh;
   std::string sensor_group;  // its symmetry group's name ("D4"), as found when it was simulated
+  // The measurement protocol (docs/protocols.md): its name and channels (empty: the adjacent
+  // protocol in rotating order), and whether frames are magnitudes |v|.
+  std::string protocol = "adjacent";
+  std::vector<Channel> protocol_channels;
+  bool magnitude = false;
 
-  Eigen::VectorXd reference;                 // L(L-3), rotating
-  SampleMatrix frames;                       // N x L(L-3), rotating
-  SampleMatrix differences;                  // N x L(L-3)/2, reduced
+  Eigen::VectorXd reference;                 // C, the protocol's channels
+  SampleMatrix frames;                       // N x C
+  SampleMatrix differences;                  // N x I, the protocol's inputs
   SampleMatrix labels;                       // N x n^2, or N x 0
   std::vector<std::vector<Circle>> circles;  // N lists, or empty
   std::vector<Split> split;                  // N
@@ -62,5 +73,10 @@ struct Dataset {
   bool has_labels() const { return labels.cols() > 0; }
   std::vector<int> indices(Split which) const;
 };
+
+// The set's protocol (checked: InputError("protocol") when its channels do not fit).
+MeasurementProtocol measurement_protocol(const Dataset& data);
+// Records `protocol` in the set (its name, channels and magnitude flag).
+void set_protocol(Dataset& data, const MeasurementProtocol& protocol);
 
 }  // namespace eitbench

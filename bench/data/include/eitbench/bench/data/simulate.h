@@ -27,6 +27,9 @@ struct SimulationOptions {
   // the grid covering it, and the set stores the mesh and its symmetry group.
   std::shared_ptr<const Mesh> sensor_mesh;
   std::string sensor_source;
+  // The measurement protocol the frames are read on (docs/protocols.md), with its magnitude flag.
+  // Null: the adjacent protocol, rotating order. Its electrodes must be the sensor's.
+  std::shared_ptr<const MeasurementProtocol> protocol;
 };
 
 // Samples with 1, 2, 3 and 4 circles for a preset: paper 7,035 / 7,298 / 7,500 / 7,500; standard

@@ -19,5 +19,10 @@ void check_model_fits(const LearnedModel& model, const std::string& path, int el
 // a square sensor's set of the same size, nor one trained on the square the disk's.
 void check_model_fits(const LearnedModel& model, const std::string& path, int electrodes,
                       const PixelGrid& grid);
+// InputError(path, "protocol") when the model was trained on another protocol (channels, order
+// or magnitude flag): a model of 192 inputs given 208-channel frames, or the same count in
+// another order, would read them wrongly without an error.
+void check_model_protocol(const LearnedModel& model, const std::string& path,
+                          const MeasurementProtocol& protocol);
 
 }  // namespace eitbench

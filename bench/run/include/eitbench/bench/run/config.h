@@ -21,6 +21,10 @@ struct RunConfig {
   bool resume = false;  // reuse what an interrupted run in `out` finished
   bool quiet = false;
   int electrodes = 16;  // of measured frames (--data with --reference)
+  // The measurement protocol the preset's set is simulated on (docs/protocols.md): adjacent,
+  // adjacent-ascending, opposite, skip-K or a CSV file; magnitude: frames are |v|.
+  std::string protocol = "adjacent";
+  bool magnitude = false;
 
   std::vector<double> snrs;           // dB; infinity: noise-free
   std::vector<std::string> methods;   // model-based
