@@ -6,10 +6,12 @@
 #include "commands.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
+#include "options.h"
 
 namespace eitbench::cli {
 
-void add_import_options(CLI::App& cmd, ImportOptions& o, std::string& order) {
+void add_import_options(CLI::App& cmd, ImportOptions& o, std::string& order,
+                        ProtocolChoice& protocol) {
   cmd.add_option("--electrodes", o.electrodes, "electrodes L")
       ->capture_default_str()
       ->check(CLI::Range(4, 256));
@@ -17,12 +19,14 @@ void add_import_options(CLI::App& cmd, ImportOptions& o, std::string& order) {
       ->capture_default_str()
       ->check(CLI::IsMember({"rotating", "ascending"}));
   cmd.add_option("--variable", o.variable, "array (.npz) or variable (.mat) holding the frames");
+  add_protocol_options(cmd, protocol);
 }
 
 std::function<void()> add_import_command(CLI::App& app) {
   struct Args {
     ImportOptions options;
     std::string in, reference, reference_variable, order = "rotating", out;
+    ProtocolChoice protocol;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -32,17 +36,26 @@ std::function<void()> add_import_command(CLI::App& app) {
                   "the empty sensor's frame(s), any of the same formats (mean if several)");
   cmd->add_option("--reference-variable", args->reference_variable,
                   "array or variable in --reference");
-  add_import_options(*cmd, args->options, args->order);
+  cmd->add_flag("--paired-reference", args->options.paired_reference,
+                "--reference holds one frame per frame (a reference recorded before every "
+                "press): each frame minus its own");
+  cmd->add_flag("--relative", args->options.relative,
+                "relative differences (v - v_ref) / v_ref instead of v - v_ref");
+  add_import_options(*cmd, args->options, args->order, args->protocol);
   cmd->add_option("--out", args->out, "HDF5 data set to write (all frames in the test split)")
       ->required();
   return [args] {
     args->options.order = parse_order(args->order);
+    args->options.protocol = chosen_protocol(args->protocol, args->options.electrodes);
     const Measurements m = read_measurements(args->in, args->options);
     const Dataset d =
         import_measurements(m, args->reference, args->options, args->reference_variable);
     fmt::print("{}: {}\n", args->in, m.description);
     if (m.reduced_input)
-      fmt::print("  reciprocity: not measurable (reduced frames are reciprocal by construction)\n");
+      fmt::print("  reciprocity: not measured ({})\n",
+                 args->options.protocol && !is_adjacent(*args->options.protocol)
+                     ? "frames in the protocol's own channels"
+                     : "reduced frames are reciprocal by construction");
     else
       fmt::print("  reciprocity error: {:.3e} (mean relative |v(d,m) - v(m,d)| over the frames)\n",
                  m.reciprocity_error);

@@ -7,6 +7,7 @@
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/jacobian/protocol.h"
+#include "options.h"
 
 namespace eitbench::cli {
 
@@ -23,15 +24,21 @@ void print_dataset_summary(const std::string& path, const Dataset& d) {
   if (!d.sensor_mesh.empty())
     fmt::print("  sensor mesh: stored in the set ({} bytes of Gmsh text), symmetry group {}\n",
                d.sensor_mesh.size(), d.sensor_group);
-  const Protocol protocol(d.electrodes);
+  const MeasurementProtocol protocol = measurement_protocol(d);
+  fmt::print("  protocol: {}{}, {} channels, {} inputs ({})\n", protocol.name(),
+             protocol.magnitude() ? " (magnitudes |v|)" : "", protocol.size(),
+             protocol.input_size(),
+             protocol.reciprocal() ? "reciprocity-reduced" : "not reciprocal: every channel");
   fmt::print(
-      "  frames: {} values (rotating); differences: {} values (reduced), |dv| max {:.4g}, mean "
-      "{:.4g}\n",
+      "  frames: {} values; differences: {} values (the inputs), |dv| max {:.4g}, mean {:.4g}\n",
       d.frames.cols(), d.differences.cols(), d.differences.cwiseAbs().maxCoeff(),
       d.differences.cwiseAbs().mean());
-  fmt::print("  reference: |v| max {:.4g}, reciprocity error {:.2e}\n",
-             d.reference.cwiseAbs().maxCoeff(),
-             protocol.reciprocity_error(d.reference, MeasurementOrder::rotating));
+  if (is_adjacent(protocol))
+    fmt::print("  reference: |v| max {:.4g}, reciprocity error {:.2e}\n",
+               d.reference.cwiseAbs().maxCoeff(),
+               Protocol(d.electrodes).reciprocity_error(d.reference, MeasurementOrder::rotating));
+  else
+    fmt::print("  reference: |v| max {:.4g}\n", d.reference.cwiseAbs().maxCoeff());
   if (d.has_labels())
     fmt::print("  labels: {} x {} images, intensity {:.3f} .. {:.3f}\n", d.image_size, d.image_size,
                d.labels.minCoeff(), d.labels.maxCoeff());
@@ -43,12 +50,14 @@ void print_dataset_summary(const std::string& path, const Dataset& d) {
   }
 }
 
-void add_import_options(CLI::App& cmd, ImportOptions& o, std::string& order);  // import_command.cpp
+void add_import_options(CLI::App& cmd, ImportOptions& o, std::string& order,
+                        ProtocolChoice& protocol);  // import_command.cpp
 
 std::function<void()> add_info_command(CLI::App& app) {
   struct Args {
     std::string path, order = "rotating";
     ImportOptions options;
+    ProtocolChoice protocol;
   };
   auto args = std::make_shared<Args>();
   auto* cmd =
@@ -56,13 +65,14 @@ std::function<void()> add_info_command(CLI::App& app) {
   cmd->add_option("file", args->path,
                   "an eitbench .h5 data set, or frames in .csv, .npy, .npz, .mat")
       ->required();
-  add_import_options(*cmd, args->options, args->order);
+  add_import_options(*cmd, args->options, args->order, args->protocol);
   return [args] {
     const bool matlab =
         args->path.size() > 4 && args->path.compare(args->path.size() - 4, 4, ".mat") == 0;
     if (is_hdf5_file(args->path) && !matlab)
       return print_dataset_summary(args->path, read_dataset(args->path));
     args->options.order = parse_order(args->order);
+    args->options.protocol = chosen_protocol(args->protocol, args->options.electrodes);
     const Measurements m = read_measurements(args->path, args->options);
     fmt::print("{}: {}\n", args->path, m.description);
     fmt::print("  |v| max {:.4g}, mean {:.4g}\n", m.frames.cwiseAbs().maxCoeff(),

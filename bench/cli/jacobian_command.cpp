@@ -18,6 +18,7 @@ std::function<void()> add_jacobian_command(CLI::App& app) {
     MeshSource mesh;
     ConductivitySource sigma;
     ModelSetup model;
+    ProtocolChoice protocol;
     std::string basis = "elements", out;
     int pixels = 64;
   };
@@ -33,6 +34,7 @@ std::function<void()> add_jacobian_command(CLI::App& app) {
   cmd->add_option("--pixels", args->pixels, "image size N of the N x N pixel basis")
       ->capture_default_str()
       ->check(CLI::Range(4, 1024));
+  add_protocol_options(*cmd, args->protocol);
   cmd->add_option("--out", args->out, "HDF5 (.h5, .hdf5) or CSV (.csv): one row per measurement")
       ->required();
   return [args, cmd] {
@@ -44,9 +46,14 @@ std::function<void()> add_jacobian_command(CLI::App& app) {
     const Eigen::VectorXd sigma = load_conductivity(*cmd, args->sigma, mesh);
     const bool reduced = reduced_values(args->model, mesh.num_electrodes());
     const MeasurementOrder order = parse_order(args->model.order);
+    args->model.forward.protocol = chosen_protocol(args->protocol, mesh.num_electrodes());
     const ForwardModel model(mesh, args->model.forward,
                              args->mesh.file.empty() ? "mesh" : args->mesh.file);
-    Eigen::MatrixXd J = model.protocol().select_rows(model.jacobian(sigma), order, reduced);
+    const MeasurementProtocol& protocol = model.measurement_protocol();
+    const bool other = args->model.forward.protocol != nullptr;
+    const std::vector<Channel> rows = reduced ? protocol.input_channels() : protocol.channels();
+    Eigen::MatrixXd J = other ? model.measured_jacobian(model.solve(sigma), rows)
+                              : model.protocol().select_rows(model.jacobian(sigma), order, reduced);
     const bool pixels = args->basis == "pixels";
     const double radius = mesh.nodes.rowwise().norm().maxCoeff();
     if (pixels) J = J * pixel_to_element(mesh, PixelGrid(args->pixels, radius));
@@ -67,12 +74,21 @@ std::function<void()> add_jacobian_command(CLI::App& app) {
                                    {"contact_impedance", args->model.forward.contact_impedance}};
       if (pixels)
         content.number_attributes.insert({{"pixels", double(args->pixels)}, {"radius", radius}});
-      const auto& pairs =
-          reduced ? model.protocol().reduced_pairs() : model.protocol().pairs(order);
-      content.table_name = "pairs";
-      content.table.resize(static_cast<Eigen::Index>(pairs.size()), 2);
-      for (std::size_t i = 0; i < pairs.size(); ++i)
-        content.table.row(i) << pairs[i].drive, pairs[i].measure;
+      if (other) {  // each row's channel: drive+, drive-, meas+, meas-
+        content.text_attributes["protocol"] = protocol.name();
+        content.table_name = "channels";
+        content.table.resize(static_cast<Eigen::Index>(rows.size()), 4);
+        for (std::size_t i = 0; i < rows.size(); ++i)
+          content.table.row(i) << rows[i].drive_plus, rows[i].drive_minus, rows[i].meas_plus,
+              rows[i].meas_minus;
+      } else {
+        const auto& pairs =
+            reduced ? model.protocol().reduced_pairs() : model.protocol().pairs(order);
+        content.table_name = "pairs";
+        content.table.resize(static_cast<Eigen::Index>(pairs.size()), 2);
+        for (std::size_t i = 0; i < pairs.size(); ++i)
+          content.table.row(i) << pairs[i].drive, pairs[i].measure;
+      }
       write_hdf5_matrix(args->out, content);
     }
     fmt::print("wrote the {} x {} Jacobian on {} to {}\n", J.rows(), J.cols(), args->basis,

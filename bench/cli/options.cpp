@@ -170,6 +170,25 @@ std::shared_ptr<const MeasurementProtocol> load_protocol(const ProtocolChoice& c
       make_protocol(c.spec, electrodes).with_magnitude(c.magnitude));
 }
 
+std::shared_ptr<const MeasurementProtocol> chosen_protocol(const ProtocolChoice& c,
+                                                           int electrodes) {
+  if (c.spec == "adjacent" && !c.magnitude) return nullptr;
+  return load_protocol(c, electrodes);
+}
+
+void check_protocol_of(const ProtocolChoice& c, const MeasurementProtocol& data,
+                       const std::string& path) {
+  const auto chosen = chosen_protocol(c, data.electrodes());
+  if (!chosen || chosen->same_channels(data)) return;
+  throw InputError(c.spec == "adjacent" ? "--magnitude" : "--protocol", "",
+                   "the data set " + path + " is read on the " + data.name() + " protocol (" +
+                       std::to_string(data.size()) + " channels" +
+                       (data.magnitude() ? ", magnitudes" : "") + "), not on " + chosen->name() +
+                       " (" + std::to_string(chosen->size()) + " channels" +
+                       (chosen->magnitude() ? ", magnitudes" : "") +
+                       "): leave the flags out to use the set's own");
+}
+
 std::optional<SensorFile> load_sensor(const std::string& path, int electrodes) {
   if (path.empty()) return std::nullopt;
   SensorFile sensor = read_sensor_file(path);

@@ -61,6 +61,14 @@ void add_protocol_options(CLI::App& app, ProtocolChoice& choice);
 // The protocol for `electrodes` (InputError naming --protocol or the CSV file).
 std::shared_ptr<const MeasurementProtocol> load_protocol(const ProtocolChoice& choice,
                                                          int electrodes);
+// Null when the user chose neither flag (the adjacent protocol, or a data set's own), else
+// load_protocol.
+std::shared_ptr<const MeasurementProtocol> chosen_protocol(const ProtocolChoice& choice,
+                                                           int electrodes);
+// InputError(flag) when --protocol or --magnitude was given and the data set at `path` is read on
+// another protocol: a set carries its protocol, which the flags may only confirm.
+void check_protocol_of(const ProtocolChoice& choice, const MeasurementProtocol& data_protocol,
+                       const std::string& path);
 // True for the reciprocity-reduced L(L-3)/2 values; checks --values against L.
 bool reduced_values(const ModelSetup& setup, int electrodes);
 

@@ -39,6 +39,8 @@ struct Args {
   std::string sensor;
   std::string split = "test";
   int touches = 0;  // 0: every frame; else only those with this many true touches
+  ProtocolChoice protocol;
+  bool paired_reference = false, relative = false;
 };
 
 void add_options(CLI::App* cmd, Args* args) {
@@ -67,6 +69,11 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--order", args->order, "order of L(L-3)-value measured frames")
       ->capture_default_str()
       ->check(CLI::IsMember({"rotating", "ascending"}));
+  add_protocol_options(*cmd, args->protocol);
+  cmd->add_flag("--paired-reference", args->paired_reference,
+                "measured frames: --reference holds one frame per frame, each frame minus its own");
+  cmd->add_flag("--relative", args->relative,
+                "measured frames: relative differences (v - v_ref) / v_ref");
   add_mesh_options(*cmd, args->mesh);
   cmd->add_option("--background", args->background,
                   "conductivity the Jacobian is linearised at (default: the data set's, else 1)")
@@ -157,11 +164,15 @@ Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) 
   Dataset& data = s.data;
   if (is_hdf5_file(args->data) && args->data.find(".mat") == std::string::npos) {
     data = read_dataset(args->data);
+    check_protocol_of(args->protocol, measurement_protocol(data), args->data);
   } else {
     ImportOptions o;
     o.electrodes = mesh_file ? mesh_file->num_electrodes() : args->mesh.disk.electrodes;
     o.order = parse_order(args->order);
     o.variable = args->variable;
+    o.protocol = chosen_protocol(args->protocol, o.electrodes);
+    o.paired_reference = args->paired_reference;
+    o.relative = args->relative;
     data = import_measurements(args->data, args->reference, o);
     if (const int same = frames_without_change(data))
       fmt::print(stderr, "warning: {} of {} frames equal the reference (no change anywhere)\n",

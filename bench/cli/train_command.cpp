@@ -29,6 +29,7 @@ TrainingOptions default_options() {
 struct Args {
   std::string data, augment = "none", model = "small", device = "cpu", out, schedule = "cosine",
                     decoder = "pixel_shuffle", mesh;
+  ProtocolChoice protocol;
   TrainingOptions options = default_options();
   int threads = 2, train_size = 0;
   double dropout = -1;
@@ -39,6 +40,7 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--data", args->data,
                   "an eitbench data set with labels and train/validation splits (HDF5)")
       ->required();
+  add_protocol_options(*cmd, args->protocol);
   cmd->add_option("--mesh", args->mesh,
                   "the sensor's Gmsh mesh, checked against the one the data set was simulated on "
                   "(a set made with simulate --mesh carries it; the disk's carries none)");
@@ -198,6 +200,7 @@ std::function<void()> add_train_command(CLI::App& app) {
     NetworkOptions network =
         NetworkOptions::preset(size, static_cast<int>(data.differences.cols()), data.image_size);
     network.radius = data.radius;
+    check_protocol_of(args->protocol, measurement_protocol(data), args->data);
     if (!args->mesh.empty() && mesh_text(read_msh_file(args->mesh)) != data.sensor_mesh)
       throw InputError(args->mesh, "",
                        data.sensor_mesh.empty()

@@ -525,16 +525,19 @@ Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
   return J;
 }
 
-Eigen::MatrixXd ForwardModel::input_jacobian(const ForwardSolution& s) const {
-  const MeasurementProtocol& p = impl_->measurement;
-  const std::vector<Channel> channels = p.input_channels();
+Eigen::MatrixXd ForwardModel::measured_jacobian(const ForwardSolution& s,
+                                                const std::vector<Channel>& channels) const {
   Eigen::MatrixXd J = jacobian(s, channels);
-  if (p.magnitude()) {
+  if (impl_->measurement.magnitude()) {  // d|v| = sign(v) dv
     const Eigen::VectorXd v = voltages(s, channels);
     for (Eigen::Index r = 0; r < J.rows(); ++r)
       if (v[r] < 0) J.row(r) *= -1.0;
   }
   return J;
+}
+
+Eigen::MatrixXd ForwardModel::input_jacobian(const ForwardSolution& s) const {
+  return measured_jacobian(s, impl_->measurement.input_channels());
 }
 
 Eigen::VectorXd ForwardModel::voltages(const ForwardSolution& s,

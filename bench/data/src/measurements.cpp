@@ -1,6 +1,7 @@
 #include "eitbench/bench/data/measurements.h"
 
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 
@@ -24,8 +25,10 @@ std::string lower_extension(const std::string& path) {
 }
 
 // The arrays of a file and how it was read.
-std::vector<detail::NamedArray> read_arrays(const std::string& path, int electrodes,
-                                            std::string& format, bool& columns_first) {
+std::vector<detail::NamedArray> read_arrays(const std::string& path,
+                                            const std::function<bool(std::size_t)>& fits,
+                                            std::size_t longest, std::string& format,
+                                            bool& columns_first) {
   require_input_file(path);
   const std::string ext = lower_extension(path);
   columns_first = false;
@@ -48,12 +51,9 @@ std::vector<detail::NamedArray> read_arrays(const std::string& path, int electro
   }
   if (ext == ".csv" || ext == ".txt") {
     format = "CSV";
-    // A frame a line, or (a width no frame has) a frame a column of at most L x L lines.
-    const std::size_t L = static_cast<std::size_t>(electrodes), full = L * (L - 3);
+    // A frame a line, or (a width no frame has) a frame a column of at most `longest` lines.
     const Eigen::MatrixXd m = read_frames_csv(path, [&](std::size_t width, int) {
-      return width == full || width == full / 2 || width == L * L
-                 ? std::numeric_limits<std::size_t>::max()
-                 : L * L;
+      return fits(width) ? std::numeric_limits<std::size_t>::max() : longest;
     });
     detail::NamedArray a;
     a.shape = {static_cast<std::size_t>(m.rows()), static_cast<std::size_t>(m.cols())};
@@ -101,16 +101,24 @@ const detail::NamedArray& choose(const std::vector<detail::NamedArray>& arrays,
 Measurements read_measurements(const std::string& path, const ImportOptions& o) {
   const int L = o.electrodes;
   if (L < 4 || L > 256) throw InputError("--electrodes", "", "need 4 <= L <= 256");
+  const bool other = o.protocol && !is_adjacent(*o.protocol);
+  if (o.protocol && o.protocol->electrodes() != L)
+    throw InputError("--protocol", "",
+                     "is for " + std::to_string(o.protocol->electrodes()) + " electrodes, not " +
+                         std::to_string(L));
+  const std::size_t full = L * (L - 3), reduced = full / 2, square = L * L;
+  const std::size_t channels = other ? static_cast<std::size_t>(o.protocol->size()) : 0;
+  auto fits = [&](std::size_t n) {
+    return other ? n == channels : n == full || n == reduced || n == square;
+  };
   std::string format;
   bool columns_first = false;
-  const auto arrays = read_arrays(path, L, format, columns_first);
+  const auto arrays = read_arrays(path, fits, other ? channels : square, format, columns_first);
   const detail::NamedArray& a = choose(arrays, o.variable, path);
   const std::string field = a.name.empty() ? "frames" : a.name;
   if (a.shape.size() > 2)
     throw InputError(path, field,
                      "has " + std::to_string(a.shape.size()) + " dimensions; frames need 1 or 2");
-  const std::size_t full = L * (L - 3), reduced = full / 2, square = L * L;
-  auto fits = [&](std::size_t n) { return n == full || n == reduced || n == square; };
   std::size_t rows = a.shape.size() == 2 ? a.shape[0] : 1,
               cols = a.shape.empty() ? 0 : a.shape.back();
   bool transpose = false;  // frames are columns
@@ -121,6 +129,11 @@ Measurements read_measurements(const std::string& path, const ImportOptions& o) 
       transpose = true;
   }
   const std::size_t n = transpose ? cols : rows, length = transpose ? rows : cols;
+  if (!fits(length) && other)
+    throw InputError(path, field,
+                     "frames of " + std::to_string(length) + " values do not fit the " +
+                         o.protocol->name() + " protocol's " + std::to_string(channels) +
+                         " channels");
   if (!fits(length))
     throw InputError(path, field,
                      "frames of " + std::to_string(length) + " values do not fit " +
@@ -135,6 +148,18 @@ Measurements read_measurements(const std::string& path, const ImportOptions& o) 
     return transpose ? a.values[k * cols + frame] : a.values[frame * cols + k];
   };
 
+  if (other) {  // the protocol's channels, in its order, as they are
+    Measurements m;
+    m.frames.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(length));
+    for (std::size_t f = 0; f < n; ++f)
+      for (std::size_t k = 0; k < length; ++k) m.frames(f, k) = value(f, k);
+    m.reduced_input = true;  // no reciprocity to measure in general
+    m.description = format + (a.name.empty() ? "" : " (variable '" + a.name + "')") + ", " +
+                    std::to_string(n) + " frames, " + o.protocol->name() + " protocol (" +
+                    std::to_string(length) + " channels)" +
+                    (transpose ? ", one frame a column" : "");
+    return m;
+  }
   const Protocol protocol(L);
   Measurements m;
   m.frames.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(full));
@@ -185,24 +210,50 @@ Dataset import_measurements(const Measurements& m, const std::string& reference_
   d.simulation_mesh = m.description;
   d.program = program_version();
   d.frames = m.frames;
-  d.reference = Eigen::VectorXd::Zero(m.frames.cols());
+  // The adjacent protocol's frames are in rotating order whatever layout they came in.
+  const MeasurementProtocol protocol =
+      o.protocol && !is_adjacent(*o.protocol)
+          ? *o.protocol
+          : adjacent_protocol(L).with_magnitude(o.protocol && o.protocol->magnitude());
+  set_protocol(d, protocol);
+  const Eigen::Index n = m.frames.rows();
+  SampleMatrix references = SampleMatrix::Zero(1, m.frames.cols());
   if (!reference_path.empty()) {
     ImportOptions ro = o;
     ro.variable = reference_variable;
     const Measurements r = read_measurements(reference_path, ro);
-    d.reference = r.frames.colwise().mean().transpose();
+    const std::string field = ro.variable.empty() ? "frames" : ro.variable;
+    if (o.paired_reference && r.frames.rows() != n)
+      throw InputError(reference_path, field,
+                       "holds " + std::to_string(r.frames.rows()) +
+                           " frames; paired references "
+                           "need one per frame (" +
+                           std::to_string(n) + ")");
+    references = o.paired_reference ? r.frames : SampleMatrix(r.frames.colwise().mean());
     // An empty sensor has voltages: a zero reference would pass every frame off as a difference.
-    if (d.reference.cwiseAbs().maxCoeff() == 0)
-      throw InputError(reference_path, ro.variable.empty() ? "frames" : ro.variable,
+    if (references.cwiseAbs().maxCoeff() == 0)
+      throw InputError(reference_path, field,
                        "is all zero: a reference is the untouched sensor's frame, with its "
                        "voltages (without a reference, the frames are taken as differences)");
+    if (o.relative)
+      for (Eigen::Index i = 0; i < references.rows(); ++i)
+        for (Eigen::Index k = 0; k < references.cols(); ++k)
+          if (references(i, k) == 0)
+            throw InputError(reference_path, field,
+                             "frame " + std::to_string(i) + ", channel " + std::to_string(k) +
+                                 " is zero: relative differences divide by it");
+  } else if (o.relative || o.paired_reference) {
+    throw InputError(o.relative ? "--relative" : "--paired-reference", "",
+                     "needs --reference (the untouched sensor's frames)");
   }
-  const Protocol protocol(L);
-  d.differences.resize(m.frames.rows(), protocol.reduced_size());
-  for (Eigen::Index i = 0; i < m.frames.rows(); ++i)
-    d.differences.row(i) =
-        protocol.reduce(m.frames.row(i).transpose() - d.reference, MeasurementOrder::rotating)
-            .transpose();
+  d.reference = references.colwise().mean().transpose();
+  d.differences.resize(n, protocol.input_size());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::VectorXd ref = references.row(references.rows() == 1 ? 0 : i).transpose();
+    Eigen::VectorXd change = m.frames.row(i).transpose() - ref;
+    if (o.relative) change = change.cwiseQuotient(ref);
+    d.differences.row(i) = protocol.to_inputs(change).transpose();
+  }
   d.split.assign(static_cast<std::size_t>(m.frames.rows()), Split::test);
   return d;
 }

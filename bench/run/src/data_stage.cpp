@@ -107,6 +107,9 @@ Dataset users(const RunConfig& config) {
   if (is_hdf5_file(config.data) && config.reference.empty()) return read_dataset(config.data);
   ImportOptions o;
   o.electrodes = config.electrodes;
+  if (config.protocol != "adjacent" || config.magnitude)
+    o.protocol =
+        std::make_shared<const MeasurementProtocol>(config_protocol(config, config.electrodes));
   return import_measurements(config.data, config.reference, o);
 }
 

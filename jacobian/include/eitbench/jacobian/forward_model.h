@@ -90,7 +90,11 @@ class ForwardModel {
   // each field the sum of adjacent drives' fields.
   Eigen::MatrixXd jacobian(const ForwardSolution& solution,
                            const std::vector<Channel>& channels) const;
-  // The inputs' rows: for a magnitude protocol d|v| = sign(v) dv, the sign at this solution.
+  // Rows of `channels` as the protocol reports them: for a magnitude protocol d|v| = sign(v) dv,
+  // the sign at this solution.
+  Eigen::MatrixXd measured_jacobian(const ForwardSolution& solution,
+                                    const std::vector<Channel>& channels) const;
+  // The inputs' rows (measured_jacobian of the protocol's input channels).
   Eigen::MatrixXd input_jacobian(const ForwardSolution& solution) const;
 
  private:

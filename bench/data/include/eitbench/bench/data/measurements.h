@@ -6,9 +6,11 @@
 // L(L-3)/2 reduced values (completed by reciprocity), or L^2 values of the full L x L map, (d, m)
 // at d L + m, with the unmeasured entries present and ignored. A 2-D array holds one frame a row,
 // or one a column when only its row count is a frame length (MATLAB files, where EIDORS stores one
-// frame a column, prefer columns when both fit).
+// frame a column, prefer columns when both fit). With another protocol (ImportOptions::protocol), a
+// frame is its C channels in the protocol's order.
 #include <Eigen/Core>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "eitbench/bench/data/dataset.h"
@@ -25,10 +27,18 @@ struct ImportOptions {
   // Keep L x L maps whole in Measurements::maps (calibration reads the pairs that touch a driven
   // electrode); off by default, as the frames need only their L(L-3) pairs.
   bool keep_maps = false;
+  // The protocol the frames were measured on (docs/protocols.md); null: the adjacent one, whose
+  // frames come in the layouts above. Any other takes frames of its channels in its order.
+  std::shared_ptr<const MeasurementProtocol> protocol;
+  // One reference frame per frame (boards that record one before every press): frame i minus
+  // reference i; otherwise frame i minus the references' mean.
+  bool paired_reference = false;
+  // Differences relative to the reference, (v - v_ref) / v_ref, instead of v - v_ref.
+  bool relative = false;
 };
 
 struct Measurements {
-  SampleMatrix frames;      // N x L(L-3), rotating order
+  SampleMatrix frames;      // N x L(L-3), rotating order; N x C for another protocol
   SampleMatrix maps;        // N x L*L, v(d, m) at d * L + m: L x L input with keep_maps, else empty
   std::string description;  // format, variable and layout, for people
   bool reduced_input = false;
