@@ -353,6 +353,17 @@ TEST_F(BadDatasetFile, ElectrodeCountDisagreesWithTheData) {
     f.createAttribute("electrodes", H5::PredType::NATIVE_LLONG, H5::DataSpace(H5S_SCALAR))
         .write(H5::PredType::NATIVE_LLONG, &eight);
   });
+  expect_rejected("protocol_channels");  // its channels name electrodes 8..15
+}
+
+TEST_F(BadDatasetFile, ElectrodeCountDisagreesWithTheDataOfAFileWithoutProtocol) {
+  edit([](H5::H5File& f) {  // a file from before protocols: the adjacent one, sized by L
+    f.unlink("protocol_channels");
+    f.removeAttr("electrodes");
+    const long long eight = 8;
+    f.createAttribute("electrodes", H5::PredType::NATIVE_LLONG, H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_LLONG, &eight);
+  });
   expect_rejected("differences");
 }
 

@@ -101,6 +101,8 @@ TEST(MeasurementProtocol, BadCsvLinesAreRefusedWithTheirNumber) {
   }
   EXPECT_EQ(testing::input_error_at([] { parse_protocol_csv("header only\n", 16, "x", "x.csv"); }),
             "x.csv.");
+  // Without a header (as MATLAB's writematrix writes it) the first channel is kept, not dropped.
+  EXPECT_EQ(parse_protocol_csv("0,8,2,1\n0,8,3,2\n", 16, "bare", "bare.csv").size(), 2);
 }
 
 TEST(MeasurementProtocol, AdjacentChannelsGiveTheFrameAndJacobianBitForBit) {

@@ -124,6 +124,39 @@ TEST_F(ProtocolCli, MeasuredFramesImportWithOneReferencePerFrame) {
   EXPECT_EQ(adjacent.exit_code, 2) << adjacent.output;  // 192 values fit no adjacent layout
 }
 
+TEST_F(ProtocolCli, AugmentingAnOppositeSetMovesFramesAndInputsAlike) {
+  const std::string set = path("opp.h5"), out = path("aug.h5");
+  ASSERT_EQ(run("simulate --preset tiny --density coarse --quiet --protocol opposite --out " + set)
+                .exit_code,
+            0);
+  const Result r = run("augment --in " + set + " --group d16 --split test --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Dataset d = read_dataset(set), a = read_dataset(out);
+  const int tests = static_cast<int>(d.indices(Split::test).size());
+  EXPECT_EQ(a.size(), d.size() + 31 * tests);
+  // The homogeneous frame is invariant under D16 (signs included), so every moved frame minus the
+  // reference must equal its moved differences: frames and inputs moved consistently.
+  const double scale = a.differences.cwiseAbs().maxCoeff();
+  double worst = 0;
+  for (int i = 0; i < a.size(); ++i)
+    worst = std::max(worst,
+                     (a.frames.row(i).transpose() - a.reference - a.differences.row(i).transpose())
+                         .cwiseAbs()
+                         .maxCoeff());
+  EXPECT_LT(worst, 1e-9 * scale);
+  // CSV inputs of the opposite protocol: auto keeps all of D16.
+  std::string line;
+  for (int k = 0; k < 192; ++k) line += std::to_string(k % 7) + (k == 191 ? "\n" : ",");
+  write_text(path("in.csv"), line);
+  const Result csv = run("augment --in " + path("in.csv") +
+                         " --protocol opposite --group auto --out " + path("out.csv"));
+  ASSERT_EQ(csv.exit_code, 0) << csv.output;
+  EXPECT_NE(csv.output.find("wrote 32 frames"), std::string::npos) << csv.output;
+  const Result paper = run("augment --in " + path("in.csv") +
+                           " --protocol opposite --group paper --out " + path("p.csv"));
+  EXPECT_EQ(paper.exit_code, 2) << paper.output;
+}
+
 TEST(OpenEitLookup, IsTheOppositeProtocol) {
   const std::string lookup =
       std::string(EITBENCH_SOURCE_DIR) + "/../shared/data/hydrogel-skin/lookup192.mat";

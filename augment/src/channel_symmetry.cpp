@@ -1,5 +1,7 @@
 #include "eitbench/augment/channel_symmetry.h"
 
+#include <numeric>
+
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
@@ -14,16 +16,22 @@ Eigen::VectorXd SignedPermutation::apply(const Eigen::VectorXd& frame) const {
   return out;
 }
 
-SignedPermutation channel_action(const MeasurementProtocol& protocol, const GroupElement& g) {
+SignedPermutation channel_action(const MeasurementProtocol& protocol, const GroupElement& g,
+                                 bool over_channels) {
   const int L = protocol.electrodes();
   // P undoes g's move of the electrodes: v'(c) = v(P(c)), as FrameSymmetry's p(d) = d + s.
   std::vector<int> P(L);
   for (int e = 0; e < L; ++e) P[electrode_image(g, e, L)] = e;
-  std::vector<int> input_of(protocol.size(), -1);
-  for (int i = 0; i < protocol.input_size(); ++i) input_of[protocol.inputs()[i]] = i;
+  // The values acted on: the inputs, or every channel (each its own position).
+  std::vector<int> values = protocol.inputs(), input_of(protocol.size(), -1);
+  if (over_channels) {
+    values.resize(protocol.size());
+    std::iota(values.begin(), values.end(), 0);
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) input_of[values[i]] = static_cast<int>(i);
   SignedPermutation out;
-  for (int i = 0; i < protocol.input_size(); ++i) {
-    const Channel& c = protocol.channels()[protocol.inputs()[i]];
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const Channel& c = protocol.channels()[values[i]];
     const Channel image{P[c.drive_plus], P[c.drive_minus], P[c.meas_plus], P[c.meas_minus]};
     int sign = 1, j = protocol.find(image, &sign);
     if (j >= 0 && input_of[j] < 0) {  // a reciprocal protocol's second of a pair: its partner
@@ -33,7 +41,7 @@ SignedPermutation channel_action(const MeasurementProtocol& protocol, const Grou
       sign *= partner_sign;
     }
     if (j < 0 || input_of[j] < 0)
-      throw InputError("protocol", "channel " + std::to_string(protocol.inputs()[i]),
+      throw InputError("protocol", "channel " + std::to_string(values[i]),
                        "(" + std::to_string(c.drive_plus) + "," + std::to_string(c.drive_minus) +
                            "," + std::to_string(c.meas_plus) + "," + std::to_string(c.meas_minus) +
                            ") has no image under " + g.to_string() + " in the " + protocol.name() +

@@ -14,14 +14,62 @@
 #include "eitbench/bench/io/csv.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/msh_io.h"
+#include "options.h"
 
 namespace eitbench::cli {
+
+namespace {
+
+// CSV frames of another protocol (its inputs, one frame a line), moved by signed channel
+// permutations: --element, a group of D_L, or auto (the elements of D_L, or of the mesh's group,
+// that map the protocol onto itself).
+void augment_protocol_frames(const std::string& in, const std::string& out,
+                             const MeasurementProtocol& protocol, const std::string& group,
+                             const std::string& element, const std::string& mesh_path) {
+  const int L = protocol.electrodes();
+  const Eigen::MatrixXd frames = read_frames_csv(in, [&](std::size_t width, int line) {
+    if (width != static_cast<std::size_t>(protocol.input_size()))
+      throw InputError(in, "line " + std::to_string(line),
+                       std::to_string(width) + " values; the " + protocol.name() +
+                           " protocol has " + std::to_string(protocol.input_size()) + " inputs");
+    return std::numeric_limits<std::size_t>::max();
+  });
+  std::vector<GroupElement> elements;
+  if (!element.empty()) {
+    elements = {parse_element(element, L, "--element")};
+  } else if (group == "auto") {
+    const auto candidates =
+        mesh_path.empty()
+            ? group_elements(AugmentGroup::dihedral, L)
+            : find_sensor_group(read_msh_file(mesh_path), {}, mesh_path).frame_elements();
+    elements = protocol_elements(protocol, candidates);
+  } else {
+    const AugmentGroup kind = parse_group(group, "--group");
+    if (kind == AugmentGroup::paper)
+      throw InputError(
+          "--group", "",
+          "paper is defined on the adjacent protocol's map, not on " + protocol.name());
+    elements = group_elements(kind, L);
+  }
+  const auto moves = channel_actions(protocol, elements);  // refuses an element it breaks
+  const Eigen::Index k = static_cast<Eigen::Index>(elements.size());
+  Eigen::MatrixXd moved(frames.rows() * k, frames.cols());
+  for (Eigen::Index i = 0; i < frames.rows(); ++i)
+    for (Eigen::Index e = 0; e < k; ++e)
+      moved.row(i * k + e) = moves[e].apply(frames.row(i).transpose()).transpose();
+  write_frames_csv(out, moved);
+  fmt::print("wrote {} frames ({} x {} element{}, {} protocol) to {}\n", moved.rows(),
+             frames.rows(), k, k == 1 ? "" : "s", protocol.name(), out);
+}
+
+}  // namespace
 
 std::function<void()> add_augment_command(CLI::App& app) {
   struct Args {
     std::string in, out, group, element, order = "rotating", split = "train", mesh;
     int electrodes = 16;
     SymmetrySearchOptions symmetry;
+    ProtocolChoice protocol;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -57,6 +105,7 @@ std::function<void()> add_augment_command(CLI::App& app) {
                   "CSV frames: the sensor's Gmsh mesh; its symmetry group is found and every "
                   "element used must be in it")
       ->excludes(electrodes);
+  add_protocol_options(*cmd, args->protocol);
   cmd->add_option("--symmetry-tolerance", args->symmetry.relative_tolerance,
                   "with --mesh: points match within this fraction of the median boundary segment")
       ->capture_default_str()
@@ -89,6 +138,12 @@ std::function<void()> add_augment_command(CLI::App& app) {
                  cmd->count("--group") ? args->group : args->element);
       return;
     }
+    if (const auto protocol = chosen_protocol(
+            args->protocol,
+            args->mesh.empty() ? args->electrodes : read_msh_file(args->mesh).num_electrodes());
+        protocol && !is_adjacent(*protocol))
+      return augment_protocol_frames(args->in, args->out, *protocol, args->group, args->element,
+                                     args->mesh);
     if (args->group == "auto" && args->mesh.empty())
       throw InputError("--group", "", "auto needs --mesh: the group is found from the sensor");
     std::optional<Mesh> mesh;

@@ -41,6 +41,7 @@ struct Args {
   int touches = 0;  // 0: every frame; else only those with this many true touches
   ProtocolChoice protocol;
   bool paired_reference = false, relative = false;
+  std::vector<double> mark;  // --mark X,Y: a point to mark on the pictures
 };
 
 void add_options(CLI::App* cmd, Args* args) {
@@ -110,6 +111,11 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--snr", args->snr,
                   "add white Gaussian noise at this SNR (dB) before reconstructing");
   cmd->add_option("--noise-seed", args->noise_seed, "seed of that noise")->capture_default_str();
+  cmd->add_option("--mark", args->mark,
+                  "X,Y: mark this point on the pictures (a known touch, in the sensor's "
+                  "coordinates)")
+      ->delimiter(',')
+      ->expected(2);
   cmd->add_option("--png", args->pngs, "PNG pictures of the first N frames beside --out")
       ->capture_default_str()
       ->check(CLI::Range(0, 100));
@@ -313,6 +319,7 @@ void write_pngs(const Args* args, const Selection& s, const Evaluation& result, 
     f.image_max = std::max(1e-12, f.image.maxCoeff());
     f.outline = &mesh;
     f.radius = data.radius;
+    if (args->mark.size() == 2) f.marks.emplace_back(args->mark[0], args->mark[1]);
     f.plot_title = data.has_labels() ? "label (truth), row through the centre" : "frame";
     f.x_label = data.has_labels() ? "pixel column" : "measurement";
     f.y_label = data.has_labels() ? "intensity" : "dv";

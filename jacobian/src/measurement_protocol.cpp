@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <utility>
 
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/input_file.h"
@@ -30,6 +31,21 @@ std::string channel_problem(const Channel& c, int L) {
   if (c.meas_plus == c.meas_minus)
     return "meas+ equals meas- (" + std::to_string(c.meas_plus) + ")";
   return "";
+}
+
+// Four comma-separated integers (a header line is not).
+bool looks_like_channel(const std::string& line) {
+  std::stringstream cells(line);
+  std::string cell;
+  int count = 0;
+  while (std::getline(cells, cell, ',')) {
+    char* end = nullptr;
+    std::strtol(cell.c_str(), &end, 10);
+    while (*end == ' ' || *end == '\t') ++end;
+    if (end == cell.c_str() || *end != '\0') return false;
+    ++count;
+  }
+  return count == 4;
 }
 
 int wrap(int i, int L) {
@@ -171,15 +187,14 @@ MeasurementProtocol parse_protocol_csv(const std::string& text, int electrodes,
   int number = 0;
   std::vector<Channel> channels;
   std::map<Key, int> seen;  // channel -> its line
-  bool header = true;
+  bool first = true;
   while (std::getline(in, line)) {
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.find_first_not_of(" \t") == std::string::npos) continue;
-    if (header) {  // the first non-blank line names the columns
-      header = false;
-      continue;
-    }
+    // The first line names the columns; one that is already a channel (a file written without a
+    // header, as MATLAB's writematrix does) is read as one rather than dropped.
+    if (std::exchange(first, false) && !looks_like_channel(line)) continue;
     const std::string field = "line " + std::to_string(number);
     std::vector<int> values;
     std::stringstream cells(line);

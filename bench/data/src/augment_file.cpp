@@ -19,6 +19,15 @@ long long augment_dataset_file(const std::string& in, const std::string& out,
   const std::vector<GroupElement> elements =
       o.elements.empty() ? augment_elements(setup) : o.elements;
   const FrameSymmetry symmetry(L);
+  // Another protocol moves by signed channel permutations, its frames and its inputs alike.
+  const MeasurementProtocol protocol = measurement_protocol(data);
+  const bool other = !is_adjacent(protocol);
+  std::vector<SignedPermutation> frame_moves, input_moves;
+  if (other)
+    for (const GroupElement& g : elements) {
+      frame_moves.push_back(channel_action(protocol, g, true));
+      input_moves.push_back(channel_action(protocol, g));
+    }
   const ImageSymmetry images = image_symmetry(setup);
   if (setup.sensor)  // a named element the sensor lacks is refused before anything is written
     for (const GroupElement& g : elements) images.move(Eigen::Vector2d::Zero(), g);
@@ -54,12 +63,22 @@ long long augment_dataset_file(const std::string& in, const std::string& out,
         const GroupElement g =
             chosen[i - begin] ? elements[static_cast<std::size_t>(k)] : GroupElement{0, false};
         const Eigen::Index r = first[i - begin] + k;
-        block.frames.row(r) =
-            symmetry.apply(o.group, g, data.frames.row(i).transpose(), FrameLayout::rotating)
-                .transpose();
-        block.differences.row(r) =
-            symmetry.apply(o.group, g, data.differences.row(i).transpose(), FrameLayout::reduced)
-                .transpose();
+        const std::size_t e = chosen[i - begin] ? static_cast<std::size_t>(k) : 0;
+        if (other && chosen[i - begin]) {
+          block.frames.row(r) = frame_moves[e].apply(data.frames.row(i).transpose()).transpose();
+          block.differences.row(r) =
+              input_moves[e].apply(data.differences.row(i).transpose()).transpose();
+        } else if (other) {  // the sample as it is
+          block.frames.row(r) = data.frames.row(i);
+          block.differences.row(r) = data.differences.row(i);
+        } else {
+          block.frames.row(r) =
+              symmetry.apply(o.group, g, data.frames.row(i).transpose(), FrameLayout::rotating)
+                  .transpose();
+          block.differences.row(r) =
+              symmetry.apply(o.group, g, data.differences.row(i).transpose(), FrameLayout::reduced)
+                  .transpose();
+        }
         block.split[static_cast<std::size_t>(r)] = data.split[i];
         if (!data.circles.empty())
           block.circles[static_cast<std::size_t>(r)] = images.move(data.circles[i], g);

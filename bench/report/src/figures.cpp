@@ -218,6 +218,16 @@ void draw_sample_png(const SampleFigure& f, const std::string& path) {
       for (const auto& s : el.segments) cv::line(canvas, at(s[0]), at(s[1]), c, 4, cv::LINE_AA);
     }
   }
+  for (const Eigen::Vector2d& m : f.marks) {  // white under red, visible on any colour
+    const cv::Point p(
+        origin.x + static_cast<int>(std::lround((m.x() + f.radius) / (2 * f.radius) * side)),
+        origin.y + static_cast<int>(std::lround((f.radius - m.y()) / (2 * f.radius) * side)));
+    for (const auto& [colour, width] :
+         {std::pair{cv::Scalar(255, 255, 255), 5}, std::pair{cv::Scalar(40, 40, 230), 2}}) {
+      cv::circle(canvas, p, 11, colour, width, cv::LINE_AA);
+      cv::drawMarker(canvas, p, colour, cv::MARKER_CROSS, 30, width, cv::LINE_AA);
+    }
+  }
   // Colour bar.
   const cv::Rect bar(origin.x + side + 12, origin.y, 16, side);
   for (int y = 0; y < side; ++y) {

@@ -25,7 +25,9 @@ struct SignedPermutation {
 // FrameSymmetry::apply (v'(c) = v(P(c)) with P the electrode map that undoes g's). Throws
 // InputError("protocol", "channel N") naming the first input channel whose image the protocol
 // lacks: such a protocol is not mapped onto itself by g, and g cannot augment it.
-SignedPermutation channel_action(const MeasurementProtocol& protocol, const GroupElement& g);
+// With `over_channels`, the action on whole frames (every channel, in protocol order) instead.
+SignedPermutation channel_action(const MeasurementProtocol& protocol, const GroupElement& g,
+                                 bool over_channels = false);
 
 // The actions of `elements`, in their order.
 std::vector<SignedPermutation> channel_actions(const MeasurementProtocol& protocol,

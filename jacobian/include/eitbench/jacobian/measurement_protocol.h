@@ -88,10 +88,10 @@ MeasurementProtocol skip_protocol(int electrodes, int skip);
 // lookup table, in its order.
 MeasurementProtocol opposite_protocol(int electrodes);
 
-// A protocol from CSV text: a header line, then one channel a line as four integers (drive+,
-// drive-, meas+, meas-); blank lines skipped. InputError(source, "line N") names the line of a
-// non-integer, a wrong column count, an electrode out of range, a pair of one electrode, or a
-// duplicate channel.
+// A protocol from CSV text: a header line (optional: a first line of four integers is a channel),
+// then one channel a line as four integers (drive+, drive-, meas+, meas-); blank lines skipped.
+// InputError(source, "line N") names the line of a non-integer, a wrong column count, an electrode
+// out of range, a pair of one electrode, or a duplicate channel.
 MeasurementProtocol parse_protocol_csv(const std::string& text, int electrodes,
                                        const std::string& name, const std::string& source);
 MeasurementProtocol read_protocol_csv(const std::string& path, int electrodes);

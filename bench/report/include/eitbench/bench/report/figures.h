@@ -38,6 +38,8 @@ struct SampleFigure {
   double image_min = 0, image_max = 1;
   const Mesh* outline = nullptr;  // drawn in the image's coordinates [-R, R]^2
   double radius = 1.0;
+  // Points marked on the image with a ringed cross (a known touch), in its coordinates.
+  std::vector<Eigen::Vector2d> marks;
   std::string plot_title, x_label, y_label;
   std::vector<PlotSeries> series;
 };
