@@ -76,6 +76,15 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
       "{}: {} channels, {} inputs{}{}", protocol.name(), protocol.size(), protocol.input_size(),
       protocol.reciprocal() ? " (reciprocity-reduced)" : " (not reciprocal: every channel)",
       protocol.magnitude() ? "; magnitudes |v|, model frames and Jacobian those of |v|" : "");
+  if (protocol.magnitude() && reconstruction.problem) {  // |v|'s sign is unsure near v = 0
+    const auto& model = *reconstruction.problem->model;
+    const auto weak = weak_channels(model.inputs(Eigen::VectorXd::Constant(
+        model.mesh().num_triangles(), reconstruction.problem->background)));
+    c["protocol"] += fmt::format(
+        "; {} input{} with |v0| under 1e-3 of the largest (an unsure sign: drop them from a CSV "
+        "protocol to weight them out)",
+        weak.size(), weak.size() == 1 ? "" : "s");
+  }
   c["background"] = fmt::format("{:g}", data.sensor().background);
   if (!data.own_training) c["calibration"] = describe(data.calibration);
   std::string snrs;
