@@ -367,6 +367,38 @@ TEST_F(BadDatasetFile, ElectrodeCountDisagreesWithTheDataOfAFileWithoutProtocol)
   expect_rejected("differences");
 }
 
+TEST_F(BadDatasetFile, EmptyOrNonIntegerProtocolChannels) {
+  edit([](H5::H5File& f) {  // an empty table would read as the adjacent protocol
+    f.unlink("protocol_channels");
+    const hsize_t dims[2] = {0, 4};
+    f.createDataSet("protocol_channels", H5::PredType::NATIVE_INT, H5::DataSpace(2, dims));
+  });
+  expect_rejected("protocol_channels");
+}
+
+TEST_F(BadDatasetFile, FloatProtocolChannels) {
+  edit([](H5::H5File& f) {
+    H5::DataSet old = f.openDataSet("protocol_channels");
+    hsize_t dims[2];
+    old.getSpace().getSimpleExtentDims(dims);
+    std::vector<double> values(dims[0] * dims[1], 0.5);
+    f.unlink("protocol_channels");
+    f.createDataSet("protocol_channels", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, dims))
+        .write(values.data(), H5::PredType::NATIVE_DOUBLE);
+  });
+  expect_rejected("protocol_channels");
+}
+
+TEST_F(BadDatasetFile, MagnitudeIsZeroOrOne) {
+  edit([](H5::H5File& f) {
+    f.removeAttr("magnitude");
+    const double half = 0.5;
+    f.createAttribute("magnitude", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(H5S_SCALAR))
+        .write(H5::PredType::NATIVE_DOUBLE, &half);
+  });
+  expect_rejected("magnitude");
+}
+
 TEST_F(BadDatasetFile, HugeDeclaredDimensions) {
   edit([](H5::H5File& f) {
     f.unlink("frames");

@@ -108,7 +108,8 @@ TEST_F(ProtocolCli, MeasuredFramesImportWithOneReferencePerFrame) {
   const Dataset paired = read_dataset(path("paired.h5"));
   EXPECT_EQ(paired.differences(2, 5), 18.0);  // (100 + 5 + 20) - (100 + 5 + 2)
   ASSERT_EQ(run(common + "--paired-reference --relative --out " + path("rel.h5")).exit_code, 0);
-  EXPECT_DOUBLE_EQ(read_dataset(path("rel.h5")).differences(2, 5), 18.0 / 107.0);
+  // Relative to its own reference, in the mean reference's units (106 + 5 for channel 5).
+  EXPECT_DOUBLE_EQ(read_dataset(path("rel.h5")).differences(2, 5), 18.0 / 107.0 * 106.0);
   ASSERT_EQ(run(common + "--out " + path("mean.h5")).exit_code, 0);
   EXPECT_EQ(read_dataset(path("mean.h5")).differences(2, 5), 19.0);  // minus the mean, 101 + 5
   write_text(path("one.csv"), references.substr(0, references.find('\n') + 1));
@@ -122,6 +123,7 @@ TEST_F(ProtocolCli, MeasuredFramesImportWithOneReferencePerFrame) {
   EXPECT_EQ(wrong.exit_code, 0) << wrong.output;
   const Result adjacent = run("import --in " + path("f.csv") + " --out " + path("z.h5"));
   EXPECT_EQ(adjacent.exit_code, 2) << adjacent.output;  // 192 values fit no adjacent layout
+  EXPECT_NE(adjacent.output.find("need --protocol"), std::string::npos) << adjacent.output;
 }
 
 TEST_F(ProtocolCli, AugmentingAnOppositeSetMovesFramesAndInputsAlike) {

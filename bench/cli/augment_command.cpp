@@ -120,6 +120,8 @@ std::function<void()> add_augment_command(CLI::App& app) {
         throw InputError("--mesh", "",
                          "applies to CSV frames: a data set is augmented by the group of the "
                          "sensor it was simulated on");
+      if (args->protocol.spec != "adjacent" || args->protocol.magnitude)  // a check asked for
+        check_protocol_of(args->protocol, measurement_protocol(read_dataset(args->in)), args->in);
       FileAugmentOptions o;
       // auto: the group of the sensor the set was made on (D_L for the disk).
       o.group = cmd->count("--group") && args->group != "auto" ? parse_group(args->group, "--group")

@@ -39,8 +39,10 @@ std::function<void()> add_import_command(CLI::App& app) {
   cmd->add_flag("--paired-reference", args->options.paired_reference,
                 "--reference holds one frame per frame (a reference recorded before every "
                 "press): each frame minus its own");
-  cmd->add_flag("--relative", args->options.relative,
-                "relative differences (v - v_ref) / v_ref instead of v - v_ref");
+  cmd->add_flag(
+      "--relative", args->options.relative,
+      "each change relative to its own reference, (v - v_ref) / v_ref, times the mean "
+      "reference (voltage units; with --paired-reference each reference's gain divides out)");
   add_import_options(*cmd, args->options, args->order, args->protocol);
   cmd->add_option("--out", args->out, "HDF5 data set to write (all frames in the test split)")
       ->required();

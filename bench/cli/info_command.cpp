@@ -33,7 +33,7 @@ void print_dataset_summary(const std::string& path, const Dataset& d) {
       "  frames: {} values; differences: {} values (the inputs), |dv| max {:.4g}, mean {:.4g}\n",
       d.frames.cols(), d.differences.cols(), d.differences.cwiseAbs().maxCoeff(),
       d.differences.cwiseAbs().mean());
-  if (is_adjacent(protocol))
+  if (protocol.same_channels(adjacent_protocol(d.electrodes)))  // rotating, signed
     fmt::print("  reference: |v| max {:.4g}, reciprocity error {:.2e}\n",
                d.reference.cwiseAbs().maxCoeff(),
                Protocol(d.electrodes).reciprocity_error(d.reference, MeasurementOrder::rotating));
@@ -69,8 +69,11 @@ std::function<void()> add_info_command(CLI::App& app) {
   return [args] {
     const bool matlab =
         args->path.size() > 4 && args->path.compare(args->path.size() - 4, 4, ".mat") == 0;
-    if (is_hdf5_file(args->path) && !matlab)
-      return print_dataset_summary(args->path, read_dataset(args->path));
+    if (is_hdf5_file(args->path) && !matlab) {
+      const Dataset d = read_dataset(args->path);
+      check_protocol_of(args->protocol, measurement_protocol(d), args->path);
+      return print_dataset_summary(args->path, d);
+    }
     args->options.order = parse_order(args->order);
     args->options.protocol = chosen_protocol(args->protocol, args->options.electrodes);
     const Measurements m = read_measurements(args->path, args->options);

@@ -51,6 +51,9 @@ std::function<void()> add_jacobian_command(CLI::App& app) {
                              args->mesh.file.empty() ? "mesh" : args->mesh.file);
     const MeasurementProtocol& protocol = model.measurement_protocol();
     const bool other = args->model.forward.protocol != nullptr;
+    if (other && args->model.values != "full" && args->model.values != "reduced")
+      throw InputError("--values", "",
+                       "with --protocol: full (every channel) or reduced (the inputs)");
     const std::vector<Channel> rows = reduced ? protocol.input_channels() : protocol.channels();
     Eigen::MatrixXd J = other ? model.measured_jacobian(model.solve(sigma), rows)
                               : model.protocol().select_rows(model.jacobian(sigma), order, reduced);

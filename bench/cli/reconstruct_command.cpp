@@ -74,7 +74,8 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_flag("--paired-reference", args->paired_reference,
                 "measured frames: --reference holds one frame per frame, each frame minus its own");
   cmd->add_flag("--relative", args->relative,
-                "measured frames: relative differences (v - v_ref) / v_ref");
+                "measured frames: each change relative to its own reference, in the mean "
+                "reference's units");
   add_mesh_options(*cmd, args->mesh);
   cmd->add_option("--background", args->background,
                   "conductivity the Jacobian is linearised at (default: the data set's, else 1)")

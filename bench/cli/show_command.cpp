@@ -48,8 +48,9 @@ std::function<void()> add_show_command(CLI::App& app) {
     f.image_max = 1;
     f.outline = &outline;
     f.radius = d.radius;
-    f.plot_title = "difference voltages (reduced order)";
-    f.x_label = "measurement (d < m)";
+    const MeasurementProtocol protocol = measurement_protocol(d);
+    f.plot_title = "difference voltages (the " + protocol.name() + " protocol's inputs)";
+    f.x_label = protocol.reciprocal() ? "input (one of each reciprocal pair)" : "channel";
     f.y_label = "dv (V)";
     const Eigen::VectorXd dv = d.differences.row(i).transpose();
     PlotSeries series;

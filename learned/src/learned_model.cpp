@@ -173,9 +173,16 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
     if (j.contains("protocol")) {
       const auto& p = j.at("protocol");
       std::vector<Channel> channels;
-      for (const auto& c : p.at("channels"))
-        channels.push_back(
-            {c.at(0).get<int>(), c.at(1).get<int>(), c.at(2).get<int>(), c.at(3).get<int>()});
+      for (const auto& c : p.at("channels")) {
+        int e[4];
+        for (int k = 0; k < 4; ++k) {
+          const auto& v = c.at(k);  // an electrode index: checked before it is cast
+          if (!v.is_number_integer() || v.get<long long>() < 0 || v.get<long long>() > 1024)
+            throw InputError(source, "meta", "a protocol channel holds a non-index value");
+          e[k] = v.get<int>();
+        }
+        channels.push_back({e[0], e[1], e[2], e[3]});
+      }
       impl->info.protocol = std::make_shared<const MeasurementProtocol>(
           MeasurementProtocol(p.at("name").get<std::string>(), impl->info.electrodes, channels,
                               source + ": protocol")

@@ -47,6 +47,14 @@ py::dict to_dict(const Dataset& d) {
   out["augmentation"] = d.augmentation;
   if (!d.sensor_mesh.empty())  // a sensor of another shape: its mesh (Gmsh text) and group
     out["sensor_mesh"] = d.sensor_mesh, out["sensor_group"] = d.sensor_group;
+  // The protocol (docs/protocols.md): its name, channels (C x 4) and magnitude flag.
+  const MeasurementProtocol protocol = measurement_protocol(d);
+  std::vector<int> channels;
+  for (const Channel& c : protocol.channels())
+    channels.insert(channels.end(), {c.drive_plus, c.drive_minus, c.meas_plus, c.meas_minus});
+  out["protocol"] = protocol.name(), out["magnitude"] = protocol.magnitude();
+  out["protocol_channels"] = py::array_t<int>(
+      {static_cast<py::ssize_t>(protocol.size()), py::ssize_t{4}}, channels.data());
   return out;
 }
 
@@ -78,6 +86,17 @@ Dataset from_dict(const py::dict& x) {
   d.augmentation = get<std::string>(x, "augmentation", "none");
   d.sensor_mesh = get<std::string>(x, "sensor_mesh", "");
   d.sensor_group = get<std::string>(x, "sensor_group", "");
+  d.magnitude = get<bool>(x, "magnitude", false);
+  if (x.contains("protocol_channels")) {  // checked when the set is written or used
+    const auto c =
+        x["protocol_channels"].cast<py::array_t<int, py::array::c_style | py::array::forcecast>>();
+    if (c.ndim() != 2 || c.shape(1) != 4)
+      throw InputError("dataset", "protocol_channels",
+                       "must be C x 4 (drive+, drive-, meas+, meas-)");
+    for (py::ssize_t i = 0; i < c.shape(0); ++i)
+      d.protocol_channels.push_back({c.at(i, 0), c.at(i, 1), c.at(i, 2), c.at(i, 3)});
+    d.protocol = get<std::string>(x, "protocol", "unnamed");
+  }
   const int n = d.size();
   d.split.assign(static_cast<std::size_t>(n), Split::test);
   if (x.contains("split")) {

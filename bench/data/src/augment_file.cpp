@@ -21,7 +21,8 @@ long long augment_dataset_file(const std::string& in, const std::string& out,
   const FrameSymmetry symmetry(L);
   // Another protocol moves by signed channel permutations, its frames and its inputs alike.
   const MeasurementProtocol protocol = measurement_protocol(data);
-  const bool other = !is_adjacent(protocol);
+  // (FrameSymmetry's frame tables are the rotating order's: adjacent-ascending moves by channels.)
+  const bool other = !protocol.same_channels(adjacent_protocol(L));
   std::vector<SignedPermutation> frame_moves, input_moves;
   if (other)
     for (const GroupElement& g : elements) {

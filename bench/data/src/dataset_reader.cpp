@@ -40,6 +40,11 @@ class Reader {
     }
   }
 
+  // The data set `name` holds integers (checked before its values are trusted as indices).
+  bool integer(const std::string& name) const {
+    return file_.openDataSet(name).getTypeClass() == H5T_INTEGER;
+  }
+
   bool has(const std::string& name) const {
     return H5Lexists(file_.getId(), name.c_str(), H5P_DEFAULT) > 0;
   }
@@ -176,6 +181,10 @@ class Reader {
   ReadBudget budget_{path_};
 };
 
+// The most channels a stored protocol may list: about 8,000 times a 16-electrode board's, and a
+// bound on what building it (an index of every channel) takes.
+constexpr hsize_t kMaxChannels = hsize_t{1} << 20;
+
 void check_finite(const Reader& r, const std::string& name, const double* data, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i)
     if (!std::isfinite(data[i]))
@@ -225,10 +234,18 @@ Dataset read_dataset_checked(const std::string& path) {
                                    d.radius, extent.x(), extent.y()));
     d.sensor_group = r.text("sensor_group");
   }
-  d.magnitude = r.number("magnitude", 0, 0, 1) != 0;
+  const double magnitude = r.number("magnitude", 0, 0, 1);
+  if (magnitude != 0 && magnitude != 1) throw InputError(path, "magnitude", "must be 0 or 1");
+  d.magnitude = magnitude == 1;
   if (r.has("protocol_channels")) {  // checked by the protocol itself: range, pairs, repeats
     std::vector<hsize_t> shape{0, 4};
     const std::vector<int> c = r.array<int>("protocol_channels", shape);
+    if (shape[0] == 0 || shape[0] > kMaxChannels)
+      throw InputError(path, "protocol_channels",
+                       "has " + std::to_string(shape[0]) + " channels; a protocol has 1 to " +
+                           std::to_string(kMaxChannels));
+    if (!r.integer("protocol_channels"))
+      throw InputError(path, "protocol_channels", "must hold integers (electrode indices)");
     for (std::size_t k = 0; k + 3 < c.size(); k += 4)
       d.protocol_channels.push_back({c[k], c[k + 1], c[k + 2], c[k + 3]});
     d.protocol = r.text("protocol").empty() ? "unnamed" : r.text("protocol");

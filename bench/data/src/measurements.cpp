@@ -102,6 +102,13 @@ Measurements read_measurements(const std::string& path, const ImportOptions& o) 
   const int L = o.electrodes;
   if (L < 4 || L > 256) throw InputError("--electrodes", "", "need 4 <= L <= 256");
   const bool other = o.protocol && !is_adjacent(*o.protocol);
+  // adjacent-ascending names the order of L(L-3)-value frames, as --order does.
+  const MeasurementOrder order =
+      o.protocol && !other &&
+              o.protocol->same_channels(adjacent_protocol(L, MeasurementOrder::ascending))
+          ? MeasurementOrder::ascending
+      : o.protocol && !other ? MeasurementOrder::rotating
+                             : o.order;
   if (o.protocol && o.protocol->electrodes() != L)
     throw InputError("--protocol", "",
                      "is for " + std::to_string(o.protocol->electrodes()) + " electrodes, not " +
@@ -139,7 +146,7 @@ Measurements read_measurements(const std::string& path, const ImportOptions& o) 
                      "frames of " + std::to_string(length) + " values do not fit " +
                          std::to_string(L) + " electrodes (" + std::to_string(full) + ", " +
                          std::to_string(reduced) + " reduced, or " + std::to_string(square) +
-                         " as an L x L map)");
+                         " as an L x L map); frames of another protocol need --protocol");
   if (n == 0) throw InputError(path, field, "holds no frames");
   for (std::size_t i = 0; i < a.values.size(); ++i)
     if (!std::isfinite(a.values[i]))
@@ -183,8 +190,8 @@ Measurements read_measurements(const std::string& path, const ImportOptions& o) 
       rotating = protocol.expand(raw, MeasurementOrder::rotating);
       m.reduced_input = true;
     } else {
-      layout = to_string(o.order) + " order";
-      rotating = protocol.reorder(raw, o.order, MeasurementOrder::rotating);
+      layout = to_string(order) + " order";
+      rotating = protocol.reorder(raw, order, MeasurementOrder::rotating);
     }
     reciprocity += protocol.reciprocity_error(rotating, MeasurementOrder::rotating);
     m.frames.row(f) = rotating.transpose();
@@ -251,7 +258,10 @@ Dataset import_measurements(const Measurements& m, const std::string& reference_
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::VectorXd ref = references.row(references.rows() == 1 ? 0 : i).transpose();
     Eigen::VectorXd change = m.frames.row(i).transpose() - ref;
-    if (o.relative) change = change.cwiseQuotient(ref);
+    // Relative: the change as a fraction of its own reference, in the mean reference's units, so
+    // that every method (which compares differences with the model's v - v0) and the group's
+    // signs apply unchanged, while a reference's own gain divides out.
+    if (o.relative) change = change.cwiseQuotient(ref).cwiseProduct(d.reference);
     d.differences.row(i) = protocol.to_inputs(change).transpose();
   }
   d.split.assign(static_cast<std::size_t>(m.frames.rows()), Split::test);

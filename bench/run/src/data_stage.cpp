@@ -37,7 +37,15 @@ std::string sensor_name(const RunConfig& config) {
 }
 
 // What a simulated set must be to serve this run: "" when `d` is it, else the differences.
-std::string simulation_differs(const Dataset& d, const RunConfig& config) {
+// The protocol the preset's set is simulated on: the user's data's when the run has data (the
+// training source must read frames as the test frames are read), else --protocol's.
+MeasurementProtocol simulation_protocol(const RunConfig& config, int electrodes,
+                                        const MeasurementProtocol* data_protocol) {
+  return data_protocol ? *data_protocol : config_protocol(config, electrodes);
+}
+
+std::string simulation_differs(const Dataset& d, const RunConfig& config,
+                               const MeasurementProtocol* data_protocol) {
   const std::string mesh =
       config.mesh_file.empty()
           ? "disk L=" + std::to_string(config.electrodes) + " " + to_string(config.simulation)
@@ -51,9 +59,10 @@ std::string simulation_differs(const Dataset& d, const RunConfig& config) {
   differs("seed", std::to_string(d.seed), std::to_string(config.seed));
   differs("simulation mesh", d.simulation_mesh, mesh);
   differs("program", d.program, program_version());
+  const MeasurementProtocol wanted = simulation_protocol(config, d.electrodes, data_protocol);
   differs("protocol", measurement_protocol(d).name() + (d.magnitude ? " (magnitudes)" : ""),
-          config_protocol(config, d.electrodes).name() + (config.magnitude ? " (magnitudes)" : ""));
-  if (!measurement_protocol(d).same_channels(config_protocol(config, d.electrodes)))
+          wanted.name() + (wanted.magnitude() ? " (magnitudes)" : ""));
+  if (!measurement_protocol(d).same_channels(wanted))
     diff += fmt::format("{}protocol channels", diff.empty() ? "" : ", ");
   if (!config.mesh_file.empty() && d.sensor_mesh != mesh_text(read_msh_file(config.mesh_file)))
     diff += fmt::format("{}sensor mesh (this run: {}'s as it is now)", diff.empty() ? "" : ", ",
@@ -63,12 +72,12 @@ std::string simulation_differs(const Dataset& d, const RunConfig& config) {
 
 // The preset's simulated set in <out>/data.h5. A resumed run reads it back, and stops when it is
 // not the set this run would simulate: every finished stage of the folder was made from it.
-Dataset simulated(const Context& context) {
+Dataset simulated(const Context& context, const MeasurementProtocol* data_protocol = nullptr) {
   const RunConfig& config = context.config;
   const std::string path = (context.out / "data.h5").string();
   if (config.resume && fs::exists(path)) {
     Dataset d = read_dataset(path);
-    if (const std::string diff = simulation_differs(d, config); !diff.empty())
+    if (const std::string diff = simulation_differs(d, config, data_protocol); !diff.empty())
       throw InputError(path, "",
                        "holds another data set than this run asks for: " + diff +
                            ". --resume continues a run on the same data: choose a new --out, "
@@ -104,7 +113,17 @@ Dataset simulated(const Context& context) {
 
 // The user's data: an eitbench data set, or measured frames (with their reference) to import.
 Dataset users(const RunConfig& config) {
-  if (is_hdf5_file(config.data) && config.reference.empty()) return read_dataset(config.data);
+  if (is_hdf5_file(config.data) && config.reference.empty()) {
+    Dataset d = read_dataset(config.data);
+    // A set carries its protocol: --protocol and --magnitude may only confirm it.
+    const bool chosen = config.protocol != "adjacent" || config.magnitude;
+    if (chosen && !measurement_protocol(d).same_channels(config_protocol(config, d.electrodes)))
+      throw InputError(config.protocol != "adjacent" ? "--protocol" : "--magnitude", "",
+                       config.data + " is read on the " + measurement_protocol(d).name() +
+                           " protocol" + (d.magnitude ? " (magnitudes)" : "") +
+                           ": leave out --protocol and --magnitude to use the set's own");
+    return d;
+  }
   ImportOptions o;
   o.electrodes = config.electrodes;
   if (config.protocol != "adjacent" || config.magnitude)
@@ -126,6 +145,11 @@ void calibrate_to_source(const Context& context, RunData& r) {
         config.data, "image_size",
         fmt::format("{}×{} labels, but the preset's images are {}×{}", r.data.image_size,
                     r.data.image_size, r.source.image_size, r.source.image_size));
+  if (!measurement_protocol(r.data).same_channels(measurement_protocol(r.source)))
+    throw InputError(config.data, "protocol",
+                     "is read on the " + measurement_protocol(r.data).name() +
+                         " protocol, the simulated source on " +
+                         measurement_protocol(r.source).name());
   r.calibration = calibrate_to_model(r.data.reference, r.source.reference);
   r.test.frames *= r.calibration.scale;
   context.say("calibration: " + describe(r.calibration));
@@ -191,7 +215,8 @@ RunData load_data(const Context& context) {
     context.say(
         "training and hyperparameters: the simulated preset (the data have no labelled "
         "train/validation splits)");
-    r.source = simulated(context);
+    const MeasurementProtocol data_protocol = measurement_protocol(r.data);
+    r.source = simulated(context, &data_protocol);
   }
   std::vector<int> test_rows = r.data.indices(Split::test);
   if (test_rows.empty() && !r.data.has_labels())  // measured frames: all of them

@@ -33,7 +33,9 @@ struct ImportOptions {
   // One reference frame per frame (boards that record one before every press): frame i minus
   // reference i; otherwise frame i minus the references' mean.
   bool paired_reference = false;
-  // Differences relative to the reference, (v - v_ref) / v_ref, instead of v - v_ref.
+  // Differences relative to each frame's own reference, (v - v_ref) / v_ref, times the mean
+  // reference (so they stay in voltage units, which every method and the group's signs assume):
+  // the same as v - v_ref with one reference; with paired ones each reference's gain divides out.
   bool relative = false;
 };
 
