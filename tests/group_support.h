@@ -17,12 +17,7 @@ inline Eigen::VectorXd move_conductivity(const Mesh& mesh, const Eigen::VectorXd
                                          const GroupElement& g) {
   const int L = mesh.num_electrodes();
   const NodeLocator nodes(mesh.nodes);
-  std::map<std::array<int, 3>, int> by_nodes;
-  for (int t = 0; t < mesh.num_triangles(); ++t) {
-    std::array<int, 3> key{mesh.triangles(t, 0), mesh.triangles(t, 1), mesh.triangles(t, 2)};
-    std::sort(key.begin(), key.end());
-    by_nodes[key] = t;
-  }
+  const auto by_nodes = triangles_by_nodes(mesh);
   Eigen::VectorXd moved = Eigen::VectorXd::Constant(sigma.size(), NAN);
   for (int t = 0; t < mesh.num_triangles(); ++t) {
     std::array<int, 3> key{};

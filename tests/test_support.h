@@ -81,15 +81,21 @@ class NodeLocator {
 
 // Element permutation of a group element: image[t] is the triangle that triangle t maps onto, or
 // -1 when the mesh is not symmetric.
-inline std::vector<int> element_image(const Mesh& mesh, int s, bool mirror, double tol = 1e-12) {
-  const int L = mesh.num_electrodes();
-  const NodeLocator nodes(mesh.nodes);
+// Each triangle by its sorted node indices.
+inline std::map<std::array<int, 3>, int> triangles_by_nodes(const Mesh& mesh) {
   std::map<std::array<int, 3>, int> by_nodes;
   for (int t = 0; t < mesh.num_triangles(); ++t) {
     std::array<int, 3> key{mesh.triangles(t, 0), mesh.triangles(t, 1), mesh.triangles(t, 2)};
     std::sort(key.begin(), key.end());
     by_nodes[key] = t;
   }
+  return by_nodes;
+}
+
+inline std::vector<int> element_image(const Mesh& mesh, int s, bool mirror, double tol = 1e-12) {
+  const int L = mesh.num_electrodes();
+  const NodeLocator nodes(mesh.nodes);
+  const auto by_nodes = triangles_by_nodes(mesh);
   std::vector<int> image(mesh.num_triangles(), -1);
   for (int t = 0; t < mesh.num_triangles(); ++t) {
     std::array<int, 3> key{};

@@ -104,6 +104,20 @@ struct ForwardModel::Impl {
     std::lock_guard<std::mutex> lock(pool_mutex);
     pool.push_back(std::move(w));
   }
+  // read(U) for sigma's electrode potentials U (electrode x adjacent drive), read in place from
+  // the solve's last L rows: no node potentials are copied out (CHOLMOD's leading dimension may
+  // exceed dofs).
+  template <typename Read>
+  Eigen::VectorXd from_electrodes(const Eigen::VectorXd& sigma, const Read& read) const {
+    std::unique_ptr<Workspace> w = solve(sigma);
+    const int L = mesh.num_electrodes();
+    const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> U(
+        static_cast<const double*>(w->X->x) + dofs - L, L, L,
+        Eigen::OuterStride<>(static_cast<Eigen::Index>(w->X->d)));
+    Eigen::VectorXd v = read(U);
+    give_back(std::move(w));
+    return v;
+  }
 
   explicit Impl(const Mesh& m, const ForwardOptions& o)
       : mesh(m),
@@ -432,17 +446,8 @@ Eigen::VectorXd ForwardModel::frame(const ForwardSolution& s, MeasurementOrder o
 }
 
 Eigen::VectorXd ForwardModel::frame(const Eigen::VectorXd& sigma, MeasurementOrder order) const {
-  // Only the electrode rows of the solution are read: no node potentials are copied out.
-  const Impl& m = *impl_;
-  std::unique_ptr<Workspace> w = m.solve(sigma);
-  const int L = m.mesh.num_electrodes();
-  // X's last L rows (CHOLMOD's leading dimension may exceed dofs).
-  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> U(
-      static_cast<const double*>(w->X->x) + m.dofs - L, L, L,
-      Eigen::OuterStride<>(static_cast<Eigen::Index>(w->X->d)));
-  const Eigen::VectorXd v = adjacent_differences(m.protocol.pairs(order), U);
-  m.give_back(std::move(w));
-  return v;
+  return impl_->from_electrodes(
+      sigma, [&](const auto& U) { return adjacent_differences(impl_->protocol.pairs(order), U); });
 }
 
 Eigen::VectorXd ForwardModel::adjacent_map(const ForwardSolution& s) const {
@@ -552,16 +557,10 @@ Eigen::VectorXd ForwardModel::measured(const ForwardSolution& s) const {
 }
 
 Eigen::VectorXd ForwardModel::measured(const Eigen::VectorXd& sigma) const {
-  // Only the electrode rows of the solution are read, as frame(sigma) does.
-  const Impl& m = *impl_;
-  std::unique_ptr<Workspace> w = m.solve(sigma);
-  const int L = m.mesh.num_electrodes();
-  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> U(
-      static_cast<const double*>(w->X->x) + m.dofs - L, L, L,
-      Eigen::OuterStride<>(static_cast<Eigen::Index>(w->X->d)));
-  const Eigen::VectorXd v = channel_voltages(m.measurement.channels(), U);
-  m.give_back(std::move(w));
-  return m.measurement.magnitude() ? Eigen::VectorXd(v.cwiseAbs()) : v;
+  const MeasurementProtocol& p = impl_->measurement;
+  const Eigen::VectorXd v = impl_->from_electrodes(
+      sigma, [&](const auto& U) { return channel_voltages(p.channels(), U); });
+  return p.magnitude() ? Eigen::VectorXd(v.cwiseAbs()) : v;
 }
 
 Eigen::VectorXd ForwardModel::inputs(const ForwardSolution& s) const {
