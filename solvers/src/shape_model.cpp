@@ -33,20 +33,6 @@ ShapeModel::ShapeModel(const LinearProblem& problem, double width)
   v0_ = problem.model->inputs(s0);
 }
 
-std::vector<int> ShapeModel::support(const std::vector<const double*>& circles) const {
-  std::vector<int> out;
-  for (Eigen::Index t = 0; t < centroids_.cols(); ++t)
-    for (const double* p : circles) {
-      const double reach = p[2] + kReach * width_;
-      const double dx = centroids_(0, t) - p[0], dy = centroids_(1, t) - p[1];
-      if (dx * dx + dy * dy < reach * reach) {
-        out.push_back(static_cast<int>(t));
-        break;
-      }
-    }
-  return out;
-}
-
 namespace {
 std::vector<int> all_elements(Eigen::Index n) {
   std::vector<int> out(static_cast<std::size_t>(n));
@@ -115,19 +101,60 @@ Eigen::MatrixXd ShapeModel::relative_sigma_jacobian(const std::vector<const doub
   return ds;
 }
 
+// The linear model element by element: each circle's indicator only where it reaches, each
+// element's column of J0 added once to the frame and once to each reaching circle's four Jacobian
+// columns. A dense product over the union of the supports cost 4K columns on every element of it
+// (three of them zero away from the circle's edge), and the copy of J0's columns as much again.
+Eigen::VectorXd ShapeModel::linear_difference(const std::vector<const double*>& circles,
+                                              Eigen::MatrixXd* jacobian) const {
+  const double sigma0 = problem_.background;
+  const Eigen::Index K = static_cast<Eigen::Index>(circles.size()), m = J0_.rows();
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(m);
+  if (jacobian) jacobian->setZero(m, kCircleParameters * K);
+  std::vector<Indicator> h(static_cast<std::size_t>(K));
+  std::vector<double> d(static_cast<std::size_t>(K));
+  std::vector<char> reaches(static_cast<std::size_t>(K));
+  for (Eigen::Index t = 0; t < centroids_.cols(); ++t) {
+    bool any = false;
+    double s = 1;
+    for (Eigen::Index j = 0; j < K; ++j) {
+      const double* p = circles[j];
+      const double dx = centroids_(0, t) - p[0], dy = centroids_(1, t) - p[1];
+      const double reach = p[2] + kReach * width_, d2 = dx * dx + dy * dy;
+      reaches[j] = d2 < reach * reach;
+      if (!reaches[j]) continue;
+      any = true;
+      d[j] = std::sqrt(d2);
+      h[j] = indicator(p[2], d[j], width_);
+      s *= 1 - p[3] * h[j].h;
+    }
+    if (!any) continue;
+    const auto column = J0_.col(t);
+    v.noalias() += (sigma0 * (s - 1)) * column;
+    if (!jacobian) continue;
+    for (Eigen::Index j = 0; j < K; ++j) {
+      if (!reaches[j]) continue;
+      double others = 1;  // prod over the other reaching circles of (1 - c_i H_i)
+      for (Eigen::Index i = 0; i < K; ++i)
+        if (i != j && reaches[i]) others *= 1 - circles[i][3] * h[i].h;
+      const double* p = circles[j];
+      const double c = p[3], dh_dd = -h[j].dh_dr;
+      const double ux = d[j] > 0 ? (p[0] - centroids_(0, t)) / d[j] : 0.0;
+      const double uy = d[j] > 0 ? (p[1] - centroids_(1, t)) / d[j] : 0.0;
+      const double f = -sigma0 * others;
+      const Eigen::Vector4d g(f * c * dh_dd * ux, f * c * dh_dd * uy, f * c * h[j].dh_dr,
+                              f * h[j].h);
+      jacobian->middleCols<kCircleParameters>(kCircleParameters * j).noalias() +=
+          column * g.transpose();
+    }
+  }
+  return v;
+}
+
 Eigen::VectorXd ShapeModel::difference(const std::vector<const double*>& circles, bool full,
                                        Eigen::MatrixXd* jacobian) const {
+  if (!full) return linear_difference(circles, jacobian);
   const double sigma0 = problem_.background;
-  if (!full) {  // J0's columns of the support only: the rest multiply zeros
-    const std::vector<int> near = support(circles);
-    const Eigen::MatrixXd J = J0_(Eigen::all, near);
-    Eigen::VectorXd s;
-    if (jacobian)
-      *jacobian = sigma0 * (J * relative_sigma_jacobian(circles, near, &s));
-    else
-      s = relative_sigma(circles, near);
-    return sigma0 * (J * (s.array() - 1).matrix());
-  }
   const Eigen::VectorXd s = relative_sigma(circles);
   const ForwardModel& model = *problem_.model;
   const ForwardSolution solution = model.solve(sigma0 * s);
