@@ -54,6 +54,9 @@ class ShapeModel {
  private:
   Eigen::VectorXd linear_difference(const std::vector<const double*>& circles,
                                     Eigen::MatrixXd* jacobian) const;
+  // Elements first..last-1's terms of linear_difference, added to v and *jacobian.
+  void add_linear_terms(const std::vector<const double*>& circles, Eigen::Index first,
+                        Eigen::Index last, Eigen::VectorXd& v, Eigen::MatrixXd* jacobian) const;
   // The distance from element t's centroid to the centre of circle p (sqrt, not hypot: the
   // values are of order 1, and hypot's care for overflow cost a twentieth of a fit).
   double distance(Eigen::Index t, const double* p) const {
