@@ -156,6 +156,41 @@ TEST(TouchSummary, MediansAndPercentilesOfKnownNumbers) {
   EXPECT_NEAR(s.by_count[2].centre_error_median, 0.3, 1e-15);
   // No frames: not scored.
   EXPECT_EQ(summarize_touches({}).frames, 0);
+  // Signals unknown: no visibility figures.
+  EXPECT_TRUE(s.by_signal.empty());
+  EXPECT_EQ(s.visible_frames, 0);
+}
+
+// With the true touches' signals: a frame counts as visible only when every touch carries at least
+// 5 %, and each true touch is binned by its signal, found when matched.
+TEST(TouchSummary, VisibleFramesAndTouchesFoundBySignal) {
+  FrameMatch a, b, c;
+  a.found = 2, a.truth = 2, a.pairs = {{0, 0}, {1, 1}}, a.centre_errors = {0.1, 0.1};
+  a.truth_signals = {0.9, 0.06};  // visible, counted right
+  b.found = 1, b.truth = 2, b.pairs = {{0, 0}}, b.centre_errors = {0.1};
+  b.truth_signals = {0.97, 0.01};  // the faint one missed: not visible
+  c.found = 2, c.truth = 2, c.pairs = {{1, 0}}, c.centre_errors = {0.2};
+  c.truth_signals = {0.05, 0.03};  // 0.05 missed (with a phantom), 0.03: not visible
+  TouchScores s = summarize_touches({a, b, c});
+  EXPECT_EQ(s.visible_frames, 1);
+  EXPECT_EQ(s.visible_count_accuracy, 1.0);
+  EXPECT_NEAR(s.count_accuracy, 2.0 / 3, 1e-15);  // a and c count right
+  ASSERT_EQ(s.by_signal.size(), 3u);
+  EXPECT_EQ(s.by_signal[0].from, 0.0);
+  EXPECT_EQ(s.by_signal[0].to, 0.02);
+  EXPECT_EQ(s.by_signal[0].touches, 1);  // b's 0.01
+  EXPECT_EQ(s.by_signal[0].found, 0);
+  EXPECT_EQ(s.by_signal[1].touches, 1);  // c's 0.03, matched
+  EXPECT_EQ(s.by_signal[1].found, 1);
+  EXPECT_EQ(s.by_signal[2].from, 0.05);
+  EXPECT_TRUE(std::isinf(s.by_signal[2].to));
+  EXPECT_EQ(s.by_signal[2].touches, 4);  // 0.9, 0.06, 0.97, 0.05 (the edge is in)
+  EXPECT_EQ(s.by_signal[2].found, 3);
+  // One frame's signal unknown: none reported.
+  c.truth_signals[0] = NAN;
+  s = summarize_touches({a, b, c});
+  EXPECT_TRUE(s.by_signal.empty());
+  EXPECT_TRUE(std::isnan(s.visible_count_accuracy));
 }
 
 // Two validation frames built so that each candidate threshold fails in a known way:
@@ -259,6 +294,22 @@ TEST(TouchResults, JsonRoundTripAndOlderFilesWithoutThem) {
   EXPECT_EQ(t.by_count[0].touches, 4);
   EXPECT_EQ(t.by_count[0].centre_error_median, 0.04);
   EXPECT_EQ(back.rows[1].touch.frames, 0);
+  EXPECT_TRUE(t.by_signal.empty());  // none written, none read
+
+  // The visibility figures, where known, come back.
+  r.rows[0].touch.visible_frames = 3, r.rows[0].touch.visible_count_accuracy = 2.0 / 3;
+  r.rows[0].touch.model_error_median = 0.036;
+  r.rows[0].touch.by_signal = {{0, 0.02, 2, 0}, {0.02, 0.05, 3, 1}, {0.05, INFINITY, 11, 11}};
+  write_results_json(path, r);
+  const TouchScores v = read_results_json(path).rows[0].touch;
+  EXPECT_EQ(v.visible_frames, 3);
+  EXPECT_EQ(v.visible_count_accuracy, 2.0 / 3);
+  EXPECT_EQ(v.model_error_median, 0.036);
+  ASSERT_EQ(v.by_signal.size(), 3u);
+  EXPECT_TRUE(std::isinf(v.by_signal[2].to));
+  EXPECT_EQ(v.by_signal[1].from, 0.02);
+  EXPECT_EQ(v.by_signal[1].touches, 3);
+  EXPECT_EQ(v.by_signal[1].found, 1);
 
   // A results.json from before the touch metrics: its rows have no "touch", and read as unscored.
   std::ifstream in(path);
@@ -304,6 +355,23 @@ TEST(TouchReport, TheTableAndTheBestMethodByEachMeasure) {
   // The per-SNR table: count then centre, noise-free first.
   EXPECT_NE(text.find("| dnn (d16) | 100 % | 75 % | 0.030 | 0.070 |"), std::string::npos) << text;
   EXPECT_NE(text.find("touch_centre_errors.png"), std::string::npos);
+  EXPECT_EQ(text.find("every touch visible"), std::string::npos);  // signals unknown
+  // With the touches' signals: the visible frames' column and the table by signal.
+  for (auto& row : r.rows) {
+    row.touch.visible_frames = 2, row.touch.visible_count_accuracy = 1.0;
+    row.touch.model_error_median = 0.036;
+    row.touch.by_signal = {{0, 0.02, 2, 0}, {0.02, 0.05, 4, 1}, {0.05, INFINITY, 10, 9}};
+  }
+  write_report(path, r);
+  std::ifstream seen(path);
+  const std::string visible((std::istreambuf_iterator<char>(seen)),
+                            std::istreambuf_iterator<char>());
+  fs::remove(path);
+  EXPECT_NE(visible.find("| tv | 0.4 | 75 % | 100 % | 0.060 |"), std::string::npos) << visible;
+  EXPECT_NE(visible.find("its misfit is 3.6 % of a noise-free test frame"), std::string::npos);
+  EXPECT_NE(visible.find("2 of 4 test frames have every touch visible (≥ 5 %)"), std::string::npos);
+  EXPECT_NE(visible.find("| method | < 2 % (2) | 2 – 5 % (4) | ≥ 5 % (10) |"), std::string::npos);
+  EXPECT_NE(visible.find("| tv | 0 % | 25 % | 90 % |"), std::string::npos) << visible;
   // Without touch scores, no section.
   for (auto& row : r.rows) row.touch = TouchScores{};
   write_report(path, r);

@@ -76,6 +76,7 @@ FrameMatch match_touches(const std::vector<Touch>& found, const std::vector<Touc
     throw InputError("match_touches", "truth", "at most 8 true touches a frame");
   FrameMatch m;
   m.found = static_cast<int>(found.size()), m.truth = static_cast<int>(truth.size());
+  for (const Touch& t : truth) m.truth_signals.push_back(t.signal);
   const std::vector<int> of_truth = Search(found, truth, options.gate * radius).run();
   for (std::size_t t = 0; t < truth.size(); ++t) {
     const int f = of_truth[t];

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "eitbench/bench/methods/touch_metrics.h"
+#include "eitbench/bench/methods/touch_signal.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
@@ -43,6 +44,41 @@ std::vector<TouchCountScores> by_true_count(const std::vector<FrameMatch>& frame
   return out;
 }
 
+// Every true touch's signal: one for each, none NaN.
+bool signals_known(const std::vector<FrameMatch>& frames) {
+  for (const auto& f : frames) {
+    if (static_cast<int>(f.truth_signals.size()) != f.truth) return false;
+    for (double s : f.truth_signals)
+      if (!std::isfinite(s)) return false;
+  }
+  return true;
+}
+
+// Count accuracy on the frames whose every touch is visible, and the touches found by signal.
+void by_signal(const std::vector<FrameMatch>& frames, TouchScores& s) {
+  std::vector<FrameMatch> visible;
+  for (const auto& f : frames)
+    if (std::all_of(f.truth_signals.begin(), f.truth_signals.end(),
+                    [](double v) { return v >= kVisibleSignal; }))
+      visible.push_back(f);
+  s.visible_frames = static_cast<int>(visible.size());
+  if (!visible.empty()) s.visible_count_accuracy = count_accuracy(visible);
+  double from = 0;
+  for (std::size_t b = 0; b <= kSignalBinEdges.size(); ++b) {
+    TouchSignalScores bin;
+    bin.from = from, bin.to = b < kSignalBinEdges.size() ? kSignalBinEdges[b] : INFINITY;
+    from = bin.to;
+    for (const auto& f : frames) {
+      std::vector<bool> found(f.truth_signals.size(), false);
+      for (const auto& [t, unused] : f.pairs) found[static_cast<std::size_t>(t)] = true;
+      for (std::size_t t = 0; t < f.truth_signals.size(); ++t)
+        if (f.truth_signals[t] >= bin.from && f.truth_signals[t] < bin.to)
+          ++bin.touches, bin.found += found[t];
+    }
+    s.by_signal.push_back(bin);
+  }
+}
+
 }  // namespace
 
 TouchScores summarize_touches(const std::vector<FrameMatch>& frames) {
@@ -65,6 +101,7 @@ TouchScores summarize_touches(const std::vector<FrameMatch>& frames) {
   s.missed_per_frame = missed / s.frames;
   s.phantom_per_frame = phantom / s.frames;
   s.by_count = by_true_count(frames);
+  if (signals_known(frames)) by_signal(frames, s);
   return s;
 }
 

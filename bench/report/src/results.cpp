@@ -111,18 +111,28 @@ json to_json(const TouchScores& t) {
                         {"count_accuracy", number(c.count_accuracy)},
                         {"centre_error_median", number(c.centre_error_median)}});
   for (double q : t.centre_error_quantiles) quantiles.push_back(number(q));
-  return {{"frames", t.frames},
-          {"threshold", number(t.threshold)},
-          {"count_accuracy", number(t.count_accuracy)},
-          {"centre_error_median", number(t.centre_error_median)},
-          {"centre_error_p90", number(t.centre_error_p90)},
-          {"radius_error_median", number(t.radius_error_median)},
-          {"missed_per_frame", number(t.missed_per_frame)},
-          {"phantom_per_frame", number(t.phantom_per_frame)},
-          {"true_touches", t.true_touches},
-          {"matched", t.matched},
-          {"centre_error_quantiles", quantiles},
-          {"by_count", by_count}};
+  json out = {{"frames", t.frames},
+              {"threshold", number(t.threshold)},
+              {"count_accuracy", number(t.count_accuracy)},
+              {"centre_error_median", number(t.centre_error_median)},
+              {"centre_error_p90", number(t.centre_error_p90)},
+              {"radius_error_median", number(t.radius_error_median)},
+              {"missed_per_frame", number(t.missed_per_frame)},
+              {"phantom_per_frame", number(t.phantom_per_frame)},
+              {"true_touches", t.true_touches},
+              {"matched", t.matched},
+              {"centre_error_quantiles", quantiles},
+              {"by_count", by_count}};
+  if (t.by_signal.empty()) return out;
+  json by_signal = json::array();
+  for (const auto& b : t.by_signal)
+    by_signal.push_back(
+        {{"from", b.from}, {"to", number(b.to)}, {"touches", b.touches}, {"found", b.found}});
+  out["visible_frames"] = t.visible_frames;
+  out["visible_count_accuracy"] = number(t.visible_count_accuracy);
+  out["model_error_median"] = number(t.model_error_median);
+  out["by_signal"] = by_signal;
+  return out;
 }
 
 TouchScores touch_scores_from_json(const json& x) {
@@ -143,6 +153,14 @@ TouchScores touch_scores_from_json(const json& x) {
   for (const auto& c : x.at("by_count"))
     t.by_count.push_back({c.at("touches").get<int>(), c.at("frames").get<int>(),
                           number(c.at("count_accuracy")), number(c.at("centre_error_median"))});
+  if (!x.contains("by_signal")) return t;  // runs from before the signals were known
+  t.visible_frames = x.at("visible_frames").get<int>();
+  t.visible_count_accuracy = number(x.at("visible_count_accuracy"));
+  t.model_error_median = number(x.at("model_error_median"));
+  for (const auto& b : x.at("by_signal"))
+    t.by_signal.push_back({b.at("from").get<double>(),
+                           b.at("to").is_null() ? INFINITY : b.at("to").get<double>(),
+                           b.at("touches").get<int>(), b.at("found").get<int>()});
   return t;
 }
 

@@ -10,6 +10,7 @@
 #include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/bench/methods/evaluate.h"
 #include "eitbench/bench/methods/registry.h"
+#include "eitbench/bench/methods/touch_signal.h"
 #include "eitbench/jacobian.h"
 #include "stages.h"
 
@@ -36,7 +37,7 @@ Reconstruction set_up_reconstruction(const Context& context, const RunData& data
   const Dataset& sensor = data.sensor();
   const auto t0 = std::chrono::steady_clock::now();
   // The disk at the run's density, or a sensor of another shape on its own mesh and grid.
-  Reconstruction r{reconstruction_mesh(sensor, context.config.mesh), image_grid(sensor), {}, 0};
+  Reconstruction r{reconstruction_mesh(sensor, context.config.mesh), image_grid(sensor), {}, 0, {}};
   ForwardOptions fo;
   fo.contact_impedance = sensor.contact_impedance;
   fo.current = sensor.current;
@@ -55,6 +56,9 @@ Reconstruction set_up_reconstruction(const Context& context, const RunData& data
   const auto model = std::make_shared<const ForwardModel>(r.mesh, fo);
   r.problem = std::make_shared<const LinearProblem>(make_linear_problem(model, background, r.grid));
   r.setup_s = seconds_since(t0);
+  if (scores_touches(data))
+    r.test_touches =
+        touch_visibility(*model, data.test.circles, data.test.frames, data.data.background);
   context.say(fmt::format(
       "reconstruction mesh: {} triangles; Jacobian and pixel map in {:.2f} s; "
       "{} test frames, {} validation frames",

@@ -13,6 +13,7 @@
 
 #include "eitbench/bench/data/dataset.h"
 #include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/methods/touch_signal.h"
 #include "eitbench/bench/report/results.h"
 #include "eitbench/bench/run/config.h"
 #include "eitbench/learned.h"
@@ -61,6 +62,9 @@ struct Reconstruction {
   PixelGrid grid;
   std::shared_ptr<const LinearProblem> problem;  // shared with every method built on it
   double setup_s = 0;                            // time to build it
+  // The test frames' true touches' shares of their change on this model, and its misfit at them
+  // (touch_signal.h); empty when the test frames have no circles.
+  TouchVisibility test_touches;
 };
 Reconstruction set_up_reconstruction(const Context& context, const RunData& data);
 

@@ -21,6 +21,7 @@ struct FrameMatch {
   std::vector<std::pair<int, int>> pairs;  // (true index, found index), by true index
   // Per pair: centre distance and |r_found - r_true|, as fractions of R.
   std::vector<double> centre_errors, radius_errors;
+  std::vector<double> truth_signals;  // each true touch's Touch::signal, by true index
   int missed() const { return truth - static_cast<int>(pairs.size()); }
   int phantom() const { return found - static_cast<int>(pairs.size()); }
   bool count_correct() const { return found == truth; }
@@ -35,7 +36,9 @@ FrameMatch match_touches(const std::vector<Touch>& found, const std::vector<Touc
 
 // Over frames: count accuracy, the matched centre errors' median and 90th percentile and their
 // quantiles for the figure, the radius errors' median, missed and phantom touches a frame (mean),
-// and count accuracy and centre median by the true number of touches. Percentiles interpolate
+// count accuracy and centre median by the true number of touches, and, where the true touches'
+// signals are known, true touches found by signal and count accuracy on the frames whose every
+// touch is visible (touch_signal.h). Percentiles interpolate
 // linearly between order statistics (numpy's default). threshold is left NaN.
 TouchScores summarize_touches(const std::vector<FrameMatch>& frames);
 

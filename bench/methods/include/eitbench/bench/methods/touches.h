@@ -3,6 +3,7 @@
 // in a reconstructed image by thresholding and blob detection, or taken from circles a method (or
 // the data set's truth) gives directly. touch_metrics.h scores them against the truth.
 #include <Eigen/Core>
+#include <cmath>
 #include <vector>
 
 #include "eitbench/jacobian/geometry.h"
@@ -16,6 +17,9 @@ namespace eitbench {
 struct Touch {
   double x = 0, y = 0, r = 0;
   double contrast = 0;
+  // A true touch's share of its frame's change (touch_signal.h); NaN when not known, and for a
+  // found touch.
+  double signal = NAN;
 };
 using TouchFrames = std::vector<std::vector<Touch>>;  // one list a frame
 

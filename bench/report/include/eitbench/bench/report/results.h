@@ -19,6 +19,13 @@ struct TouchCountScores {  // the frames with one true number of touches
   int frames = 0;
   double count_accuracy = NAN, centre_error_median = NAN;  // NaN median: nothing matched
 };
+// The true touches whose share of their frame's change lies in [from, to) (touch_signal.h), and
+// how many of them a method found.
+struct TouchSignalScores {
+  double from = 0, to = INFINITY;
+  int touches = 0, found = 0;
+};
+
 struct TouchScores {
   int frames = 0;  // frames scored; 0: not scored (no circles to compare with)
   // The blob threshold as a fraction of each image's in-disk maximum, chosen on validation frames;
@@ -34,6 +41,14 @@ struct TouchScores {
   // distribution the report's figure draws.
   std::vector<double> centre_error_quantiles;
   std::vector<TouchCountScores> by_count;  // ascending true count
+  // Where the true touches' signals are known (else 0, NaN and empty): the frames whose every touch
+  // is visible, the count accuracy on them, and the touches found by signal.
+  int visible_frames = 0;
+  double visible_count_accuracy = NAN;
+  // The reconstruction model's misfit at the true circles, median over the noise-free test frames,
+  // as a share of a frame: the error below which a touch is lost in the model's.
+  double model_error_median = NAN;
+  std::vector<TouchSignalScores> by_signal;  // ascending
 };
 
 struct ResultRow {
