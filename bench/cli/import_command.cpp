@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/data/press_touches.h"
 #include "options.h"
 
 namespace eitbench::cli {
@@ -27,6 +28,8 @@ std::function<void()> add_import_command(CLI::App& app) {
     ImportOptions options;
     std::string in, reference, reference_variable, order = "rotating", out;
     ProtocolChoice protocol;
+    TouchFileOptions touches;
+    double radius = 1;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -44,15 +47,39 @@ std::function<void()> add_import_command(CLI::App& app) {
       "each change relative to its own reference, (v - v_ref) / v_ref, times the mean "
       "reference (voltage units; with --paired-reference each reference's gain divides out)");
   add_import_options(*cmd, args->options, args->order, args->protocol);
+  cmd->add_option("--touches", args->touches.path,
+                  "a press set: where each frame was pressed, a row a frame (x, y or x, y, size; "
+                  ".csv, .npy, .npz or .mat)");
+  cmd->add_option("--touch-variable", args->touches.variable,
+                  "array or variable in --touches (default: the only numeric one, else touches, "
+                  "positions or xy)");
+  cmd->add_option("--touch-scale", args->touches.scale,
+                  "multiplies the touches' lengths, from the file's unit to the mesh's (metres "
+                  "on a unit disk of 70 mm: 14.2857)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--touch-size", args->touches.size,
+                  "what a third column of --touches holds: depth (of the press) | radius (of "
+                  "the probe)")
+      ->check(CLI::IsMember({"depth", "radius"}));
+  cmd->add_option("--radius", args->radius,
+                  "the sensor's radius in the mesh's unit, recorded in the set; touches must lie "
+                  "within it")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--out", args->out, "HDF5 data set to write (all frames in the test split)")
       ->required();
   return [args] {
     args->options.order = parse_order(args->order);
     args->options.protocol = chosen_protocol(args->protocol, args->options.electrodes);
     const Measurements m = read_measurements(args->in, args->options);
-    const Dataset d =
-        import_measurements(m, args->reference, args->options, args->reference_variable);
+    Dataset d = import_measurements(m, args->reference, args->options, args->reference_variable);
+    d.radius = args->radius;
     fmt::print("{}: {}\n", args->in, m.description);
+    if (!args->touches.path.empty()) {
+      PressTruth truth = read_touch_file(args->touches, d.size(), d.radius);
+      d.touches = std::move(truth.touches), d.touch_size = truth.size;
+      fmt::print("  touches: one a frame from {}{}\n", args->touches.path,
+                 d.touch_size.empty() ? "" : " (third column: " + d.touch_size + ")");
+    }
     if (m.reduced_input)
       fmt::print("  reciprocity: not measured ({})\n",
                  args->options.protocol && !is_adjacent(*args->options.protocol)

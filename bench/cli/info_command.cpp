@@ -1,6 +1,8 @@
 // eitbench info: what a data file holds.
 #include <fmt/core.h>
 
+#include <cmath>
+
 #include <memory>
 
 #include "commands.h"
@@ -10,6 +12,25 @@
 #include "options.h"
 
 namespace eitbench::cli {
+
+// A press set's truth: how many touches, where they lie, and their sizes.
+void print_touches(const Dataset& d) {
+  int count[5] = {0, 0, 0, 0, 0}, sized = 0;
+  double reach = 0, low = INFINITY, high = -INFINITY;
+  for (const auto& list : d.touches) {
+    ++count[std::min<std::size_t>(list.size(), 4)];
+    for (const PressTouch& t : list) {
+      reach = std::max(reach, std::hypot(t.x, t.y));
+      if (std::isnan(t.size)) continue;
+      ++sized, low = std::min(low, t.size), high = std::max(high, t.size);
+    }
+  }
+  fmt::print(
+      "  touches (a press set): {} / {} / {} / {} / {} frames with 0 / 1 / 2 / 3 / 4, "
+      "centres within {:.3g} of the middle (radius {:g})\n",
+      count[0], count[1], count[2], count[3], count[4], reach, d.radius);
+  if (sized > 0) fmt::print("  touch {}: {:.4g} .. {:.4g}\n", d.touch_size, low, high);
+}
 
 void print_dataset_summary(const std::string& path, const Dataset& d) {
   fmt::print("{}: eitbench data set, {} samples\n", path, d.size());
@@ -48,6 +69,7 @@ void print_dataset_summary(const std::string& path, const Dataset& d) {
     fmt::print("  circles: {} / {} / {} / {} samples with 1 / 2 / 3 / 4\n", count[1], count[2],
                count[3], count[4]);
   }
+  if (!d.touches.empty()) print_touches(d);
 }
 
 void add_import_options(CLI::App& cmd, ImportOptions& o, std::string& order,

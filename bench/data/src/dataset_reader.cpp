@@ -191,6 +191,35 @@ void check_finite(const Reader& r, const std::string& name, const double* data, 
       throw InputError(r.path(), name, "value " + std::to_string(i) + " is NaN or infinite");
 }
 
+// A press set's touches: at most 4 a frame, each centre a finite point inside the disk (a sensor
+// mesh's set is checked against its mesh where it is used), each size positive or NaN.
+void read_touches(Reader& r, const std::string& path, hsize_t n, Dataset& d) {
+  std::vector<hsize_t> dims{n, static_cast<hsize_t>(kMaxCircles), 3};
+  const std::vector<double> table = r.array<double>("touches", dims);
+  dims = {n};
+  const std::vector<int> count = r.array<int>("touch_count", dims);
+  d.touch_size = r.text("touch_size");
+  if (d.touch_size != "" && d.touch_size != "radius" && d.touch_size != "depth")
+    throw InputError(path, "touch_size",
+                     "'" + d.touch_size + "' is not radius, depth or empty (unknown)");
+  d.touches.resize(n);
+  for (hsize_t i = 0; i < n; ++i) {
+    if (count[i] < 0 || count[i] > kMaxCircles)
+      throw InputError(path, "touch_count", "values must lie in 0..4");
+    for (int k = 0; k < count[i]; ++k) {
+      const double* t = &table[(i * kMaxCircles + k) * 3];
+      const std::string where = "frame " + std::to_string(i) + ", touch " + std::to_string(k);
+      if (!std::isfinite(t[0]) || !std::isfinite(t[1]))
+        throw InputError(path, "touches", where + ": the centre is not a finite number");
+      if (d.sensor_mesh.empty() && std::hypot(t[0], t[1]) > d.radius * (1 + 1e-9))
+        throw InputError(path, "touches", where + " lies outside the sensor's radius");
+      if (!std::isnan(t[2]) && !(t[2] > 0 && std::isfinite(t[2])))
+        throw InputError(path, "touches", where + ": the size must be positive, or NaN (unknown)");
+      d.touches[i].push_back({t[0], t[1], t[2]});
+    }
+  }
+}
+
 Dataset read_dataset_checked(const std::string& path) {
   Reader r(path);
   Dataset d;
@@ -309,6 +338,7 @@ Dataset read_dataset_checked(const std::string& path) {
       }
     }
   }
+  if (r.has("touches")) read_touches(r, path, n, d);
   return d;
 }
 
@@ -323,6 +353,9 @@ std::string to_wire(const Dataset& d) {
   w.matrix(d.reference), w.matrix(d.frames), w.matrix(d.differences), w.matrix(d.labels);
   w.pod<std::uint64_t>(d.circles.size());
   for (const auto& list : d.circles) w.vector(list);
+  w.pod<std::uint64_t>(d.touches.size());
+  for (const auto& list : d.touches) w.vector(list);
+  w.text(d.touch_size);
   w.vector(d.split);
   return w.take();
 }
@@ -343,6 +376,9 @@ Dataset from_wire(const std::string& bytes) {
   d.labels = r.matrix<SampleMatrix>();
   d.circles.resize(r.pod<std::uint64_t>());
   for (auto& list : d.circles) list = r.vector<Circle>();
+  d.touches.resize(r.pod<std::uint64_t>());
+  for (auto& list : d.touches) list = r.vector<PressTouch>();
+  d.touch_size = r.text();
   d.split = r.vector<Split>();
   return d;
 }

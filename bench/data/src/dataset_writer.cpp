@@ -74,6 +74,29 @@ struct OpenFile {
   std::unique_ptr<GrowingArray> differences, frames, split, labels, circles, circle_count;
 };
 
+// A press set's touches, whole: they come with the set, never in streamed blocks.
+void write_touches(H5::H5File& file, const Dataset& d) {
+  using detail::kMaxCircles;
+  const hsize_t n = d.touches.size();
+  std::vector<double> table(n * kMaxCircles * 3, std::numeric_limits<double>::quiet_NaN());
+  std::vector<int> count(n);
+  for (hsize_t i = 0; i < n; ++i) {
+    count[i] = static_cast<int>(std::min<std::size_t>(d.touches[i].size(), kMaxCircles));
+    for (int k = 0; k < count[i]; ++k) {
+      const PressTouch& t = d.touches[i][static_cast<std::size_t>(k)];
+      double* row = &table[(i * kMaxCircles + k) * 3];
+      row[0] = t.x, row[1] = t.y, row[2] = t.size;
+    }
+  }
+  const hsize_t dims[3] = {n, static_cast<hsize_t>(kMaxCircles), 3};
+  detail::write_closed(
+      file.createDataSet("touches", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(3, dims)),
+      table.data(), H5::PredType::NATIVE_DOUBLE);
+  detail::write_closed(
+      file.createDataSet("touch_count", H5::PredType::NATIVE_INT, H5::DataSpace(1, &n)),
+      count.data(), H5::PredType::NATIVE_INT);
+}
+
 void create_arrays(OpenFile& w, const Dataset& d, bool labels, bool circles) {
   const MeasurementProtocol protocol = measurement_protocol(d);
   const hsize_t frame_size = static_cast<hsize_t>(protocol.size());
@@ -87,6 +110,7 @@ void create_arrays(OpenFile& w, const Dataset& d, bool labels, bool circles) {
   detail::write_closed(
       w.file.createDataSet("reference", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &frame_size)),
       d.reference.data(), H5::PredType::NATIVE_DOUBLE);
+  if (!d.touches.empty()) write_touches(w.file, d);
   if (!d.sensor_mesh.empty()) {
     const hsize_t bytes = d.sensor_mesh.size();
     detail::write_closed(
@@ -136,6 +160,7 @@ void write_attributes(H5::H5File& file, const Dataset& d) {
   write_attribute(file, "program", d.program);
   write_attribute(file, "augmentation", d.augmentation);
   if (!d.sensor_mesh.empty()) write_attribute(file, "sensor_group", d.sensor_group);
+  if (!d.touches.empty()) write_attribute(file, "touch_size", d.touch_size);
   write_attribute(file, "format_version", static_cast<long long>(kDatasetFormatVersion));
 }
 
@@ -188,6 +213,9 @@ DatasetWriter::DatasetWriter(const std::string& path, const Dataset& d, bool lab
   w.labels = labels, w.circles = circles;
   if (d.reference.size() != w.frame_size)
     throw InputError(path, "reference", "does not fit the " + protocol.name() + " protocol");
+  if (!d.touches.empty() && d.touches.size() != static_cast<std::size_t>(d.size()))
+    throw std::invalid_argument(
+        "DatasetWriter: a press set's touches come whole, one list a frame");
   temp_ = temporary_path_for(path);
   auto file = std::make_shared<OpenFile>();  // filled in the child, which has its own copy
   const std::string temp = temp_;

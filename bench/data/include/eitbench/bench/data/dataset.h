@@ -14,15 +14,20 @@
 //   /labels        N x n x n     float32  touch intensity (sigma_0 - sigma) / sigma_0 per pixel
 //   /circles       N x 4 x 4     float64  x, y, r, sigma of up to 4 circles, NaN-padded
 //   /circle_count  N             int32
+//   /touches       N x 4 x 3     float64  a press set's known touches: x, y and size (the probe's
+//                                         radius or the press depth, NaN if unknown), NaN-padded
+//   /touch_count   N             int32
 //   /sensor_mesh   bytes         uint8    a sensor of another shape: its mesh as Gmsh 4.1 text
 //                                         (absent for the disk, which the attributes describe)
-// Labels and circles are absent from imported measurements. Attributes on the root group:
+// Labels and circles are absent from imported measurements; touches only in press sets (import
+// --touches), with the attribute touch_size (radius, depth or empty). Attributes on the root group:
 // electrodes, radius, background_conductivity, contact_impedance, current, electrode_coverage,
 // image_size, seed, preset, simulation_mesh, simulation_triangles, protocol (its name),
 // magnitude (1 when the frames are |v|), frame_order, difference_layout, program, augmentation,
 // format_version, and with a sensor mesh sensor_group (the symmetry group found from it, for the
 // reader's information).
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,6 +40,13 @@ namespace eitbench {
 
 enum class Split : int { train = 0, validation = 1, test = 2 };
 std::string to_string(Split split);
+
+// A pressed touch's truth in a press set (measured frames with known touches, docs/data.md): its
+// centre in the mesh's unit and its size, the probe's radius or the press's depth as
+// Dataset::touch_size says, NaN where not known.
+struct PressTouch {
+  double x = 0, y = 0, size = NAN;
+};
 
 struct Dataset {
   // Sensor and protocol.
@@ -67,7 +79,11 @@ struct Dataset {
   SampleMatrix differences;                  // N x I, the protocol's inputs
   SampleMatrix labels;                       // N x n^2, or N x 0
   std::vector<std::vector<Circle>> circles;  // N lists, or empty
-  std::vector<Split> split;                  // N
+  // A press set's known touches: N lists of at most 4, or empty; and what their size holds:
+  // "radius", "depth", or "" (none known).
+  std::vector<std::vector<PressTouch>> touches;
+  std::string touch_size;
+  std::vector<Split> split;  // N
 
   int size() const { return static_cast<int>(differences.rows()); }
   bool has_labels() const { return labels.cols() > 0; }

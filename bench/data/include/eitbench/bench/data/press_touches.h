@@ -1,0 +1,29 @@
+#pragma once
+// A press set's truth from a file: where each measured frame was pressed (docs/data.md#press-sets).
+// `eitbench import --touches FILE` reads it beside the frames.
+#include <string>
+#include <vector>
+
+#include "eitbench/bench/data/dataset.h"
+
+namespace eitbench {
+
+struct TouchFileOptions {
+  std::string path;      // CSV, NPY, NPZ or MAT: a row a frame, x, y and optionally a size
+  std::string variable;  // the array (.npz) or variable (.mat); default: the only numeric one,
+                         // else the first of touches, positions, xy
+  double scale = 1;      // multiplies every length (x, y, size): the file's unit to the mesh's
+  std::string size = "depth";  // what a third column holds: depth | radius
+};
+
+// One touch a frame from an N x 2 (x, y) or N x 3 (x, y, size) array, its lengths times
+// `options.scale`: the touches and what their size is ("" for N x 2). InputError naming the file
+// and row for another number of rows than `frames`, another width, a centre that is not a finite
+// number, a size that is not positive, or a centre outside the disk of `radius` (mesh units).
+struct PressTruth {
+  std::vector<std::vector<PressTouch>> touches;
+  std::string size;
+};
+PressTruth read_touch_file(const TouchFileOptions& options, long long frames, double radius);
+
+}  // namespace eitbench
