@@ -10,6 +10,7 @@
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/data/press_touches.h"
 #include "eitbench/bench/io/numpy.h"
+#include "eitbench/bench/methods/press_scores.h"
 #include "test_support.h"
 
 namespace eitbench {
@@ -65,6 +66,61 @@ TEST_F(PressSet, TouchesComeThroughTheFileScaledToTheMesh) {
   EXPECT_EQ(e.touches[1][0].size, 20.0);
   EXPECT_EQ(e.touches[2][0].x, -10.5);
   EXPECT_NE(run("info " + path("d.h5")).output.find("touch depth: 10 .. 20"), std::string::npos);
+
+  // Mirrored (y -> -y), then turned a quarter counter-clockwise: (x, y) -> (y, x).
+  ASSERT_EQ(run(import(csv, "--touch-scale 0.0142857142857143 --touch-mirror --touch-rotate 90"))
+                .exit_code,
+            0);
+  const Dataset turned = read_dataset(path("set.h5"));
+  EXPECT_NEAR(turned.touches[0][0].x, 0.0, 1e-12);
+  EXPECT_NEAR(turned.touches[0][0].y, 0.5, 1e-12);
+  EXPECT_NEAR(turned.touches[1][0].x, -1.0, 1e-12);
+  EXPECT_NEAR(turned.touches[2][0].x, 0.2, 1e-12);
+  EXPECT_NEAR(turned.touches[2][0].y, -0.15, 1e-12);
+}
+
+// Where a method puts each press: the strongest touch it finds, or the centre when it finds none.
+TEST(PressScores, TheStrongestTouchOrTheCentre) {
+  const std::vector<std::vector<PressTouch>> truth = {
+      {{0.5, 0.0, NAN}}, {{0.4, 0.0, NAN}}, {{0.0, -0.2, NAN}}};
+  const TouchFrames found = {
+      {{0.5, 0.3, 0.1, 0.9}, {0.5, 0.05, 0.1, 0.2}},  // the stronger one is 0.3 off
+      {},                                             // none: the centre, 0.4 off
+      {{0.0, -0.2, 0.1, 0.5}}};                       // exact
+  const PressScores s = score_presses(found, truth);
+  EXPECT_EQ(s.frames, 3);
+  EXPECT_EQ(s.none_found, 1);
+  EXPECT_NEAR(s.median, 0.3, 1e-15);
+  EXPECT_NEAR(s.mean, 0.7 / 3, 1e-15);
+  EXPECT_NEAR(s.p90, 0.38, 1e-15);  // rank 1.8 of 0, 0.3, 0.4
+  const PressScores floor = centre_floor(truth);
+  EXPECT_NEAR(floor.median, 0.4, 1e-15);
+  EXPECT_EQ(floor.none_found, 3);
+  EXPECT_EQ(testing::input_error_at([&] {
+              score_presses({{}, {}, {}}, {{{0, 0, NAN}, {0.1, 0, NAN}}, {}, {}});
+            }),
+            "press set.touches");
+}
+
+// A press set made from simulated one-touch frames: the shape fit puts every press near its true
+// centre, far better than the centre's floor, and says so in its summary.
+TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
+  ASSERT_EQ(run("simulate --preset tiny --quiet --out " + path("tiny.h5")).exit_code, 0);
+  Dataset d = read_dataset(path("tiny.h5"));
+  d.touches.clear();
+  for (const auto& circles : d.circles) d.touches.push_back({{circles[0].x, circles[0].y, NAN}});
+  write_dataset(path("press.h5"), d);
+  const Result r =
+      run("reconstruct --method shape-linear --data " + path("press.h5") +
+          " --split train --touches 1 --density coarse --png 0 --out " + path("out.h5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto at = r.output.find("presses: centre error median ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const double median = std::stod(r.output.substr(at + 29));
+  EXPECT_LT(median, 0.05) << r.output;
+  const auto floor = r.output.find("predicting the centre: median ");
+  ASSERT_NE(floor, std::string::npos);
+  EXPECT_GT(std::stod(r.output.substr(floor + 30)), 4 * median) << r.output;
 }
 
 TEST_F(PressSet, BadTouchFilesAreRefusedNamingFileAndRow) {

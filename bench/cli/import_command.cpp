@@ -61,6 +61,12 @@ std::function<void()> add_import_command(CLI::App& app) {
                   "what a third column of --touches holds: depth (of the press) | radius (of "
                   "the probe)")
       ->check(CLI::IsMember({"depth", "radius"}));
+  cmd->add_option("--touch-rotate", args->touches.rotate_degrees,
+                  "turns the touches counter-clockwise by this many degrees, after scaling: the "
+                  "file's frame to the mesh's, whose electrode 0 lies on +x (electrode 0 at 282 "
+                  "degrees in the file: -282)");
+  cmd->add_flag("--touch-mirror", args->touches.mirror,
+                "y -> -y before turning: electrodes numbered clockwise in the file's frame");
   cmd->add_option("--radius", args->radius,
                   "the sensor's radius in the mesh's unit, recorded in the set; touches must lie "
                   "within it")

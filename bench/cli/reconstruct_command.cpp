@@ -16,6 +16,7 @@
 #include "eitbench/bench/methods/images_file.h"
 #include "eitbench/bench/methods/metrics.h"
 #include "eitbench/bench/methods/model_file.h"
+#include "eitbench/bench/methods/press_scores.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/methods/touch_metrics.h"
 #include "eitbench/bench/report/figures.h"
@@ -41,7 +42,8 @@ struct Args {
   int touches = 0;  // 0: every frame; else only those with this many true touches
   ProtocolChoice protocol;
   bool paired_reference = false, relative = false;
-  std::vector<double> mark;  // --mark X,Y: a point to mark on the pictures
+  std::vector<double> mark;      // --mark X,Y: a point to mark on the pictures
+  double touch_threshold = 0.5;  // press sets: an image's touches, at this fraction of its maximum
 };
 
 void add_options(CLI::App* cmd, Args* args) {
@@ -112,6 +114,11 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--snr", args->snr,
                   "add white Gaussian noise at this SNR (dB) before reconstructing");
   cmd->add_option("--noise-seed", args->noise_seed, "seed of that noise")->capture_default_str();
+  cmd->add_option("--touch-threshold", args->touch_threshold,
+                  "a press set (import --touches): an image's touches are its blobs at or above "
+                  "this fraction of its maximum; the strongest is where the method puts the press")
+      ->check(CLI::Range(0.01, 1.0))
+      ->capture_default_str();
   cmd->add_option("--mark", args->mark,
                   "X,Y: mark this point on the pictures (a known touch, in the sensor's "
                   "coordinates)")
@@ -341,8 +348,34 @@ void write_pngs(const Args* args, const Selection& s, const Evaluation& result, 
   }
 }
 
+// A press set's frames scored by where the method puts each press, and the centre's floor.
+struct PressResult {
+  PressScores method, centre;
+};
+std::optional<PressResult> press_result(const Args* args, const Selection& s,
+                                        const Evaluation& result, const PixelGrid& grid,
+                                        double background) {
+  if (s.data.touches.empty()) return std::nullopt;
+  std::vector<std::vector<PressTouch>> truth;
+  for (int row : s.rows) truth.push_back(s.data.touches[static_cast<std::size_t>(row)]);
+  const TouchFrames found = !result.circles.empty()
+                                ? touches_of(result.circles, background)
+                                : touches_in_images(result.images, grid, args->touch_threshold);
+  return PressResult{score_presses(found, truth), centre_floor(truth)};
+}
+
+void print_presses(const PressResult& p, double radius) {
+  const auto line = [radius](const PressScores& s) {
+    return fmt::format("median {:.4g}, mean {:.4g}, p90 {:.4g} ({:.3f} / {:.3f} / {:.3f} R)",
+                       s.median, s.mean, s.p90, s.median / radius, s.mean / radius, s.p90 / radius);
+  };
+  fmt::print("  presses: centre error {}; {} of {} frames without a touch (placed at the centre)\n",
+             line(p.method), p.method.none_found, p.method.frames);
+  fmt::print("  predicting the centre: {}\n", line(p.centre));
+}
+
 void write_images(const Args* args, const Selection& s, const Evaluation& result, double background,
-                  double setup_s) {
+                  double setup_s, const std::optional<PressResult>& presses) {
   ImagesFile file;
   file.images = result.images;
   file.frame_index = s.rows;
@@ -359,10 +392,19 @@ void write_images(const Args* args, const Selection& s, const Evaluation& result
                   {"latency_median_ms", result.latency_median_ms},
                   {"latency_p95_ms", result.latency_p95_ms},
                   {"snr_db", args->snr}};
+  if (presses) {  // in the mesh's unit
+    file.numbers["press_centre_error_median"] = presses->method.median;
+    file.numbers["press_centre_error_mean"] = presses->method.mean;
+    file.numbers["press_centre_error_p90"] = presses->method.p90;
+    file.numbers["press_frames_without_touch"] = presses->method.none_found;
+    file.numbers["press_centre_floor_median"] = presses->centre.median;
+    file.numbers["press_centre_floor_mean"] = presses->centre.mean;
+  }
   write_images_file(args->out, file);
 }
 
-void print_summary(const Args* args, const Selection& s, const Evaluation& result, double setup_s) {
+void print_summary(const Args* args, const Selection& s, const Evaluation& result, double setup_s,
+                   const std::optional<PressResult>& presses) {
   fmt::print("{} ({}): {} frames, setup {:.3f} s, latency median {:.3f} ms, p95 {:.3f} ms\n",
              args->method, result.settings, result.images.rows(), setup_s, result.latency_median_ms,
              result.latency_p95_ms);
@@ -383,6 +425,7 @@ void print_summary(const Args* args, const Selection& s, const Evaluation& resul
         100 * t.count_accuracy, t.centre_error_median, t.centre_error_p90, t.missed_per_frame,
         t.phantom_per_frame);
   }
+  if (presses) print_presses(*presses, s.data.radius);
   if (s.data.has_labels() && !result.each.empty()) {  // a mean hides one runaway frame
     const auto worst = std::max_element(result.each.begin(), result.each.end(),
                                         [](const auto& a, const auto& b) { return a.re < b.re; });
@@ -428,9 +471,10 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     timing.source = args->data;
     const Evaluation result =
         evaluate(*method, s.frames, s.data.has_labels() ? s.labels : SampleMatrix(), grid, timing);
-    write_images(args.get(), s, result, background, setup_s);
+    const auto presses = press_result(args.get(), s, result, grid, background);
+    write_images(args.get(), s, result, background, setup_s, presses);
     write_pngs(args.get(), s, result, mesh, grid);
-    print_summary(args.get(), s, result, setup_s);
+    print_summary(args.get(), s, result, setup_s, presses);
   };
 }
 

@@ -15,6 +15,16 @@ void check_options(const TouchFileOptions& o) {
     throw InputError("--touch-scale", "", "must be positive and finite");
   if (o.size != "depth" && o.size != "radius")
     throw InputError("--touch-size", "", "'" + o.size + "' is not depth or radius");
+  if (!std::isfinite(o.rotate_degrees))
+    throw InputError("--touch-rotate", "", "must be a finite angle in degrees");
+}
+
+// The file's point in the mesh's frame: scaled, mirrored, turned.
+void to_mesh_frame(PressTouch& t, const TouchFileOptions& o) {
+  const double y = o.mirror ? -t.y : t.y;
+  const double a = o.rotate_degrees * 3.14159265358979323846 / 180;
+  const double c = std::cos(a), s = std::sin(a);
+  t = {c * t.x - s * y, s * t.x + c * y, t.size};
 }
 
 // The rows x columns of a 2-D array; a MATLAB or NumPy vector of one touch is 1 x width.
@@ -57,6 +67,7 @@ PressTruth read_touch_file(const TouchFileOptions& o, long long frames, double r
       throw InputError(o.path, field, row + ": the position is not a finite number");
     if (columns == 3 && !(t.size > 0 && std::isfinite(t.size)))
       throw InputError(o.path, field, row + ": the " + o.size + " must be positive");
+    to_mesh_frame(t, o);
     if (std::hypot(t.x, t.y) > radius * (1 + 1e-9))
       throw InputError(o.path, field,
                        fmt::format("{}: ({:g}, {:g}) x {:g} lies outside the sensor (radius {:g}): "

@@ -1,0 +1,29 @@
+#pragma once
+// Where a method puts a real press: the centre error on a press set (measured frames with one
+// known touch each, docs/data.md#press-sets-measured-frames-with-known-touches). Each frame's
+// located touch is the strongest found (the highest contrast); a frame in which the method finds
+// none is located at the sensor's centre, the floor that predicting the centre sets for every
+// method, so that finding nothing never scores better than guessing.
+#include <cmath>
+#include <vector>
+
+#include "eitbench/bench/data/dataset.h"
+#include "eitbench/bench/methods/touches.h"
+
+namespace eitbench {
+
+struct PressScores {
+  int frames = 0;
+  int none_found = 0;  // frames located at the centre for want of a touch
+  // Centre error over the frames, in the mesh's unit: median, mean, 90th percentile (linear
+  // between order statistics, as the touch metrics).
+  double median = NAN, mean = NAN, p90 = NAN;
+};
+
+// One true touch a frame (InputError otherwise, naming the frame), found lists of the same length.
+PressScores score_presses(const TouchFrames& found,
+                          const std::vector<std::vector<PressTouch>>& truth);
+// The floor: every frame located at the centre (0, 0).
+PressScores centre_floor(const std::vector<std::vector<PressTouch>>& truth);
+
+}  // namespace eitbench
