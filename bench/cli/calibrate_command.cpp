@@ -9,16 +9,21 @@
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/solvers/calibration.h"
+#include "eitbench/solvers/press_frame.h"
 #include "options.h"
 
 namespace eitbench::cli {
 
 #ifdef EITBENCH_HAVE_CERES
+void print_press_frame(const Mesh& mesh, const std::string& path,
+                       const PressFrameOptions& options);  // press_frame_command.cpp
+
 std::function<void()> add_calibrate_command(CLI::App& app) {
   struct Args {
     MeshSource mesh;
-    std::string reference, variable, order = "rotating", out;
+    std::string reference, variable, order = "rotating", out, presses;
     double background = 1, contact_impedance = 0.01, current = 1;
+    PressFrameOptions frame;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -28,8 +33,15 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
   cmd->add_option("--reference", args->reference,
                   "the untouched sensor's frames, absolute voltages (.csv/.npy/.npz/.mat; the "
                   "mean of several): an L x L map of every adjacent pair (needed for the contact "
-                  "impedances) or L(L-3) values")
-      ->required();
+                  "impedances) or L(L-3) values");
+  cmd->add_option("--presses", args->presses,
+                  "a press set (import --touches): fit how its recorded positions lie on the "
+                  "electrodes (the turn and the handedness that best explain its changes)");
+  cmd->add_option("--step", args->frame.step_degrees, "--presses: the turns tried, in degrees")
+      ->capture_default_str();
+  cmd->add_option("--touch-radius", args->frame.touch_radius,
+                  "--presses: each press drawn as a disc of this radius (x R)")
+      ->capture_default_str();
   cmd->add_option("--variable", args->variable, "array or variable in --reference");
   cmd->add_option("--order", args->order, "order of L(L-3)-value frames")
       ->capture_default_str()
@@ -44,9 +56,16 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
       ->check(kPositive);
   cmd->add_option("--current", args->current, "the drive current the frame was measured with")
       ->capture_default_str();
-  cmd->add_option("--out", args->out, "the sensor file to write (JSON)")->required();
+  cmd->add_option("--out", args->out, "the sensor file to write (JSON; with --reference)");
   return [args] {
     const Mesh mesh = load_mesh(args->mesh);
+    if (args->reference.empty() && args->presses.empty())
+      throw InputError("calibrate", "",
+                       "needs --reference (the empty sensor's frame) or --presses (a press set)");
+    if (!args->presses.empty()) print_press_frame(mesh, args->presses, args->frame);
+    if (args->reference.empty()) return;
+    if (args->out.empty())
+      throw InputError("--out", "", "--reference needs --out, the sensor file to write");
     ImportOptions io;
     io.electrodes = mesh.num_electrodes();
     io.order =

@@ -12,6 +12,27 @@ namespace {
 
 constexpr int kMaxCircles = 4;  // the file's /circles holds up to 4 a sample
 
+// A press set's known touches: touches N x 4 x 3 ([x, y, size], NaN-padded), touch_count and
+// touch_size, as the file holds them.
+void add_touches(const Dataset& d, py::dict& out) {
+  py::array_t<double> touches(
+      {static_cast<py::ssize_t>(d.size()), py::ssize_t{kMaxCircles}, py::ssize_t{3}});
+  std::fill(touches.mutable_data(), touches.mutable_data() + touches.size(), NAN);
+  std::vector<int> count;
+  auto t = touches.mutable_unchecked<3>();
+  for (int i = 0; i < d.size(); ++i) {
+    const auto& list = d.touches[static_cast<std::size_t>(i)];
+    count.push_back(static_cast<int>(list.size()));
+    for (std::size_t k = 0; k < list.size() && k < kMaxCircles; ++k) {
+      const auto j = static_cast<py::ssize_t>(k);
+      t(i, j, 0) = list[k].x, t(i, j, 1) = list[k].y, t(i, j, 2) = list[k].size;
+    }
+  }
+  out["touches"] = touches;
+  out["touch_count"] = py::array_t<int>(static_cast<py::ssize_t>(count.size()), count.data());
+  out["touch_size"] = d.touch_size;
+}
+
 py::dict to_dict(const Dataset& d) {
   py::dict out;
   out["differences"] = d.differences;
@@ -39,6 +60,7 @@ py::dict to_dict(const Dataset& d) {
     out["circles"] = circles;
     out["circle_count"] = py::array_t<int>(static_cast<py::ssize_t>(count.size()), count.data());
   }
+  if (!d.touches.empty()) add_touches(d, out);
   out["electrodes"] = d.electrodes, out["radius"] = d.radius;
   out["background_conductivity"] = d.background, out["contact_impedance"] = d.contact_impedance;
   out["current"] = d.current, out["electrode_coverage"] = d.electrode_coverage;
@@ -130,6 +152,19 @@ Dataset from_dict(const py::dict& x) {
           d.circles[static_cast<std::size_t>(i)].push_back(
               {v(i, k, 0), v(i, k, 1), v(i, k, 2), v(i, k, 3)});
   }
+  if (x.contains("touches")) {  // a press set's; checked when the set is written and read
+    const auto t =
+        x["touches"].cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+    if (t.ndim() != 3 || t.shape(0) != n || t.shape(2) != 3)
+      throw InputError("dataset", "touches", "must be N x K x 3 ([x, y, size], NaN-padded)");
+    const auto v = t.unchecked<3>();
+    d.touches.resize(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i)
+      for (py::ssize_t k = 0; k < t.shape(1); ++k)
+        if (!std::isnan(v(i, k, 0)))
+          d.touches[static_cast<std::size_t>(i)].push_back({v(i, k, 0), v(i, k, 1), v(i, k, 2)});
+    d.touch_size = get<std::string>(x, "touch_size", "");
+  }
   return d;
 }
 
@@ -140,7 +175,8 @@ void bind_data(py::module_& m) {
       "read_dataset", [](const std::string& path) { return to_dict(read_dataset(path)); },
       py::arg("path"),
       "An eitbench data set (HDF5) as a dict of NumPy arrays (differences, frames, reference, "
-      "labels N x n x n, split, circles N x 4 x 4 NaN-padded, circle_count) and its attributes");
+      "labels N x n x n, split, circles N x 4 x 4 NaN-padded, circle_count; a press set's touches "
+      "N x 4 x 3, touch_count, touch_size) and its attributes");
   m.def(
       "write_dataset",
       [](const std::string& path, const py::dict& data) { write_dataset(path, from_dict(data)); },

@@ -136,6 +136,22 @@ def test_dataset_round_trip(tiny, tmp_path):
     assert "frames" in cli("info", tmp_path / "copy.h5")
 
 
+def test_press_set_touches_round_trip(tiny, tmp_path):
+    # A press set: each frame's known touch (its first circle's centre), a depth where known.
+    data = eitbench.read_dataset(str(tiny))
+    n = len(data["split"])
+    touches = np.full((n, 4, 3), np.nan)
+    touches[:, 0, :2] = data["circles"][:, 0, :2]
+    touches[::2, 0, 2] = 0.1
+    data["touches"], data["touch_size"] = touches, "depth"
+    eitbench.write_dataset(str(tmp_path / "press.h5"), data)
+    again = eitbench.read_dataset(str(tmp_path / "press.h5"))
+    np.testing.assert_array_equal(again["touches"], touches)
+    np.testing.assert_array_equal(again["touch_count"], np.ones(n))
+    assert again["touch_size"] == "depth"
+    assert "touches (a press set)" in cli("info", tmp_path / "press.h5")
+
+
 def test_learned_model_reconstructs_as_the_tool_does(tiny, tmp_path):
     model_path = tmp_path / "m.pt"
     cli("train", "--data", tiny, "--steps", "4", "--quiet", "--out", model_path)
