@@ -121,6 +121,24 @@ TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
   const auto floor = r.output.find("predicting the centre: median ");
   ASSERT_NE(floor, std::string::npos);
   EXPECT_GT(std::stod(r.output.substr(floor + 30)), 4 * median) << r.output;
+
+  // Tuned on other presses of the same set: chosen on them, never on the scored ones.
+  const std::string tuned = "reconstruct --method noser --data " + path("press.h5") +
+                            " --split train --touches 1 --density coarse --png 0 --out " +
+                            path("tuned.h5") + " --calibration " + path("press.h5");
+  const Result t = run(tuned + " --frames 0:5 --calibration-frames 20:40");
+  ASSERT_EQ(t.exit_code, 0) << t.output;
+  EXPECT_NE(t.output.find("(validation)"), std::string::npos) << t.output;
+  EXPECT_NE(t.output.find("presses: centre error median"), std::string::npos);
+  const Result overlap = run(tuned + " --frames 0:5 --calibration-frames 3:40");
+  EXPECT_NE(overlap.exit_code, 0);
+  EXPECT_NE(overlap.output.find("nothing may be tuned on the scored presses"), std::string::npos)
+      << overlap.output;
+  const Result not_presses =
+      run("reconstruct --method noser --data " + path("press.h5") +
+          " --density coarse --png 0 --out " + path("x.h5") + " --calibration " + path("tiny.h5"));
+  EXPECT_NE(not_presses.exit_code, 0);
+  EXPECT_NE(not_presses.output.find("is not a press set"), std::string::npos) << not_presses.output;
 }
 
 TEST_F(PressSet, BadTouchFilesAreRefusedNamingFileAndRow) {

@@ -23,6 +23,7 @@
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian.h"
 #include "options.h"
+#include "press_tuning.h"
 
 namespace eitbench::cli {
 namespace {
@@ -44,6 +45,7 @@ struct Args {
   bool paired_reference = false, relative = false;
   std::vector<double> mark;      // --mark X,Y: a point to mark on the pictures
   double touch_threshold = 0.5;  // press sets: an image's touches, at this fraction of its maximum
+  std::string calibration, calibration_frames;  // a press set that tunes the method
 };
 
 void add_options(CLI::App* cmd, Args* args) {
@@ -119,6 +121,12 @@ void add_options(CLI::App* cmd, Args* args) {
                   "this fraction of its maximum; the strongest is where the method puts the press")
       ->check(CLI::Range(0.01, 1.0))
       ->capture_default_str();
+  cmd->add_option("--calibration", args->calibration,
+                  "a press set whose presses choose the method's hyperparameter by where it puts "
+                  "them (the lowest mean centre error), never the scored presses");
+  cmd->add_option("--calibration-frames", args->calibration_frames,
+                  "frames A:B of --calibration (default all; in the scored file, frames that are "
+                  "not scored)");
   cmd->add_option("--mark", args->mark,
                   "X,Y: mark this point on the pictures (a known touch, in the sensor's "
                   "coordinates)")
@@ -130,6 +138,8 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--out", args->out, "HDF5 file of images (and scores when labels are known)")
       ->required();
 }
+
+}  // namespace
 
 // "A:B" -> [A, B) within n frames.
 std::pair<int, int> parse_range(const std::string& text, int n) {
@@ -150,6 +160,8 @@ std::pair<int, int> parse_range(const std::string& text, int n) {
                      "range " + text + " is empty or outside the " + std::to_string(n) + " frames");
   return {a, b};
 }
+
+namespace {
 
 // The rows of `rows` whose frames have exactly `touches` true circles.
 std::vector<int> with_touches(const Dataset& data, const std::vector<int>& rows, int touches,
@@ -286,6 +298,16 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   mo.neighbours = args->neighbours;
   mo.tolerance = args->tolerance;
   mo.robust = args->robust;
+  if (!args->calibration.empty()) {
+    if (cmd.count("--lambda") || cmd.count("--choose"))
+      throw InputError("--calibration", "", "chooses the hyperparameter: no --lambda or --choose");
+    mo.choose = "validation";
+    auto method = make_reconstructor(args->method, problem, mo);
+    const PressTuning t = press_tuning(args->calibration, args->calibration_frames, s.data,
+                                       args->data, s.rows, grid, args->touch_threshold);
+    method->fit(t.frames, t.labels, t.score);
+    return method;
+  }
   auto method = make_reconstructor(args->method, problem, mo);
   if (mo.choose != "fixed") {
     const FrameSelection tuning = tuning_frames(args, s, mo.choose);
