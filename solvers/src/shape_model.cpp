@@ -36,69 +36,41 @@ ShapeModel::ShapeModel(const LinearProblem& problem, double width)
   v0_ = problem.model->inputs(s0);
 }
 
-namespace {
-std::vector<int> all_elements(Eigen::Index n) {
-  std::vector<int> out(static_cast<std::size_t>(n));
-  for (std::size_t t = 0; t < out.size(); ++t) out[t] = static_cast<int>(t);
-  return out;
-}
-}  // namespace
-
 Eigen::VectorXd ShapeModel::relative_sigma(const std::vector<const double*>& circles) const {
-  return relative_sigma(circles, all_elements(centroids_.cols()));
+  Eigen::VectorXd s = Eigen::VectorXd::Ones(centroids_.cols());
+  for (const double* p : circles)
+    for (Eigen::Index t = 0; t < s.size(); ++t)
+      s[t] *= 1 - p[3] * indicator(p[2], distance(t, p), width_).h;
+  return s;
+}
+
+Eigen::Vector4d ShapeModel::scaled_derivatives(Eigen::Index t, const double* p, double d, double h,
+                                               double dh_dr, double f) const {
+  const double c = p[3], dh_dd = -dh_dr;
+  // d d / d cx = (cx - x) / d: zero at the centre itself, where d has no gradient.
+  const double ux = d > 0 ? (p[0] - centroids_(0, t)) / d : 0.0;
+  const double uy = d > 0 ? (p[1] - centroids_(1, t)) / d : 0.0;
+  return {f * c * dh_dd * ux, f * c * dh_dd * uy, f * c * dh_dr, f * h};
 }
 
 Eigen::MatrixXd ShapeModel::relative_sigma_jacobian(
     const std::vector<const double*>& circles) const {
-  return relative_sigma_jacobian(circles, all_elements(centroids_.cols()));
-}
-
-Eigen::VectorXd ShapeModel::relative_sigma(const std::vector<const double*>& circles,
-                                           const std::vector<int>& elements) const {
-  Eigen::VectorXd s = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(elements.size()));
-  for (const double* p : circles)
-    for (Eigen::Index k = 0; k < s.size(); ++k) {
-      const int t = elements[static_cast<std::size_t>(k)];
-      s[k] *= 1 - p[3] * indicator(p[2], distance(t, p), width_).h;
-    }
-  return s;
-}
-
-Eigen::MatrixXd ShapeModel::relative_sigma_jacobian(const std::vector<const double*>& circles,
-                                                    const std::vector<int>& elements,
-                                                    Eigen::VectorXd* s) const {
-  const Eigen::Index n = static_cast<Eigen::Index>(elements.size());
-  const Eigen::Index K = static_cast<Eigen::Index>(circles.size());
+  const Eigen::Index n = centroids_.cols(), K = static_cast<Eigen::Index>(circles.size());
   Eigen::MatrixXd ds = Eigen::MatrixXd::Zero(n, kCircleParameters * K);
-  if (s) s->resize(n);
   std::vector<Indicator> h(static_cast<std::size_t>(K));
   std::vector<double> d(static_cast<std::size_t>(K));
-  for (Eigen::Index row = 0; row < n; ++row) {
-    const int t = elements[static_cast<std::size_t>(row)];
+  for (Eigen::Index t = 0; t < n; ++t) {
     for (Eigen::Index j = 0; j < K; ++j) {
       const double* p = circles[j];
       d[j] = distance(t, p);
       h[j] = indicator(p[2], d[j], width_);
     }
-    if (s) {
-      double product = 1;
-      for (Eigen::Index j = 0; j < K; ++j) product *= 1 - circles[j][3] * h[j].h;
-      (*s)[row] = product;
-    }
     for (Eigen::Index j = 0; j < K; ++j) {
       double others = 1;  // prod over i != j of (1 - c_i H_i)
       for (Eigen::Index i = 0; i < K; ++i)
         if (i != j) others *= 1 - circles[i][3] * h[i].h;
-      const double* p = circles[j];
-      const double c = p[3], dh_dd = -h[j].dh_dr;
-      // d d / d cx = (cx - x) / d: zero at the centre itself, where d has no gradient.
-      const double ux = d[j] > 0 ? (p[0] - centroids_(0, t)) / d[j] : 0.0;
-      const double uy = d[j] > 0 ? (p[1] - centroids_(1, t)) / d[j] : 0.0;
-      const Eigen::Index col = kCircleParameters * j;
-      ds(row, col + 0) = -others * c * dh_dd * ux;
-      ds(row, col + 1) = -others * c * dh_dd * uy;
-      ds(row, col + 2) = -others * c * h[j].dh_dr;
-      ds(row, col + 3) = -others * h[j].h;
+      ds.block<1, kCircleParameters>(t, kCircleParameters * j) =
+          scaled_derivatives(t, circles[j], d[j], h[j].h, h[j].dh_dr, -others).transpose();
     }
   }
   return ds;
@@ -166,13 +138,8 @@ void ShapeModel::add_linear_terms(const std::vector<const double*>& circles, Eig
       double others = 1;  // prod over the other reaching circles of (1 - c_i H_i)
       for (Eigen::Index i = 0; i < K; ++i)
         if (i != j && reaches[i]) others *= 1 - circles[i][3] * h[i].h;
-      const double* p = circles[j];
-      const double c = p[3], dh_dd = -h[j].dh_dr;
-      const double ux = d[j] > 0 ? (p[0] - centroids_(0, t)) / d[j] : 0.0;
-      const double uy = d[j] > 0 ? (p[1] - centroids_(1, t)) / d[j] : 0.0;
-      const double f = -sigma0 * others;
-      const Eigen::Vector4d g(f * c * dh_dd * ux, f * c * dh_dd * uy, f * c * h[j].dh_dr,
-                              f * h[j].h);
+      const Eigen::Vector4d g =
+          scaled_derivatives(t, circles[j], d[j], h[j].h, h[j].dh_dr, -sigma0 * others);
       jacobian->middleCols<kCircleParameters>(kCircleParameters * j).noalias() +=
           column * g.transpose();
     }

@@ -29,14 +29,6 @@ class ShapeModel {
   // with d_j the element centroid's distance from centre j. The product keeps sigma positive
   // where touches overlap and equals the sum where they do not.
   Eigen::VectorXd relative_sigma(const std::vector<const double*>& circles) const;
-  // The same on the listed elements only (rows in that order).
-  Eigen::VectorXd relative_sigma(const std::vector<const double*>& circles,
-                                 const std::vector<int>& elements) const;
-  // d s / d p on the listed elements; `s`, when given, gets relative_sigma there too, from the same
-  // indicator values (the transcendental functions are half of a linear fit's time).
-  Eigen::MatrixXd relative_sigma_jacobian(const std::vector<const double*>& circles,
-                                          const std::vector<int>& elements,
-                                          Eigen::VectorXd* s = nullptr) const;
   // d s / d p: triangles x 4K, by the chain rule through H.
   Eigen::MatrixXd relative_sigma_jacobian(const std::vector<const double*>& circles) const;
 
@@ -54,6 +46,11 @@ class ShapeModel {
  private:
   Eigen::VectorXd linear_difference(const std::vector<const double*>& circles,
                                     Eigen::MatrixXd* jacobian) const;
+  // f times d s / d p of circle p at element t, [cx, cy, r, c], from its distance d and its
+  // indicator's h and dh/dr; f is minus the other circles' factors (and sigma_0 in the frame).
+  // Both models' Jacobians take it.
+  Eigen::Vector4d scaled_derivatives(Eigen::Index t, const double* p, double d, double h,
+                                     double dh_dr, double f) const;
   // Elements first..last-1's terms of linear_difference, added to v and *jacobian.
   void add_linear_terms(const std::vector<const double*>& circles, Eigen::Index first,
                         Eigen::Index last, Eigen::VectorXd& v, Eigen::MatrixXd* jacobian) const;
