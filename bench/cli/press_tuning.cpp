@@ -1,10 +1,9 @@
 #include "press_tuning.h"
 
-#include <algorithm>
 #include <filesystem>
 
 #include "eitbench/bench/data/dataset_file.h"
-#include "eitbench/bench/methods/touches.h"
+#include "eitbench/bench/methods/press_scores.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench::cli {
@@ -59,13 +58,8 @@ PressTuning press_tuning(const std::string& path, const std::string& range, cons
     t.labels.row(i - a) = circles_image(grid, {disc}, 1.0).transpose();
   }
   t.score = [grid, touch_threshold](const Eigen::VectorXd& image, const Eigen::VectorXd& label) {
-    const std::vector<Touch> found = find_touches(image, grid, touch_threshold);
-    Eigen::Vector2d at = grid.box_centre();  // none found: the centre
-    if (!found.empty()) {
-      const auto strongest = std::max_element(
-          found.begin(), found.end(), [](auto& x, auto& y) { return x.contrast < y.contrast; });
-      at = {strongest->x, strongest->y};
-    }
+    const Eigen::Vector2d at =
+        located_press(find_touches(image, grid, touch_threshold), grid.box_centre());
     return -(at - label_centre(label, grid)).norm();
   };
   return t;

@@ -4,16 +4,12 @@
 #include <numeric>
 
 #include "eitbench/jacobian/error.h"
+#include "order_statistics.h"
 
 namespace eitbench {
 namespace {
 
-double quantile(const std::vector<double>& sorted, double q) {
-  const double at = q * static_cast<double>(sorted.size() - 1);
-  const std::size_t below = static_cast<std::size_t>(std::floor(at));
-  const std::size_t above = std::min(below + 1, sorted.size() - 1);
-  return sorted[below] + (at - static_cast<double>(below)) * (sorted[above] - sorted[below]);
-}
+using detail::quantile;
 
 PressScores summarize(std::vector<double> errors, int none_found) {
   PressScores s;
@@ -35,6 +31,14 @@ const PressTouch& the_press(const std::vector<std::vector<PressTouch>>& truth, s
 
 }  // namespace
 
+Eigen::Vector2d located_press(const std::vector<Touch>& found, const Eigen::Vector2d& centre) {
+  if (found.empty()) return centre;
+  const auto strongest =
+      std::max_element(found.begin(), found.end(),
+                       [](const Touch& a, const Touch& b) { return a.contrast < b.contrast; });
+  return {strongest->x, strongest->y};
+}
+
 PressScores score_presses(const TouchFrames& found,
                           const std::vector<std::vector<PressTouch>>& truth) {
   if (found.size() != truth.size())
@@ -43,16 +47,9 @@ PressScores score_presses(const TouchFrames& found,
   int none = 0;
   for (std::size_t i = 0; i < truth.size(); ++i) {
     const PressTouch& press = the_press(truth, i);
-    double x = 0, y = 0;  // nothing found: the centre
-    if (found[i].empty()) {
-      ++none;
-    } else {
-      const auto strongest =
-          std::max_element(found[i].begin(), found[i].end(),
-                           [](const Touch& a, const Touch& b) { return a.contrast < b.contrast; });
-      x = strongest->x, y = strongest->y;
-    }
-    errors.push_back(std::hypot(x - press.x, y - press.y));
+    none += found[i].empty();
+    const Eigen::Vector2d at = located_press(found[i], Eigen::Vector2d::Zero());
+    errors.push_back(std::hypot(at.x() - press.x, at.y() - press.y));
   }
   return summarize(std::move(errors), none);
 }

@@ -6,18 +6,12 @@
 #include "eitbench/bench/methods/touch_metrics.h"
 #include "eitbench/bench/methods/touch_signal.h"
 #include "eitbench/jacobian/error.h"
+#include "order_statistics.h"
 
 namespace eitbench {
 namespace {
 
-// The q-quantile (0..1) of sorted values, linear between order statistics; NaN when empty.
-double quantile(const std::vector<double>& sorted, double q) {
-  if (sorted.empty()) return NAN;
-  const double at = q * static_cast<double>(sorted.size() - 1);
-  const std::size_t below = static_cast<std::size_t>(std::floor(at));
-  const std::size_t above = std::min(below + 1, sorted.size() - 1);
-  return sorted[below] + (at - static_cast<double>(below)) * (sorted[above] - sorted[below]);
-}
+using detail::quantile;
 
 std::vector<double> sorted_errors(const std::vector<FrameMatch>& frames,
                                   std::vector<double> FrameMatch::*errors) {

@@ -20,6 +20,10 @@ struct PressScores {
   double median = NAN, mean = NAN, p90 = NAN;
 };
 
+// Where a method puts a press: its strongest found touch (the highest contrast), or `centre`
+// when it found none.
+Eigen::Vector2d located_press(const std::vector<Touch>& found, const Eigen::Vector2d& centre);
+
 // One true touch a frame (InputError otherwise, naming the frame), found lists of the same length.
 PressScores score_presses(const TouchFrames& found,
                           const std::vector<std::vector<PressTouch>>& truth);
