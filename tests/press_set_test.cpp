@@ -2,6 +2,7 @@
 // and kept through the data set's file; every bad touch file refused naming the file and row.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -139,6 +140,27 @@ TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
           " --density coarse --png 0 --out " + path("x.h5") + " --calibration " + path("tiny.h5"));
   EXPECT_NE(not_presses.exit_code, 0);
   EXPECT_NE(not_presses.output.find("is not a press set"), std::string::npos) << not_presses.output;
+
+  // The presses' frame: found for the set as it is (its positions are the model's own), bad
+  // options and sets refused naming the flag or the file.
+  const std::string fit = "calibrate --density coarse --presses ";
+  const Result frame = run(fit + path("press.h5"));
+  ASSERT_EQ(frame.exit_code, 0) << frame.output;
+  EXPECT_NE(frame.output.find("presses fit best turned by"), std::string::npos) << frame.output;
+  EXPECT_EQ(frame.output.find("mirrored"), std::string::npos) << frame.output;
+  const auto turned = frame.output.find("turned by ");
+  ASSERT_NE(turned, std::string::npos);
+  const double degrees = std::stod(frame.output.substr(turned + 10));
+  EXPECT_LE(std::min(degrees, 360 - degrees), 2.0) << frame.output;  // no turn, to the step
+  const Result step = run(fit + path("press.h5") + " --step 0");
+  EXPECT_EQ(step.exit_code, 2);
+  EXPECT_NE(step.output.find("--step: must lie in (0, 90]"), std::string::npos) << step.output;
+  const Result plain = run(fit + path("tiny.h5"));
+  EXPECT_EQ(plain.exit_code, 2);
+  EXPECT_NE(plain.output.find("tiny.h5: touches: is not a press set"), std::string::npos);
+  const Result neither = run("calibrate --density coarse");
+  EXPECT_EQ(neither.exit_code, 2);
+  EXPECT_NE(neither.output.find("needs --reference"), std::string::npos) << neither.output;
 }
 
 TEST_F(PressSet, BadTouchFilesAreRefusedNamingFileAndRow) {

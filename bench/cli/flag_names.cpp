@@ -80,6 +80,8 @@ const std::map<std::string, Table>& tables() {
       {"import", kOrder},
       {"info", kOrder},
       {"reconstruct", kMesh + kOrder + kSolvers},
+      {"calibrate", kMesh + Table{{"PressFrameOptions", "step_degrees", "--step"},
+                                  {"PressFrameOptions", "touch_radius", "--touch-radius"}}},
       {"train", kBudget + kTraining},
       {"run", kBudget},
   };
