@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 
 #include "commands.h"
@@ -17,11 +18,63 @@
 
 namespace eitbench::cli {
 
+namespace {
+
+// "0,10,30,100,all" -> {0, 10, 30, 100, -1}: sizes of 0 or at least 3 (two to train, one to
+// stop on), ascending, each once.
+std::vector<int> parse_finetune(const std::string& text) {
+  std::vector<int> sizes;
+  if (text.empty()) return sizes;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    start = comma + 1;
+    int n = -1;
+    if (item != "all") {
+      std::size_t used = 0;
+      try {
+        n = std::stoi(item, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != item.size() || item.empty() || n < 0 || n == 1 || n == 2)
+        throw InputError("--finetune", "",
+                         "'" + item + "' is not a number of presses: 0, 3 or more, or all");
+    }
+    if (!sizes.empty() && (sizes.back() < 0 || (n >= 0 && n <= sizes.back())))
+      throw InputError("--finetune", "", "sizes must ascend, each once, all last");
+    sizes.push_back(n);
+  }
+  return sizes;
+}
+
+void check_press_sets(const RunConfig& c) {
+  if (c.measured.empty() && (!c.press_calibration.empty() || !c.finetune.empty()))
+    throw InputError(c.press_calibration.empty() ? "--finetune" : "--calibration", "",
+                     "goes with --measured (the real presses to score)");
+  if (c.measured.empty()) return;
+  if (c.press_calibration.empty())
+    throw InputError("--measured", "",
+                     "needs --calibration: a labelled press set of the same sensor to tune on");
+  std::error_code error;
+  if (std::filesystem::equivalent(c.measured, c.press_calibration, error))
+    throw InputError("--calibration", "",
+                     "is the measured set: tune on another recording, never on the scored presses");
+  if (c.mesh_file.size())
+    throw InputError("--measured", "", "is scored on the disk; not with --mesh");
+}
+
+}  // namespace
+
 std::function<void()> add_run_command(CLI::App& app) {
   struct Args {
-    std::string preset = "quick", data, reference, out, device, sensor, mesh;
+    std::string preset = "quick", data, reference, out, device, sensor, mesh, measured,
+                press_calibration, finetune;
+    double radius_mm = 0;
     std::uint64_t seed = 1;
     int threads = 2, electrodes = 16, epochs = 0, patience = -1;
+    long long finetune_steps = RunConfig().finetune_steps;
     double learning_rate = 0;
     std::vector<std::string> methods, augments;
     ProtocolChoice protocol;
@@ -41,6 +94,27 @@ std::function<void()> add_run_command(CLI::App& app) {
                   "your data set instead of the simulated one: an eitbench HDF5 set with labels "
                   "and splits, or measured frames (with --reference) to rank methods on");
   cmd->add_option("--reference", args->reference, "measured frames: the empty sensor's frame");
+  cmd->add_option("--measured", args->measured,
+                  "real presses to score every method on: a press set (import --touches) of the "
+                  "sensor the preset is simulated for, read on its protocol")
+      ->excludes("--data")
+      ->excludes("--reference");
+  cmd->add_option("--calibration", args->press_calibration,
+                  "with --measured: a labelled press set of the same sensor (another recording) "
+                  "that tunes the methods, fits the fingerprint and fine-tunes the learned model; "
+                  "nothing is tuned on --measured");
+  cmd->add_option(
+      "--finetune", args->finetune,
+      "with --measured: numbers of the calibration set's first presses to fine-tune the "
+      "learned model on, with and without d16 augmentation, beside the network trained "
+      "on them from scratch (e.g. 0,10,30,100,300,all; 0: as trained in simulation)");
+  cmd->add_option("--finetune-steps", args->finetune_steps,
+                  "each fine-tuning's budget in optimiser steps (early stopping ends it sooner)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000000));
+  cmd->add_option("--radius-mm", args->radius_mm,
+                  "the sensor's radius in millimetres: the report gives the press errors in mm too")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--sensor", args->sensor,
                   "a calibrated sensor file (eitbench calibrate): the model-based methods' "
                   "contact impedances, current and background conductivity");
@@ -98,6 +172,12 @@ std::function<void()> add_run_command(CLI::App& app) {
     c.magnitude = args->protocol.magnitude;
     c.out = args->out.empty() ? "out/" + args->preset : args->out;
     c.seed = args->seed;
+    c.measured = args->measured;
+    c.press_calibration = args->press_calibration;
+    c.finetune = parse_finetune(args->finetune);
+    c.finetune_steps = args->finetune_steps;
+    c.radius_mm = args->radius_mm;
+    check_press_sets(c);
     c.resume = args->resume;
     c.quiet = args->quiet;
     c.threads = args->threads;

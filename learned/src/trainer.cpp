@@ -215,6 +215,26 @@ Trainer::Trainer(const NetworkOptions& network, const TrainingOptions& options,
                  LabelledFrames train, const LabelledFrames& validation, const AugmentSetup& sensor)
     : impl_(std::make_unique<Impl>(network, options, std::move(train), validation, sensor)) {}
 
+void Trainer::start_from(const LearnedModel& model, const std::string& source) {
+  Impl& m = *impl_;
+  if (m.rounds_done > 0)
+    throw InputError(source, "network", "fine-tuning starts before the first round");
+  const Network& from = model.impl().net;
+  const auto theirs = from->named_parameters(true), ours = m.net->named_parameters(true);
+  bool same = theirs.size() == ours.size();
+  for (const auto& p : theirs)
+    same = same && ours.contains(p.key()) && ours[p.key()].sizes() == p.value().sizes();
+  if (!same || from->mean.size(0) != m.net->mean.size(0))
+    throw InputError(source, "network",
+                     "is not the network being trained (another size or input length)");
+  copy_state(from, m.net);
+  copy_state(from, m.best);
+  const torch::Tensor mean = m.net->mean.to(torch::kCPU, torch::kFloat64).contiguous();
+  const torch::Tensor scale = m.net->scale.to(torch::kCPU, torch::kFloat64).contiguous();
+  m.mean = Eigen::Map<const Eigen::VectorXd>(mean.data_ptr<double>(), mean.size(0));
+  m.std = Eigen::Map<const Eigen::VectorXd>(scale.data_ptr<double>(), scale.size(0)).cwiseInverse();
+}
+
 Trainer::Trainer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Trainer::~Trainer() = default;
 

@@ -54,6 +54,18 @@ PressScores score_presses(const TouchFrames& found,
   return summarize(std::move(errors), none);
 }
 
+PressScores score_positions(const std::vector<Eigen::Vector2d>& at,
+                            const std::vector<std::vector<PressTouch>>& truth) {
+  if (at.size() != truth.size())
+    throw InputError("score_positions", "at", "must hold one position a frame of the truth");
+  std::vector<double> errors;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const PressTouch& press = the_press(truth, i);
+    errors.push_back(std::hypot(at[i].x() - press.x, at[i].y() - press.y));
+  }
+  return summarize(std::move(errors), 0);
+}
+
 PressScores centre_floor(const std::vector<std::vector<PressTouch>>& truth) {
   return score_presses(TouchFrames(truth.size()), truth);
 }

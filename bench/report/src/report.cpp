@@ -11,6 +11,7 @@
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/report/efficiency.h"
 #include "eitbench/bench/report/figures.h"
+#include "eitbench/bench/report/press_report.h"
 #include "eitbench/bench/report/touch_report.h"
 
 namespace eitbench {
@@ -251,6 +252,7 @@ void write_report(const std::string& path, const RunResults& r) {
   write_runtime(o, r, methods, snrs);
   write_training(o, r);
   write_efficiency_section(o, r.efficiency);
+  write_press_section(o, r);
   o << "\n## Reconstructions\n\n![The first test samples: truth, then each "
        "method](reconstructions.png)\n";
   o << "\n## Configuration\n\n| | |\n|---|---|\n";

@@ -206,6 +206,52 @@ EfficiencyPoint efficiency_point_from_json(const json& e) {
   return p;
 }
 
+json to_json(const MeasuredRow& m) {
+  return {{"method", m.method},
+          {"augment", m.augment},
+          {"finetune_n", m.finetune_n},
+          {"training", m.training},
+          {"centre_error_median", number(m.centre_error_median)},
+          {"centre_error_mean", number(m.centre_error_mean)},
+          {"centre_error_p90", number(m.centre_error_p90)},
+          {"centre_error_fraction_of_radius", number(m.centre_error_fraction_of_radius)},
+          {"unit", m.unit},
+          {"calibration", m.calibration},
+          {"scored", m.scored},
+          {"frames", m.frames},
+          {"none_found", m.none_found},
+          {"novel_frames", m.novel_frames},
+          {"novel_centre_error_median", number(m.novel_centre_error_median)},
+          {"novel_centre_error_mean", number(m.novel_centre_error_mean)},
+          {"latency_median_ms", number(m.latency_median_ms)},
+          {"settings", m.settings},
+          {"simulated_fraction_of_radius", number(m.simulated_fraction_of_radius)}};
+}
+
+MeasuredRow measured_row_from_json(const json& j) {
+  MeasuredRow m;
+  m.method = j.at("method").get<std::string>();
+  m.augment = j.at("augment").get<std::string>();
+  m.finetune_n = j.at("finetune_n").get<int>();
+  m.training = j.at("training").get<std::string>();
+  m.centre_error_median = number(j.at("centre_error_median"));
+  m.centre_error_mean = number(j.at("centre_error_mean"));
+  m.centre_error_p90 = number(j.at("centre_error_p90"));
+  m.centre_error_fraction_of_radius = number(j.at("centre_error_fraction_of_radius"));
+  m.unit = j.at("unit").get<std::string>();
+  m.calibration = j.at("calibration").get<std::string>();
+  m.scored = j.at("scored").get<std::string>();
+  m.frames = j.at("frames").get<int>();
+  m.none_found = j.at("none_found").get<int>();
+  m.novel_frames = j.at("novel_frames").get<int>();
+  m.novel_centre_error_median = number(j.at("novel_centre_error_median"));
+  m.novel_centre_error_mean = number(j.at("novel_centre_error_mean"));
+  m.latency_median_ms = number(j.at("latency_median_ms"));
+  m.settings = j.at("settings").get<std::string>();
+  m.simulated_fraction_of_radius = number(j.at("simulated_fraction_of_radius"));
+  return m;
+}
+
 json to_json(const TrainingSummary& t) {
   return {{"augment", t.augment},
           {"converged", t.converged},
@@ -246,8 +292,10 @@ TrainingSummary training_summary_from_json(const json& t, const std::string& sou
 }
 
 void write_results_json(const std::string& path, const RunResults& r) {
-  json rows = json::array(), training = json::array(), efficiency = json::array();
+  json rows = json::array(), training = json::array(), efficiency = json::array(),
+       measured = json::array();
   for (const auto& x : r.rows) rows.push_back(to_json(x));
+  for (const auto& m : r.measured) measured.push_back(to_json(m));
   for (const auto& t : r.training) training.push_back(to_json(t));
   for (const auto& e : r.efficiency) efficiency.push_back(to_json(e));
   const json doc = {{"format", "eitbench-results-1"},
@@ -257,6 +305,7 @@ void write_results_json(const std::string& path, const RunResults& r) {
                     {"results", rows},
                     {"training", training},
                     {"data_efficiency", efficiency},
+                    {"measured", measured},
                     {"recommendation", r.recommendation}};
   write_text_atomically(path, [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
 }
@@ -306,6 +355,9 @@ RunResults parse_results_json(const json& doc, const std::string& path) {
     field = "data_efficiency";
     for (const auto& e : doc.at("data_efficiency"))
       r.efficiency.push_back(efficiency_point_from_json(e));
+    field = "measured";  // absent in runs from before real presses were scored
+    if (doc.contains("measured"))
+      for (const auto& m : doc.at("measured")) r.measured.push_back(measured_row_from_json(m));
     field = "recommendation";
     r.recommendation = doc.at("recommendation").get<std::string>();
   } catch (const json::exception& e) {

@@ -9,6 +9,7 @@
 #include "eitbench/bench/io/numpy.h"
 #include "eitbench/bench/report/efficiency.h"
 #include "eitbench/bench/report/loss_curves.h"
+#include "eitbench/bench/report/press_report.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/touch_report.h"
 #include "eitbench/jacobian/error.h"
@@ -134,6 +135,8 @@ RunResults draw_run_report(const std::string& folder, bool quiet) {
     drawn = draw_touch_figure(results.rows, headline_snr(results.rows),
                               (dir / "touch_centre_errors.png").string()) &&
             drawn;
+  if (!results.measured.empty())
+    drawn = draw_press_figure(results, (dir / "press_finetune.png").string()) && drawn;
   if (!drawn && !quiet)
     fmt::print(
         "gnuplot is not installed: the line plots are left as data (.dat) and scripts (.gp) in {}; "

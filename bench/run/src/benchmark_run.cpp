@@ -125,6 +125,18 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
                              config.timed_frames, config.threads);
   // The learned rows are scored and timed on the training device (learned_stage.cpp).
   if (learned.training.device != "cpu") c["learned_device"] = learned.training.device;
+  if (!config.measured.empty()) {
+    c["measured"] = config.measured;
+    c["press_calibration"] = config.press_calibration;
+    if (config.radius_mm > 0) c["radius_mm"] = fmt::format("{:g}", config.radius_mm);
+    c["press_scores"] = fmt::format(
+        "centre error of each press of the measured set: its strongest blob (threshold chosen on "
+        "the calibration presses, 0.5 for models trained on presses) or the centre when none; "
+        "model-based methods tuned in simulation (validation CC) and on the calibration presses "
+        "(mean centre error; tv, gn and the shape fits on the first {}); fine-tuning: {} steps at "
+        "most, a tenth of the peak rate, every fifth press held out for early stopping",
+        8 * config.sweep_frames, config.finetune_steps);
+  }
   c["total_seconds"] = fmt::format("{:.1f}", total_s);
   return c;
 }
@@ -180,6 +192,13 @@ std::string run_fingerprint(const RunConfig& config, const RunData& data) {
   for (const auto& a : config.augments) list += a + " ";
   p["augments"] = list;
   if (!config.mesh_file.empty()) p["sensor mesh"] = config.mesh_file;
+  if (!config.measured.empty()) {
+    p["scored presses"] = file_hash(config.measured);
+    p["calibration presses"] = file_hash(config.press_calibration);
+    list.clear();
+    for (int n : config.finetune) list += std::to_string(n) + " ";
+    p["finetune"] = list;
+  }
   list.clear();
   for (int n : config.efficiency_sizes) list += std::to_string(n) + " ";
   p["efficiency sizes"] = list;
@@ -224,7 +243,8 @@ RunResults run_benchmark(const RunConfig& config) {
   LearnedSetup learned = learned_setup(config, data.source);
   learned.gemm_flops = gemm_flops;
   long long parameters = 0;
-  for (const std::string& augment : learned_augments(context, data)) {
+  const std::vector<std::string> augments = learned_augments(context, data);
+  for (const std::string& augment : augments) {
     LearnedResults l = run_learned(context, augment, learned, data, reconstruction, noisy);
     results.rows.insert(results.rows.end(), l.method.rows.begin(), l.method.rows.end());
     results.training.push_back(l.training);
@@ -235,6 +255,8 @@ RunResults run_benchmark(const RunConfig& config) {
   // its own group, whose sweep is not made yet.
   if (!has_sensor_mesh(data.sensor()))
     results.efficiency = run_sweep(context, learned, data, reconstruction, results);
+  if (!config.measured.empty())
+    results.measured = run_measured(context, data, reconstruction, learned, augments, results);
 
   const double total_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

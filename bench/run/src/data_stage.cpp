@@ -94,17 +94,18 @@ Dataset simulated(const Context& context, const MeasurementProtocol* data_protoc
     s.sensor_mesh = std::make_shared<const Mesh>(read_msh_file(config.mesh_file));
     s.sensor_source = sensor_name(config);
   }
-  s.protocol = std::make_shared<const MeasurementProtocol>(
-      config_protocol(config, s.sensor_mesh ? s.sensor_mesh->num_electrodes() : config.electrodes));
+  s.protocol = std::make_shared<const MeasurementProtocol>(simulation_protocol(
+      config, s.sensor_mesh ? s.sensor_mesh->num_electrodes() : config.electrodes, data_protocol));
   const auto counts = preset_counts(config.preset);
   int total = 0;
   for (int c : counts.circles) total += c;
-  context.say(fmt::format(
-      "data: simulating the {} preset ({} samples, seed {}, {} protocol{}, "
-      "{} mesh)",
-      config.preset, total, config.seed, s.protocol->name(), config.magnitude ? ", magnitudes" : "",
-      config.mesh_file.empty() ? to_string(config.simulation)
-                               : config.mesh_file + " refined once"));
+  context.say(
+      fmt::format("data: simulating the {} preset ({} samples, seed {}, {} protocol{}, "
+                  "{} mesh)",
+                  config.preset, total, config.seed, s.protocol->name(),
+                  s.protocol->magnitude() ? ", magnitudes" : "",
+                  config.mesh_file.empty() ? to_string(config.simulation)
+                                           : config.mesh_file + " refined once"));
   Progress progress("simulate", total, config.quiet);
   Dataset d = simulate_dataset(s, [&](int done, int) { progress.update(done); });
   write_dataset(path, d);
@@ -130,6 +131,24 @@ Dataset users(const RunConfig& config) {
     o.protocol =
         std::make_shared<const MeasurementProtocol>(config_protocol(config, config.electrodes));
   return import_measurements(config.data, config.reference, o);
+}
+
+// A set of real presses the run can score or tune on: one known touch a frame, the measured set's
+// protocol. Checked before the simulated stages, so that a wrong file costs nothing.
+void check_press_set(const std::string& path, const Dataset& d,
+                     const MeasurementProtocol& protocol) {
+  if (d.touches.empty())
+    throw InputError(path, "touches", "is not a press set (import --touches makes one)");
+  for (std::size_t i = 0; i < d.touches.size(); ++i)
+    if (d.touches[i].size() != 1)
+      throw InputError(path, "touches",
+                       fmt::format("frame {} has {} touches; real presses are scored one a frame",
+                                   i, d.touches[i].size()));
+  if (!measurement_protocol(d).same_channels(protocol) || d.magnitude != protocol.magnitude())
+    throw InputError(path, "protocol",
+                     "is read on the " + measurement_protocol(d).name() +
+                         (d.magnitude ? " (magnitudes)" : "") + " protocol, the measured set on " +
+                         protocol.name() + (protocol.magnitude() ? " (magnitudes)" : ""));
 }
 
 // Frames evaluated against a simulated source must come from its sensor; they are brought to its
@@ -192,7 +211,20 @@ std::string describe(const ReferenceCalibration& c) {
 RunData load_data(const Context& context) {
   const RunConfig& config = context.config;
   RunData r;
-  if (config.data.empty()) {
+  if (config.data.empty() && !config.measured.empty()) {
+    // Real presses: the preset simulated on the measured set's board, the presses scored after
+    // the simulated stages (measured_stage.cpp).
+    const Dataset presses = read_dataset(config.measured);
+    if (presses.electrodes != config.electrodes)
+      throw InputError(config.measured, "electrodes",
+                       fmt::format("{} electrodes; pass --electrodes {} to simulate them",
+                                   presses.electrodes, presses.electrodes));
+    const MeasurementProtocol protocol = measurement_protocol(presses);
+    check_press_set(config.measured, presses, protocol);
+    check_press_set(config.press_calibration, read_dataset(config.press_calibration), protocol);
+    r.data = simulated(context, &protocol);
+    r.data_path = (context.out / "data.h5").string();
+  } else if (config.data.empty()) {
     r.data = simulated(context);
     r.data_path = (context.out / "data.h5").string();
   } else {

@@ -16,13 +16,9 @@
 
 namespace eitbench::run {
 namespace fs = std::filesystem;
-namespace {
-
-std::string model_path(const Context& context, const std::string& augment) {
+std::string learned_model_path(const Context& context, const std::string& augment) {
   return (context.out / "models" / ("dnn_" + augment + ".pt")).string();
 }
-
-}  // namespace
 
 TrainingSummary training_summary(const LearnedModel& model, const std::string& path,
                                  const LearnedSetup& setup) {
@@ -54,7 +50,7 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
                            const LearnedSetup& setup, const RunData& data) {
   const RunConfig& config = context.config;
   const Dataset& source = data.source;
-  const std::string path = model_path(context, augment);
+  const std::string path = learned_model_path(context, augment);
   Provenance provenance = training_provenance(config, data);
   provenance["augment"] = augment;
   const bool claimed = context.cache.claim_model("dnn " + augment, path, provenance);
@@ -155,11 +151,11 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
   const RunConfig& config = context.config;
   LearnedResults out;
   LearnedModel model = trained_model(context, augment, setup, data);
-  out.training = training_summary(model, model_path(context, augment), setup);
+  out.training = training_summary(model, learned_model_path(context, augment), setup);
   out.training.augment = augment;  // the run's name: "group" on a sensor of another shape
   const TrainingSummary& summary = out.training;
   if (model.info().electrodes != data.data.electrodes)
-    throw InputError(model_path(context, augment), "electrodes",
+    throw InputError(learned_model_path(context, augment), "electrodes",
                      "the model does not fit the data's sensor");
   out.parameters = model.parameters();
   const std::string device = resolve_device(config.device, "--device");

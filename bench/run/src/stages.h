@@ -113,6 +113,17 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
                                        const RunData& data, const Reconstruction& reconstruction,
                                        const RunResults& main_runs);
 
+// 6. Real presses (measured_stage.cpp): with --measured and --calibration, every method scored on
+// where it puts each press of the measured set, tuned on the calibration set's presses or in
+// simulation, the learned model also fine-tuned on the first presses of the calibration set.
+std::vector<MeasuredRow> run_measured(const Context& context, const RunData& data,
+                                      const Reconstruction& reconstruction,
+                                      const LearnedSetup& setup,
+                                      const std::vector<std::string>& augments,
+                                      const RunResults& simulated);
+// Where the run keeps the learned model trained with `augment` (models/dnn_<augment>.pt).
+std::string learned_model_path(const Context& context, const std::string& augment);
+
 // The touch metrics of a method at one SNR (touch_stage.cpp): the blob threshold chosen on the
 // first touch_validation_frames of `validation_frames` as the method reconstructs them, the test
 // images scored with it. Not scored (frames 0) when the test or validation frames lack circles.

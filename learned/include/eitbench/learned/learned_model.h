@@ -58,6 +58,7 @@ class LearnedModel {
  private:
   friend class Trainer;  // fills a new model's network with the best one it trained
   Impl& impl() { return *impl_; }
+  const Impl& impl() const { return *impl_; }
 
   explicit LearnedModel(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;

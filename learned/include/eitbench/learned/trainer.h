@@ -103,6 +103,10 @@ class Trainer {
                                          LabelledFrames train, const LabelledFrames& validation,
                                          const AugmentSetup& sensor);
   ~Trainer();
+  // Fine-tuning: the training starts from `model`'s weights and keeps its input normalisation (a
+  // few real frames are no basis for new statistics) in place of a fresh network. Call before the
+  // first round. InputError(source, "network") when the model's shape is not this training's.
+  void start_from(const LearnedModel& model, const std::string& source);
 
   bool done() const;       // the budget is spent or early stopping triggered
   bool converged() const;  // stopped by early stopping, not by the budget

@@ -27,6 +27,9 @@ Eigen::Vector2d located_press(const std::vector<Touch>& found, const Eigen::Vect
 // One true touch a frame (InputError otherwise, naming the frame), found lists of the same length.
 PressScores score_presses(const TouchFrames& found,
                           const std::vector<std::vector<PressTouch>>& truth);
+// The same from where each frame's press was put (a method that gives a position, not images).
+PressScores score_positions(const std::vector<Eigen::Vector2d>& at,
+                            const std::vector<std::vector<PressTouch>>& truth);
 // The floor: every frame located at the centre (0, 0).
 PressScores centre_floor(const std::vector<std::vector<PressTouch>>& truth);
 

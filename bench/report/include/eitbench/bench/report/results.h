@@ -101,12 +101,42 @@ struct EfficiencyPoint {
   int frames = 0;                 // test frames scored
 };
 
+// One method on real presses (run --measured SET --calibration CAL, docs/real-presses.md): where
+// it puts each press of the scored set SET, against the press's known centre. Lengths in the
+// mesh's unit (`unit`); the fraction divides the median by the sensor's radius.
+struct MeasuredRow {
+  std::string method;         // a model-based method, dnn, fingerprint or centre
+  std::string augment = "-";  // dnn: the augmentation of its training (or fine-tuning)
+  int finetune_n = 0;         // real labelled presses of CAL it was trained or fine-tuned on
+  // simulation: tuned or trained on the simulated set only; calibration presses: tuned on CAL's
+  // presses (model-based, fingerprint); fine-tuned: the simulated model fine-tuned on finetune_n
+  // presses; real presses only: trained from scratch on them; none: predicting the centre.
+  std::string training = "simulation";
+  double centre_error_median = NAN, centre_error_mean = NAN, centre_error_p90 = NAN;
+  double centre_error_fraction_of_radius = NAN;  // median / R
+  std::string unit = "mesh unit";
+  std::string calibration, scored;  // the sets' file names
+  int frames = 0, none_found = 0;   // scored presses; those located at the centre for want of one
+  // The same over the scored presses at positions no calibration press came within 0.05 R of
+  // (novel_frames of them; 0 and NaN when there are none): generalisation, not recall.
+  int novel_frames = 0;
+  double novel_centre_error_median = NAN, novel_centre_error_mean = NAN;
+  double latency_median_ms = NAN;  // NaN: not timed
+  std::string settings;            // hyperparameters and how they were chosen
+  // The same method's median centre error on the simulated test split (noise-free), x R: the
+  // simulated-to-real drop is the real fraction against it. NaN where no simulated row exists.
+  double simulated_fraction_of_radius = NAN;
+};
+nlohmann::json to_json(const MeasuredRow& row);
+MeasuredRow measured_row_from_json(const nlohmann::json& j);
+
 struct RunResults {
   std::string program;
   std::map<std::string, std::string> configuration, machine;
   std::vector<ResultRow> rows;
   std::vector<TrainingSummary> training;
   std::vector<EfficiencyPoint> efficiency;
+  std::vector<MeasuredRow> measured;  // real presses; empty without --measured
   std::string recommendation;
 };
 

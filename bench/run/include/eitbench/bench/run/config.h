@@ -26,6 +26,19 @@ struct RunConfig {
   std::string protocol = "adjacent";
   bool magnitude = false;
 
+  // Real presses (docs/real-presses.md): a press set to score every method on (`measured`) and a
+  // labelled press set of the same sensor that tunes them (`press_calibration`); the preset is
+  // simulated on the measured set's protocol.
+  std::string measured, press_calibration;
+  // Fine-tuning on the first n presses of press_calibration (-1: all of them), each size with and
+  // without d16 augmentation, beside the same network trained on them from scratch; 0: the model
+  // trained in simulation as it is. Empty: no fine-tuning.
+  std::vector<int> finetune;
+  // A fine-tuning's budget in optimiser steps (early stopping on a fifth of the n presses ends it
+  // sooner) and its validation interval in samples.
+  long long finetune_steps = 600, finetune_validate_every = 2048;
+  double radius_mm = 0;  // the sensor's radius in millimetres, for the report (0: not given)
+
   std::vector<double> snrs;           // dB; infinity: noise-free
   std::vector<std::string> methods;   // model-based
   std::vector<std::string> augments;  // the learned reconstructor's

@@ -1,0 +1,362 @@
+// Stage 6: real presses (run --measured SET --calibration CAL). Every method of the run is scored
+// on where it puts each press of SET. Each model-based method twice: tuned in simulation as the
+// main rows are, and tuned on CAL's presses; the learned models as trained in simulation; floors
+// from predicting the centre and from a fingerprint of CAL's labelled frames; and, with
+// --finetune, the learned model fine-tuned on CAL's first n presses beside the same network trained
+// on them alone. Nothing is tuned or trained on SET.
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/data/training_data.h"
+#include "eitbench/bench/methods/metrics.h"
+#include "eitbench/bench/methods/model_file.h"
+#include "eitbench/bench/methods/press_fingerprint.h"
+#include "eitbench/bench/methods/press_labels.h"
+#include "eitbench/bench/methods/press_scores.h"
+#include "eitbench/bench/methods/registry.h"
+#include "eitbench/bench/methods/touches.h"
+#include "eitbench/jacobian/error.h"
+#include "stages.h"
+
+namespace eitbench::run {
+namespace fs = std::filesystem;
+namespace {
+
+// A press set brought to the model's units by its reference frame, as measured frames are in
+// load_data: the same sensor, read on the simulated source's protocol.
+struct PressFrames {
+  std::string path, name;
+  SampleMatrix frames;
+  std::vector<std::vector<PressTouch>> touches;
+  ReferenceCalibration scale;
+  // The presses at a position no calibration press came within kNovel of: where the scores ask
+  // whether a method generalises rather than recalls (recordings may repeat a press sequence).
+  std::vector<bool> novel;
+};
+
+constexpr double kNovel = 0.05;  // x R: 3.5 mm on a 70 mm skin
+
+void mark_novel(PressFrames& set, const PressFrames& cal, double radius) {
+  set.novel.assign(set.touches.size(), true);
+  for (std::size_t i = 0; i < set.touches.size(); ++i)
+    for (const auto& c : cal.touches)
+      if (std::hypot(set.touches[i][0].x - c[0].x, set.touches[i][0].y - c[0].y) < kNovel * radius)
+        set.novel[i] = false;
+}
+
+// Where a method put each press of the scored set, and how many it found nothing in (located
+// at the centre).
+struct Located {
+  std::vector<Eigen::Vector2d> at;
+  int none_found = 0;
+};
+
+Located located_in(const TouchFrames& found) {
+  Located l;
+  for (const auto& f : found)
+    l.at.push_back(located_press(f, Eigen::Vector2d::Zero())), l.none_found += f.empty();
+  return l;
+}
+
+PressFrames press_frames(const std::string& path, const RunData& data) {
+  const Dataset d = read_dataset(path);  // checked as a press set in load_data
+  PressFrames p{path, fs::path(path).filename().string(), d.differences, d.touches, {}, {}};
+  p.scale = calibrate_to_model(d.reference, data.source.reference);
+  p.frames *= p.scale.scale;
+  return p;
+}
+
+// What the stage's rows depend on besides the run's data: both sets and every option it reads.
+Provenance measured_provenance(const RunConfig& config, const RunData& data) {
+  Provenance p = training_provenance(config, data);
+  p["scored presses"] = file_hash(config.measured);
+  p["calibration presses"] = file_hash(config.press_calibration);
+  std::string sizes;
+  for (int n : config.finetune) sizes += std::to_string(n) + " ";
+  p["finetune"] = sizes;
+  p["finetune budget"] = fmt::format("{} steps, validation every {} samples", config.finetune_steps,
+                                     config.finetune_validate_every);
+  std::string methods;
+  for (const auto& m : config.methods) methods += m + " ";
+  p["methods"] = methods;
+  p["scores"] = "all presses and those at new positions (0.05 R)";
+  return p;
+}
+
+// Where `method` puts each press of `frames`, scored against their truth; its SET latency when
+// `row` is given. A method that gives circles is located by them, the rest by their images'
+// strongest blob at `threshold`.
+Located located_presses(const Reconstructor& method, const PixelGrid& grid, double background,
+                        const PressFrames& set, double threshold, int timed_frames,
+                        MeasuredRow* row = nullptr) {
+  SampleMatrix images;
+  std::vector<std::vector<Circle>> circles;
+  const ResultRow r =
+      evaluate_row(method, set.frames, SampleMatrix(), grid, timed_frames, &images, &circles);
+  if (row) row->latency_median_ms = r.latency_median_ms, row->settings = r.settings;
+  const TouchFrames found = method.finds_circles() ? touches_of(circles, background)
+                                                   : touches_in_images(images, grid, threshold);
+  return located_in(found);
+}
+
+// The blob threshold with the lowest mean centre error on CAL's presses (the first wins a tie).
+double press_threshold(const Reconstructor& method, const PixelGrid& grid, const PressFrames& cal) {
+  if (method.finds_circles()) return NAN;
+  const SampleMatrix images = method.reconstruct_all(cal.frames);
+  double best = INFINITY, chosen = 0.5;
+  for (double t : TouchOptions().thresholds) {
+    const double mean = score_presses(touches_in_images(images, grid, t), cal.touches).mean;
+    if (mean < best) best = mean, chosen = t;
+  }
+  return chosen;
+}
+
+struct StageInputs {
+  const Context& context;
+  const RunData& data;
+  const Reconstruction& reconstruction;
+  const PressFrames &set, &cal;
+  const RunResults& simulated;
+};
+
+MeasuredRow row_for(const StageInputs& in, const std::string& method, const std::string& augment,
+                    const std::string& training, const Located& located) {
+  PressScores s = score_positions(located.at, in.set.touches);
+  s.none_found = located.none_found;
+  std::vector<Eigen::Vector2d> novel_at;
+  std::vector<std::vector<PressTouch>> novel_truth;
+  for (std::size_t i = 0; i < located.at.size(); ++i)
+    if (in.set.novel[i])
+      novel_at.push_back(located.at[i]), novel_truth.push_back(in.set.touches[i]);
+  const PressScores novel = score_positions(novel_at, novel_truth);
+  MeasuredRow row;
+  row.novel_frames = novel.frames;
+  row.novel_centre_error_median = novel.median, row.novel_centre_error_mean = novel.mean;
+  row.method = method, row.augment = augment, row.training = training;
+  row.centre_error_median = s.median, row.centre_error_mean = s.mean, row.centre_error_p90 = s.p90;
+  const double R = in.reconstruction.grid.radius();
+  row.centre_error_fraction_of_radius = s.median / R;
+  row.unit = "mesh unit";
+  row.calibration = in.cal.name, row.scored = in.set.name;
+  row.frames = s.frames, row.none_found = s.none_found;
+  for (const ResultRow& r : in.simulated.rows)
+    if (r.method == method && r.augment == augment && std::isinf(r.snr_db) && r.touch.frames > 0)
+      row.simulated_fraction_of_radius = r.touch.centre_error_median;
+  return row;
+}
+
+void log_row(const Context& context, const MeasuredRow& row) {
+  context.say(fmt::format(
+      "{:>12} {:>9} {:>19} n={:<4}: centre error median {:.3f} R, mean {:.3f} R, p90 {:.3f} R; "
+      "new positions {:.3f} / {:.3f} R{}",
+      row.method, row.augment, row.training, row.finetune_n, row.centre_error_fraction_of_radius,
+      row.centre_error_mean, row.centre_error_p90, row.novel_centre_error_median,
+      row.novel_centre_error_mean,
+      row.none_found > 0 ? fmt::format(" ({} without a touch)", row.none_found) : ""));
+}
+
+// A model-based method tuned two ways: in simulation (noise-free validation CC, as the main row
+// at infinite SNR) and on CAL's presses (the lowest mean centre error).
+void model_based_rows(const StageInputs& in, const std::string& name,
+                      std::vector<MeasuredRow>& rows) {
+  const RunConfig& config = in.context.config;
+  const MethodSpec& spec = find_method(name);
+  const PixelGrid& grid = in.reconstruction.grid;
+  const double background = in.reconstruction.problem->background;
+  for (const std::string training : {"simulation", "calibration presses"}) {
+    Eigen::Index tuned_on = 0;  // real presses
+    MethodOptions mo;
+    mo.choose = "validation";
+    auto method = make_reconstructor(name, in.reconstruction.problem, mo);
+    if (training == std::string("simulation")) {
+      const Eigen::Index n =
+          spec.sweep_on_subset
+              ? std::min<Eigen::Index>(config.sweep_frames, in.data.validation.frames.rows())
+              : in.data.validation.frames.rows();
+      method->fit(in.data.validation.frames.topRows(n), in.data.validation.labels.topRows(n),
+                  [&grid](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+                    return correlation(x, y, grid);
+                  });
+    } else {
+      // The iterative methods sweep on CAL's first presses: a solve per frame and candidate.
+      const Eigen::Index n = spec.sweep_on_subset ? std::min<Eigen::Index>(8 * config.sweep_frames,
+                                                                           in.cal.frames.rows())
+                                                  : in.cal.frames.rows();
+      const std::vector<std::vector<PressTouch>> touches(in.cal.touches.begin(),
+                                                         in.cal.touches.begin() + n);
+      method->fit(in.cal.frames.topRows(n), press_labels(touches, grid, in.cal.path),
+                  press_score(grid, 0.5));
+      tuned_on = n;
+    }
+    const double threshold = press_threshold(*method, grid, in.cal);
+    MeasuredRow row;
+    const Located s =
+        located_presses(*method, grid, background, in.set, threshold, config.timed_frames, &row);
+    MeasuredRow full = row_for(in, name, "-", training, s);
+    full.finetune_n = static_cast<int>(tuned_on);
+    full.latency_median_ms = row.latency_median_ms;
+    full.settings =
+        row.settings + (std::isnan(threshold)
+                            ? std::string()
+                            : fmt::format(", touch threshold {:g} (on CAL)", threshold));
+    log_row(in.context, full);
+    rows.push_back(full);
+  }
+}
+
+// A learned model scored as it is; its threshold chosen on CAL's presses, or 0.5 when it may not
+// see them (a model fine-tuned on a few must not be tuned on the rest).
+MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
+                        const std::string& augment, const std::string& training, int n,
+                        bool threshold_on_cal) {
+  const auto method = make_learned_reconstructor(model);
+  const PixelGrid& grid = in.reconstruction.grid;
+  const double threshold = threshold_on_cal ? press_threshold(*method, grid, in.cal) : 0.5;
+  MeasuredRow timing;
+  const Located s =
+      located_presses(*method, grid, 0, in.set, threshold, in.context.config.timed_frames, &timing);
+  MeasuredRow row = row_for(in, "dnn", augment, training, s);
+  row.finetune_n = n;
+  row.latency_median_ms = timing.latency_median_ms;
+  row.settings = fmt::format("touch threshold {:g}{}", threshold,
+                             threshold_on_cal ? " (on CAL)" : " (fixed: no presses to tune it on)");
+  if (training != "simulation") row.simulated_fraction_of_radius = NAN;
+  log_row(in.context, row);
+  return row;
+}
+
+// The network trained on CAL's first n presses (every fifth held out for early stopping), from
+// `start`'s weights or, without it, from scratch.
+LearnedModel trained_on_presses(const StageInputs& in, const LearnedSetup& setup, int n,
+                                AugmentGroup group, const LearnedModel* start) {
+  const RunConfig& config = in.context.config;
+  const PixelGrid& grid = in.reconstruction.grid;
+  std::vector<int> train_rows, validation_rows;
+  for (int i = 0; i < n; ++i) (i % 5 == 4 ? validation_rows : train_rows).push_back(i);
+  auto take = [&](const std::vector<int>& rows) {
+    LabelledFrames f;
+    f.frames.resize(static_cast<Eigen::Index>(rows.size()), in.cal.frames.cols());
+    std::vector<std::vector<PressTouch>> touches;
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      f.frames.row(static_cast<Eigen::Index>(k)) = in.cal.frames.row(rows[k]);
+      touches.push_back(in.cal.touches[static_cast<std::size_t>(rows[k])]);
+    }
+    f.labels = press_labels(touches, grid, in.cal.path);
+    return f;
+  };
+  TrainingOptions o = setup.training;
+  o.augment = group;
+  o.epochs = 0;
+  o.steps = config.finetune_steps;
+  o.validate_every = config.finetune_validate_every;
+  o.batch_size = std::min(o.batch_size, std::max(2, static_cast<int>(train_rows.size())));
+  // A fine-tuning starts near its optimum: a tenth of the training's peak rate.
+  if (start) o.learning_rate /= 10;
+  Trainer trainer(setup.network, o, take(train_rows), take(validation_rows),
+                  sensor_of(in.data.source));
+  if (start) trainer.start_from(*start, "dnn (trained in simulation)");
+  while (!trainer.done()) trainer.run_round();
+  return trainer.best_model();
+}
+
+void finetune_rows(const StageInputs& in, const LearnedSetup& setup, const LearnedModel& base,
+                   std::vector<MeasuredRow>& rows) {
+  const int available = static_cast<int>(in.cal.frames.rows());
+  for (int asked : in.context.config.finetune) {
+    const int n = asked < 0 ? available : std::min(asked, available);
+    if (asked > available)
+      in.context.say(
+          fmt::format("finetune: {} presses asked, CAL has {}: all of them", asked, available));
+    if (n == 0) continue;  // the model as trained in simulation: its own row above
+    for (const std::string augment : {"none", "d16"})
+      for (const bool scratch : {false, true}) {
+        in.context.say(fmt::format("dnn {} {} on {} real presses", augment,
+                                   scratch ? "trained from scratch" : "fine-tuned", n));
+        const LearnedModel m = trained_on_presses(in, setup, n, parse_group(augment, "augment"),
+                                                  scratch ? nullptr : &base);
+        rows.push_back(
+            learned_row(in, m, augment, scratch ? "real presses only" : "fine-tuned", n, false));
+      }
+  }
+}
+
+std::vector<MeasuredRow> measured_rows(const StageInputs& in, const LearnedSetup& setup,
+                                       const std::vector<std::string>& augments) {
+  const RunConfig& config = in.context.config;
+  std::vector<MeasuredRow> rows;
+  MeasuredRow centre = row_for(
+      in, "centre", "-", "none",
+      Located{std::vector<Eigen::Vector2d>(in.set.touches.size(), Eigen::Vector2d::Zero()), 0});
+  log_row(in.context, centre);
+  rows.push_back(centre);
+
+  Eigen::MatrixX2d positions(in.cal.frames.rows(), 2);
+  for (Eigen::Index i = 0; i < positions.rows(); ++i)
+    positions.row(i) << in.cal.touches[i][0].x, in.cal.touches[i][0].y;
+  const PressFingerprint fingerprint(in.cal.frames, positions);
+  std::vector<Eigen::Vector2d> at;
+  for (Eigen::Index i = 0; i < in.set.frames.rows(); ++i)
+    at.push_back(fingerprint.locate(in.set.frames.row(i).transpose()));
+  MeasuredRow nearest = row_for(in, "fingerprint", "-", "calibration presses", Located{at, 0});
+  nearest.finetune_n = static_cast<int>(in.cal.frames.rows());
+  nearest.settings = fmt::format("{} nearest frames (leave-one-out on CAL: {:.3f})",
+                                 fingerprint.neighbours(), fingerprint.leave_one_out_error());
+  log_row(in.context, nearest);
+  rows.push_back(nearest);
+
+  for (const std::string& name : config.methods) model_based_rows(in, name, rows);
+  const LearnedModel* base = nullptr;
+  std::vector<LearnedModel> models;
+  models.reserve(augments.size());
+  for (const std::string& augment : augments) {
+    models.push_back(read_model_file(learned_model_path(in.context, augment)));
+    rows.push_back(learned_row(in, models.back(), augment, "simulation", 0, true));
+    // Fine-tuning starts from the model trained with the whole group when there is one.
+    if (!base || augment == "d16") base = &models.back();
+  }
+  if (base && !config.finetune.empty()) finetune_rows(in, setup, *base, rows);
+  return rows;
+}
+
+}  // namespace
+
+std::vector<MeasuredRow> run_measured(const Context& context, const RunData& data,
+                                      const Reconstruction& reconstruction,
+                                      const LearnedSetup& setup,
+                                      const std::vector<std::string>& augments,
+                                      const RunResults& simulated) {
+  const RunConfig& config = context.config;
+  const Provenance provenance = measured_provenance(config, data);
+  std::vector<MeasuredRow> rows;
+  if (context.cache.find("measured", provenance, [&](const nlohmann::json& j) {
+        for (const auto& r : j) rows.push_back(measured_row_from_json(r));
+      })) {
+    context.say("real presses: resumed");
+    return rows;
+  }
+  PressFrames set = press_frames(config.measured, data);
+  const PressFrames cal = press_frames(config.press_calibration, data);
+  mark_novel(set, cal, reconstruction.grid.radius());
+  context.say(fmt::format(
+      "real presses: scoring on {} ({} presses), tuning on {} ({} presses); frames x {:.6g} and "
+      "x {:.6g} by their reference frames (cosine {:.4f}, {:.4f} with the model's)",
+      set.name, set.frames.rows(), cal.name, cal.frames.rows(), set.scale.scale, cal.scale.scale,
+      set.scale.fit, cal.scale.fit));
+  context.say(fmt::format(
+      "real presses: {} of the {} scored presses lie farther than {:g} R from every calibration "
+      "press (scored apart as new positions)",
+      std::count(set.novel.begin(), set.novel.end(), true), set.novel.size(), kNovel));
+  const StageInputs in{context, data, reconstruction, set, cal, simulated};
+  rows = measured_rows(in, setup, augments);
+  nlohmann::json j = nlohmann::json::array();
+  for (const MeasuredRow& r : rows) j.push_back(to_json(r));
+  context.cache.save("measured", provenance, j);
+  return rows;
+}
+
+}  // namespace eitbench::run

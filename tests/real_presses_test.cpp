@@ -1,0 +1,228 @@
+// Real presses: the fingerprint floor, press labels, fine-tuning from a trained model, and `run
+// --measured` end to end on stand-in press sets simulated for the tiny preset's sensor (no real
+// data needed).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "cli_fixture.h"
+#include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/training_data.h"
+#include "eitbench/bench/methods/press_fingerprint.h"
+#include "eitbench/bench/methods/press_labels.h"
+#include "eitbench/bench/report/results.h"
+#include "eitbench/jacobian/error.h"
+#include "learned_support.h"
+#include "test_support.h"
+
+namespace eitbench {
+namespace {
+
+// Frames that vary smoothly with the press position: a fingerprint's neighbours are its
+// neighbours on the sensor.
+Eigen::VectorXd smooth_frame(double x, double y) {
+  Eigen::VectorXd f(6);
+  f << x, y, x * y, std::sin(2 * x), std::cos(2 * y), x * x - y * y;
+  return f;
+}
+
+TEST(PressFingerprint, PutsAPressAmongItsNearestLabelledFrames) {
+  std::vector<Eigen::Vector2d> grid;
+  for (double x = -0.6; x <= 0.61; x += 0.1)
+    for (double y = -0.6; y <= 0.61; y += 0.1) grid.emplace_back(x, y);
+  SampleMatrix frames(static_cast<Eigen::Index>(grid.size()), 6);
+  Eigen::MatrixX2d positions(static_cast<Eigen::Index>(grid.size()), 2);
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    frames.row(static_cast<Eigen::Index>(i)) = smooth_frame(grid[i].x(), grid[i].y()).transpose();
+    positions.row(static_cast<Eigen::Index>(i)) = grid[i].transpose();
+  }
+  // k = 1 recalls a labelled frame exactly.
+  const PressFingerprint one(frames, positions, FingerprintOptions{{1}});
+  EXPECT_EQ(one.neighbours(), 1);
+  EXPECT_NEAR((one.locate(frames.row(17).transpose()) - grid[17]).norm(), 0.0, 1e-15);
+  // Leave-one-out on a 0.1 grid: the nearest others lie one step away.
+  EXPECT_NEAR(one.leave_one_out_error(), 0.1, 0.02);
+  // The k that leave-one-out prefers, and a press between grid points placed near it.
+  const PressFingerprint best(frames, positions);
+  EXPECT_LE(best.leave_one_out_error(), one.leave_one_out_error());
+  const Eigen::Vector2d between(0.05, -0.15);
+  EXPECT_LT((best.locate(smooth_frame(between.x(), between.y())) - between).norm(), 0.08);
+}
+
+TEST(PressFingerprint, RefusesWhatItCannotUse) {
+  SampleMatrix one_frame(1, 6);
+  one_frame.setZero();
+  EXPECT_EQ(
+      testing::input_error_at([&] { PressFingerprint(one_frame, Eigen::MatrixX2d::Zero(1, 2)); }),
+      "fingerprint.frames");
+  SampleMatrix frames = SampleMatrix::Random(4, 6);
+  EXPECT_EQ(
+      testing::input_error_at([&] { PressFingerprint(frames, Eigen::MatrixX2d::Zero(3, 2)); }),
+      "fingerprint.positions");
+  const PressFingerprint f(frames, Eigen::MatrixX2d::Zero(4, 2));
+  EXPECT_EQ(testing::input_error_at([&] { f.locate(Eigen::VectorXd::Zero(5)); }),
+            "fingerprint.frame");
+}
+
+TEST(PressLabels, ADiscAtEachPressWhoseCentreTheScoreFinds) {
+  const PixelGrid grid(64, 1.0);
+  const std::vector<std::vector<PressTouch>> touches = {{{0.3, -0.4, NAN}}, {{-0.55, 0.1, NAN}}};
+  const SampleMatrix labels = press_labels(touches, grid, "cal.h5");
+  ASSERT_EQ(labels.rows(), 2);
+  for (int i = 0; i < 2; ++i) {
+    const Eigen::VectorXd label = labels.row(i).transpose();
+    const Eigen::Vector2d at = label_centre(label, grid);
+    EXPECT_NEAR(at.x(), touches[i][0].x, 1e-3);
+    EXPECT_NEAR(at.y(), touches[i][0].y, 1e-3);
+    EXPECT_NEAR(label.maxCoeff(), 1.0, 1e-12);  // intensity 1 at the disc's core
+    // An image that is the label scores (almost) no error; the other press's label scores their
+    // distance.
+    const ScoreFn score = press_score(grid, 0.5);
+    EXPECT_GT(score(label, label), -0.01);
+    EXPECT_NEAR(score(labels.row(1 - i).transpose(), label), -std::hypot(0.3 + 0.55, -0.4 - 0.1),
+                0.01);
+  }
+  const std::vector<std::vector<PressTouch>> two = {{{0.1, 0.1, NAN}, {0.2, 0.2, NAN}}};
+  EXPECT_EQ(testing::input_error_at([&] { press_labels(two, grid, "cal.h5"); }), "cal.h5.touches");
+}
+
+double mse(const SampleMatrix& a, const SampleMatrix& b) {
+  return (a - b).squaredNorm() / static_cast<double>(a.size());
+}
+
+// Fine-tuning starts where the trained model is (the same images before the first round) and
+// lowers the error on the new sensor's frames, here the tiny set read through 1.6x the gain.
+TEST(Finetune, StartsFromTheTrainedModelAndLowersItsErrorOnNewFrames) {
+  const Dataset& data = testing::tiny();
+  const NetworkOptions network = testing::test_network();
+  TrainingOptions o;
+  o.epochs = 6;
+  o.batch_size = 16;
+  o.validate_every = 64;
+  Trainer first(network, o, labelled_frames(data, Split::train),
+                labelled_frames(data, Split::validation), sensor_of(data));
+  while (!first.done()) first.run_round();
+  const LearnedModel trained = first.best_model();
+
+  LabelledFrames train = labelled_frames(data, Split::train);
+  LabelledFrames validation = labelled_frames(data, Split::validation);
+  train.frames *= 1.6, validation.frames *= 1.6;
+  const SampleMatrix labels = validation.labels;
+  ASSERT_EQ(labels.rows(), validation.frames.rows());
+  ASSERT_GT(labels.cols(), 0);
+  TrainingOptions f = o;
+  f.learning_rate = o.learning_rate / 10;
+  f.epochs = 10;
+  Trainer tune(network, f, train, validation, sensor_of(data));
+  tune.start_from(trained, "trained.pt");
+  const SampleMatrix before = trained.reconstruct(validation.frames);
+  EXPECT_EQ(tune.best_model().reconstruct(validation.frames), before);
+  while (!tune.done()) tune.run_round();
+  const SampleMatrix after = tune.best_model().reconstruct(validation.frames);
+  EXPECT_LT(mse(after, labels), 0.9 * mse(before, labels));
+
+  NetworkOptions other = network;
+  other.hidden = {32};
+  Trainer mismatched(other, o, labelled_frames(data, Split::train),
+                     labelled_frames(data, Split::validation), sensor_of(data));
+  EXPECT_EQ(testing::input_error_at([&] { mismatched.start_from(trained, "trained.pt"); }),
+            "trained.pt.network");
+}
+
+// Stand-in press sets: the one-touch frames of tiny sets simulated with other seeds than the run's,
+// each press at its circle's centre.
+class MeasuredRun : public Cli {
+ protected:
+  std::string press_set(const std::string& name, int seed) {
+    const std::string all = path(name + "_all.h5");
+    EXPECT_EQ(run("simulate --preset tiny --quiet --seed " + std::to_string(seed) + " --out " + all)
+                  .exit_code,
+              0);
+    const Dataset d = read_dataset(all);
+    Dataset p = d;
+    std::vector<int> rows;
+    for (int i = 0; i < d.size(); ++i)
+      if (d.circles[static_cast<std::size_t>(i)].size() == 1) rows.push_back(i);
+    const auto n = static_cast<Eigen::Index>(rows.size());
+    p.frames.resize(n, d.frames.cols()), p.differences.resize(n, d.differences.cols());
+    p.labels.resize(n, 0);
+    p.circles.clear(), p.touches.clear(), p.split.clear();
+    for (Eigen::Index k = 0; k < n; ++k) {
+      p.frames.row(k) = d.frames.row(rows[k]), p.differences.row(k) = d.differences.row(rows[k]);
+      const Circle& c = d.circles[static_cast<std::size_t>(rows[k])][0];
+      p.touches.push_back({{c.x, c.y, NAN}});
+      p.split.push_back(Split::test);
+    }
+    p.preset = "imported";
+    const std::string out = path(name + ".h5");
+    write_dataset(out, p);
+    return out;
+  }
+};
+
+TEST_F(MeasuredRun, ScoresEveryMethodOnPressesTunedOnAnotherSet) {
+  const std::string set = press_set("set", 11), cal = press_set("cal", 12);
+  const Result r =
+      run("run --preset tiny --quiet --methods noser,greit --augment none --measured " + set +
+          " --calibration " + cal + " --finetune 0,8 --finetune-steps 40 --out " + path("out"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const RunResults results = read_results_json(path("out/results.json"));
+  const MeasuredRow* centre = nullptr;
+  const MeasuredRow* noser_cal = nullptr;
+  int finetuned = 0;
+  for (const MeasuredRow& m : results.measured) {
+    EXPECT_EQ(m.scored, "set.h5");
+    EXPECT_EQ(m.calibration, "cal.h5");
+    EXPECT_GT(m.frames, 10);
+    if (m.method == "centre") centre = &m;
+    if (m.method == "noser" && m.training == "calibration presses") noser_cal = &m;
+    finetuned += m.training == "fine-tuned" || m.training == "real presses only";
+  }
+  ASSERT_NE(centre, nullptr);
+  ASSERT_NE(noser_cal, nullptr);
+  // Simulated presses are found far better than by guessing the centre.
+  EXPECT_LT(noser_cal->centre_error_median, 0.5 * centre->centre_error_median);
+  // New positions: the scored presses no calibration press came within 0.05 R of.
+  const Dataset s = read_dataset(set), c = read_dataset(cal);
+  int novel = 0;
+  for (const auto& t : s.touches) {
+    bool near = false;
+    for (const auto& u : c.touches) near |= std::hypot(t[0].x - u[0].x, t[0].y - u[0].y) < 0.05;
+    novel += !near;
+  }
+  EXPECT_GT(novel, 0);
+  EXPECT_EQ(noser_cal->novel_frames, novel);
+  EXPECT_EQ(finetuned, 4);  // n = 8: none and d16, fine-tuned and from scratch
+  std::ifstream report(path("out/report.md"));
+  const std::string text((std::istreambuf_iterator<char>(report)), {});
+  EXPECT_NE(text.find("## Real presses"), std::string::npos);
+  EXPECT_NE(text.find("### Few real labels"), std::string::npos);
+}
+
+TEST_F(MeasuredRun, RefusesPressSetsItCannotScoreHonestly) {
+  const std::string set = press_set("set", 11);
+  const std::string base = "run --preset tiny --quiet --out " + path("out") + " ";
+  Result r = run(base + "--measured " + set);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--measured: needs --calibration"), std::string::npos) << r.output;
+  r = run(base + "--measured " + set + " --calibration " + set);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--calibration: is the measured set"), std::string::npos) << r.output;
+  r = run(base + "--measured " + set + " --calibration " + set + " --finetune 0,1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--finetune: '1' is not a number of presses"), std::string::npos)
+      << r.output;
+  r = run(base + "--calibration " + set);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--calibration: goes with --measured"), std::string::npos) << r.output;
+  // A set without touches is no press set.
+  const std::string plain = path("set_all.h5");
+  r = run(base + "--measured " + set + " --calibration " + plain);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("set_all.h5: touches: is not a press set"), std::string::npos)
+      << r.output;
+}
+
+}  // namespace
+}  // namespace eitbench
