@@ -183,12 +183,12 @@ TEST_F(MeasuredRun, ScoresEveryMethodOnPressesTunedOnAnotherSet) {
   ASSERT_NE(noser_cal, nullptr);
   // Simulated presses are found far better than by guessing the centre.
   EXPECT_LT(noser_cal->centre_error_median, 0.5 * centre->centre_error_median);
-  // New positions: the scored presses no calibration press came within 0.05 R of.
+  // New positions: the scored presses no calibration press came within 0.01 R of.
   const Dataset s = read_dataset(set), c = read_dataset(cal);
   int novel = 0;
   for (const auto& t : s.touches) {
     bool near = false;
-    for (const auto& u : c.touches) near |= std::hypot(t[0].x - u[0].x, t[0].y - u[0].y) < 0.05;
+    for (const auto& u : c.touches) near |= std::hypot(t[0].x - u[0].x, t[0].y - u[0].y) < 0.01;
     novel += !near;
   }
   EXPECT_GT(novel, 0);

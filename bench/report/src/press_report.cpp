@@ -155,7 +155,7 @@ void write_press_section(std::ostream& o, const RunResults& r) {
       "\n## Real presses\n\nEvery method put each of the {} presses of **{}** where it found it; "
       "the centre error is the distance to the press's recorded centre, in the mesh's unit (the "
       "sensor's radius R = 1){}. Tuned on **{}** (another recording), never on the scored "
-      "presses. {} of the scored presses lie at new positions, farther than 0.05 R from every "
+      "presses. {} of the scored presses lie at new positions, farther than 0.01 R from every "
       "calibration press: scores there ask whether a method generalises, not whether it recalls "
       "a spot it was tuned or trained on. The simulated median is the same method's "
       "matched-touch centre error on the simulated test split (noise-free; four touches a "

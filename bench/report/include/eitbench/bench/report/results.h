@@ -117,7 +117,7 @@ struct MeasuredRow {
   std::string unit = "mesh unit";
   std::string calibration, scored;  // the sets' file names
   int frames = 0, none_found = 0;   // scored presses; those located at the centre for want of one
-  // The same over the scored presses at positions no calibration press came within 0.05 R of
+  // The same over the scored presses at positions no calibration press came within 0.01 R of
   // (novel_frames of them; 0 and NaN when there are none): generalisation, not recall.
   int novel_frames = 0;
   double novel_centre_error_median = NAN, novel_centre_error_mean = NAN;
