@@ -88,6 +88,7 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
   for (const auto& m : config.methods) methods += m + " ";
   p["methods"] = methods;
   p["scores"] = "all presses and those at new positions (0.01 R)";
+  p["press training"] = "fine-tuned at a tenth of the peak rate; from scratch at the peak rate";
   return p;
 }
 
@@ -233,10 +234,16 @@ MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
   return row;
 }
 
+// A model trained on presses, and how its training ended (for the row's settings).
+struct PressModel {
+  LearnedModel model;
+  std::string training;
+};
+
 // The network trained on CAL's first n presses (every fifth held out for early stopping), from
 // `start`'s weights or, without it, from scratch.
-LearnedModel trained_on_presses(const StageInputs& in, const LearnedSetup& setup, int n,
-                                AugmentGroup group, const LearnedModel* start) {
+PressModel trained_on_presses(const StageInputs& in, const LearnedSetup& setup, int n,
+                              AugmentGroup group, const LearnedModel* start) {
   const RunConfig& config = in.context.config;
   const PixelGrid& grid = in.reconstruction.grid;
   std::vector<int> train_rows, validation_rows;
@@ -258,13 +265,24 @@ LearnedModel trained_on_presses(const StageInputs& in, const LearnedSetup& setup
   o.steps = config.finetune_steps;
   o.validate_every = config.finetune_validate_every;
   o.batch_size = std::min(o.batch_size, std::max(2, static_cast<int>(train_rows.size())));
-  // A fine-tuning starts near its optimum: a tenth of the training's peak rate.
+  // A fine-tuning starts near its optimum: a tenth of the training's peak rate. From scratch the
+  // network first sits on blank images (the nearest optimum of the MSE against small discs): the
+  // validations lie far enough apart (config.finetune_validate_every) that early stopping does
+  // not end a training on that plateau.
   if (start) o.learning_rate /= 10;
   Trainer trainer(setup.network, o, take(train_rows), take(validation_rows),
                   sensor_of(in.data.source));
   if (start) trainer.start_from(*start, "dnn (trained in simulation)");
   while (!trainer.done()) trainer.run_round();
-  return trainer.best_model();
+  const auto& history = trainer.history();
+  const TrainingRecord& best = history[static_cast<std::size_t>(trainer.best_round() - 1)];
+  return {trainer.best_model(),
+          fmt::format("{} train / {} validation presses, lr {:g}, best of {} steps at step {} "
+                      "(validation MSE {:.4g}){}",
+                      train_rows.size(), validation_rows.size(), o.learning_rate,
+                      history.back().steps, best.steps, best.validation_loss,
+                      trainer.converged() ? ", converged (early stopping)"
+                                          : ", not converged: the step budget ran out")};
 }
 
 void finetune_rows(const StageInputs& in, const LearnedSetup& setup, const LearnedModel& base,
@@ -280,10 +298,11 @@ void finetune_rows(const StageInputs& in, const LearnedSetup& setup, const Learn
       for (const bool scratch : {false, true}) {
         in.context.say(fmt::format("dnn {} {} on {} real presses", augment,
                                    scratch ? "trained from scratch" : "fine-tuned", n));
-        const LearnedModel m = trained_on_presses(in, setup, n, parse_group(augment, "augment"),
-                                                  scratch ? nullptr : &base);
-        rows.push_back(
-            learned_row(in, m, augment, scratch ? "real presses only" : "fine-tuned", n, false));
+        const PressModel m = trained_on_presses(in, setup, n, parse_group(augment, "augment"),
+                                                scratch ? nullptr : &base);
+        rows.push_back(learned_row(in, m.model, augment,
+                                   scratch ? "real presses only" : "fine-tuned", n, false));
+        rows.back().settings += "; " + m.training;
       }
   }
 }
