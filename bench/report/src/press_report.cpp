@@ -104,6 +104,15 @@ void write_finetune(std::ostream& o, const std::vector<MeasuredRow>& rows, doubl
     }
     o << "\n";
   }
+  std::string unconverged;
+  for (const auto& m : rows)
+    if (m.settings.find("not converged") != std::string::npos)
+      unconverged += fmt::format("{}{} ({}, n = {})", unconverged.empty() ? "" : ", ", m.training,
+                                 m.augment, m.finetune_n);
+  if (!unconverged.empty())
+    o << "\n**Not converged** (the step budget ran out before early stopping ended the training; "
+         "`--finetune-steps` raises it): "
+      << unconverged << ". Each row's training is in results.json's settings.\n";
   const std::string headline = finetune_headline(rows, mm);
   if (!headline.empty()) o << "\n" << headline << "\n";
   o << "\n![Error against labelled presses](press_finetune.png)\n";
@@ -178,26 +187,29 @@ bool draw_press_figure(const RunResults& r, const std::string& path) {
   plot.x_label = "labelled real presses (the calibration set's first n)";
   plot.y_label = mm > 0 ? "mean centre error (mm)" : "mean centre error (x R)";
   plot.log_x = true;
+  // One colour per augmentation (the learned model's in every figure); dashed: from scratch.
   for (const Way& w : kWays) {
     PlotSeries s;
-    s.label = s.key = w.label, s.points = true;
+    s.label = w.label, s.points = true;
+    s.key = std::string("dnn (") + w.augment + ")";
     s.dashed = std::string(w.training) == "real presses only";
     for (int n : sizes)
       if (const MeasuredRow* m = find(r.measured, w.augment, w.training, n))
         s.x.push_back(n), s.y.push_back(yardstick(*m) * scale);
     if (!s.x.empty()) plot.series.push_back(s);
   }
-  // Flat lines: the floors and the best method that needs no labelled presses to train.
+  // Flat lines: the floors, and the best model-based method (tuned on the calibration presses).
   const MeasuredRow* best = nullptr;
   for (const auto& m : r.measured)
-    if (without_real_labels(m) && m.method != "centre" &&
+    if (m.training == "calibration presses" && m.method != "fingerprint" &&
         (!best || yardstick(m) < yardstick(*best)))
       best = &m;
   for (const auto& m : r.measured)
     if (m.method == "centre" || m.method == "fingerprint" || &m == best) {
       PlotSeries s;
-      s.label = s.key =
-          m.method == "centre" ? "predicting the centre" : name(m) + " (" + m.training + ")";
+      s.label = m.method == "centre" ? "predicting the centre"
+                                     : name(m) + " (tuned on the calibration presses)";
+      s.key = m.method == "centre" ? "tikhonov" : m.method == "fingerprint" ? "shape" : m.method;
       s.dashed = true;
       s.x = {double(sizes.front()), double(sizes.back())};
       s.y = {yardstick(m) * scale, yardstick(m) * scale};
