@@ -3,28 +3,17 @@
 #include <filesystem>
 
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/press_touches.h"
 #include "eitbench/bench/methods/press_labels.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench::cli {
 
-namespace {
-
-void check_same_sensor(const Dataset& cal, const std::string& path, const Dataset& data) {
-  if (measurement_protocol(cal).channels() != measurement_protocol(data).channels() ||
-      cal.magnitude != data.magnitude)
-    throw InputError(path, "protocol", "differs from the scored set's: tune on the same board");
-  if (cal.touches.empty())
-    throw InputError(path, "touches", "is not a press set (import --touches makes one)");
-}
-
-}  // namespace
-
 PressTuning press_tuning(const std::string& path, const std::string& range, const Dataset& data,
                          const std::string& data_path, const std::vector<int>& scored_rows,
                          const PixelGrid& grid, double touch_threshold) {
   const Dataset cal = read_dataset(path);
-  check_same_sensor(cal, path, data);
+  check_press_set(path, cal, measurement_protocol(data));
   const auto [a, b] = parse_range(range, cal.size());
   std::error_code same_error;
   if (std::filesystem::equivalent(path, data_path, same_error))

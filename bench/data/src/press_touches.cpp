@@ -79,3 +79,25 @@ PressTruth read_touch_file(const TouchFileOptions& o, long long frames, double r
 }
 
 }  // namespace eitbench
+
+namespace eitbench {
+
+void check_press_set(const std::string& path, const Dataset& data,
+                     const MeasurementProtocol& protocol) {
+  if (data.touches.empty())
+    throw InputError(path, "touches", "is not a press set (import --touches makes one)");
+  for (std::size_t i = 0; i < data.touches.size(); ++i)
+    if (data.touches[i].size() != 1)
+      throw InputError(path, "touches",
+                       fmt::format("frame {} has {} touches; presses are scored one a frame", i,
+                                   data.touches[i].size()));
+  const MeasurementProtocol own = measurement_protocol(data);
+  if (!own.same_channels(protocol) || data.magnitude != protocol.magnitude())
+    throw InputError(path, "protocol",
+                     "is read on the " + own.name() + (data.magnitude ? " (magnitudes)" : "") +
+                         " protocol, the scored presses on " + protocol.name() +
+                         (protocol.magnitude() ? " (magnitudes)" : "") +
+                         ": presses tune and score on one board");
+}
+
+}  // namespace eitbench

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/press_touches.h"
 #include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/support/progress.h"
@@ -133,24 +134,6 @@ Dataset users(const RunConfig& config) {
   return import_measurements(config.data, config.reference, o);
 }
 
-// A set of real presses the run can score or tune on: one known touch a frame, the measured set's
-// protocol. Checked before the simulated stages, so that a wrong file costs nothing.
-void check_press_set(const std::string& path, const Dataset& d,
-                     const MeasurementProtocol& protocol) {
-  if (d.touches.empty())
-    throw InputError(path, "touches", "is not a press set (import --touches makes one)");
-  for (std::size_t i = 0; i < d.touches.size(); ++i)
-    if (d.touches[i].size() != 1)
-      throw InputError(path, "touches",
-                       fmt::format("frame {} has {} touches; real presses are scored one a frame",
-                                   i, d.touches[i].size()));
-  if (!measurement_protocol(d).same_channels(protocol) || d.magnitude != protocol.magnitude())
-    throw InputError(path, "protocol",
-                     "is read on the " + measurement_protocol(d).name() +
-                         (d.magnitude ? " (magnitudes)" : "") + " protocol, the measured set on " +
-                         protocol.name() + (protocol.magnitude() ? " (magnitudes)" : ""));
-}
-
 // Frames evaluated against a simulated source must come from its sensor; they are brought to its
 // units by their reference frame.
 void calibrate_to_source(const Context& context, RunData& r) {
@@ -220,6 +203,7 @@ RunData load_data(const Context& context) {
                        fmt::format("{} electrodes; pass --electrodes {} to simulate them",
                                    presses.electrodes, presses.electrodes));
     const MeasurementProtocol protocol = measurement_protocol(presses);
+    // Both sets are checked before the simulated stages, so that a wrong file costs nothing.
     check_press_set(config.measured, presses, protocol);
     check_press_set(config.press_calibration, read_dataset(config.press_calibration), protocol);
     r.data = simulated(context, &protocol);

@@ -13,7 +13,6 @@
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/data/training_data.h"
-#include "eitbench/bench/methods/metrics.h"
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/press_fingerprint.h"
 #include "eitbench/bench/methods/press_labels.h"
@@ -57,6 +56,8 @@ void mark_novel(PressFrames& set, const PressFrames& cal, double radius) {
 struct Located {
   std::vector<Eigen::Vector2d> at;
   int none_found = 0;
+  double latency_median_ms = NAN;  // one frame at a time, when the method was timed
+  std::string settings;            // the method's, as evaluate reports them
 };
 
 Located located_in(const TouchFrames& found) {
@@ -92,20 +93,18 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
   return p;
 }
 
-// Where `method` puts each press of `frames`, scored against their truth; its SET latency when
-// `row` is given. A method that gives circles is located by them, the rest by their images'
-// strongest blob at `threshold`.
+// Where `method` puts each press of `set`, with its latency and settings. A method that gives
+// circles is located by them, the rest by their images' strongest blob at `threshold`.
 Located located_presses(const Reconstructor& method, const PixelGrid& grid, double background,
-                        const PressFrames& set, double threshold, int timed_frames,
-                        MeasuredRow* row = nullptr) {
+                        const PressFrames& set, double threshold, int timed_frames) {
   SampleMatrix images;
   std::vector<std::vector<Circle>> circles;
   const ResultRow r =
       evaluate_row(method, set.frames, SampleMatrix(), grid, timed_frames, &images, &circles);
-  if (row) row->latency_median_ms = r.latency_median_ms, row->settings = r.settings;
-  const TouchFrames found = method.finds_circles() ? touches_of(circles, background)
-                                                   : touches_in_images(images, grid, threshold);
-  return located_in(found);
+  Located located = located_in(method.finds_circles() ? touches_of(circles, background)
+                                                      : touches_in_images(images, grid, threshold));
+  located.latency_median_ms = r.latency_median_ms, located.settings = r.settings;
+  return located;
 }
 
 // The blob threshold with the lowest mean centre error on CAL's presses (the first wins a tie).
@@ -148,6 +147,7 @@ MeasuredRow row_for(const StageInputs& in, const std::string& method, const std:
   row.unit = "mesh unit";
   row.calibration = in.cal.name, row.scored = in.set.name;
   row.frames = s.frames, row.none_found = s.none_found;
+  row.latency_median_ms = located.latency_median_ms, row.settings = located.settings;
   for (const ResultRow& r : in.simulated.rows)
     if (r.method == method && r.augment == augment && std::isinf(r.snr_db) && r.touch.frames > 0)
       row.simulated_fraction_of_radius = r.touch.centre_error_median;
@@ -178,14 +178,8 @@ void model_based_rows(const StageInputs& in, const std::string& name,
     mo.choose = "validation";
     auto method = make_reconstructor(name, in.reconstruction.problem, mo);
     if (training == std::string("simulation")) {
-      const Eigen::Index n =
-          spec.sweep_on_subset
-              ? std::min<Eigen::Index>(config.sweep_frames, in.data.validation.frames.rows())
-              : in.data.validation.frames.rows();
-      method->fit(in.data.validation.frames.topRows(n), in.data.validation.labels.topRows(n),
-                  [&grid](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
-                    return correlation(x, y, grid);
-                  });
+      fit_on_validation(*method, name, config, in.data.validation.frames, in.data.validation.labels,
+                        grid);
     } else {
       // The iterative methods sweep on CAL's first presses: a solve per frame and candidate.
       const Eigen::Index n = spec.sweep_on_subset ? std::min<Eigen::Index>(8 * config.sweep_frames,
@@ -198,18 +192,14 @@ void model_based_rows(const StageInputs& in, const std::string& name,
       tuned_on = n;
     }
     const double threshold = press_threshold(*method, grid, in.cal);
-    MeasuredRow row;
-    const Located s =
-        located_presses(*method, grid, background, in.set, threshold, config.timed_frames, &row);
-    MeasuredRow full = row_for(in, name, "-", training, s);
-    full.finetune_n = static_cast<int>(tuned_on);
-    full.latency_median_ms = row.latency_median_ms;
-    full.settings =
-        row.settings + (std::isnan(threshold)
-                            ? std::string()
-                            : fmt::format(", touch threshold {:g} (on CAL)", threshold));
-    log_row(in.context, full);
-    rows.push_back(full);
+    MeasuredRow row =
+        row_for(in, name, "-", training,
+                located_presses(*method, grid, background, in.set, threshold, config.timed_frames));
+    row.finetune_n = static_cast<int>(tuned_on);
+    if (!std::isnan(threshold))
+      row.settings += fmt::format(", touch threshold {:g} (on CAL)", threshold);
+    log_row(in.context, row);
+    rows.push_back(row);
   }
 }
 
@@ -221,12 +211,10 @@ MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
   const auto method = make_learned_reconstructor(model);
   const PixelGrid& grid = in.reconstruction.grid;
   const double threshold = threshold_on_cal ? press_threshold(*method, grid, in.cal) : 0.5;
-  MeasuredRow timing;
-  const Located s =
-      located_presses(*method, grid, 0, in.set, threshold, in.context.config.timed_frames, &timing);
-  MeasuredRow row = row_for(in, "dnn", augment, training, s);
+  MeasuredRow row =
+      row_for(in, "dnn", augment, training,
+              located_presses(*method, grid, 0, in.set, threshold, in.context.config.timed_frames));
   row.finetune_n = n;
-  row.latency_median_ms = timing.latency_median_ms;
   row.settings = fmt::format("touch threshold {:g}{}", threshold,
                              threshold_on_cal ? " (on CAL)" : " (fixed: no presses to tune it on)");
   if (training != "simulation") row.simulated_fraction_of_radius = NAN;
@@ -311,9 +299,10 @@ std::vector<MeasuredRow> measured_rows(const StageInputs& in, const LearnedSetup
                                        const std::vector<std::string>& augments) {
   const RunConfig& config = in.context.config;
   std::vector<MeasuredRow> rows;
-  MeasuredRow centre = row_for(
-      in, "centre", "-", "none",
-      Located{std::vector<Eigen::Vector2d>(in.set.touches.size(), Eigen::Vector2d::Zero()), 0});
+  MeasuredRow centre =
+      row_for(in, "centre", "-", "none",
+              Located{std::vector<Eigen::Vector2d>(in.set.touches.size(), Eigen::Vector2d::Zero()),
+                      0, NAN, ""});
   log_row(in.context, centre);
   rows.push_back(centre);
 
@@ -324,7 +313,8 @@ std::vector<MeasuredRow> measured_rows(const StageInputs& in, const LearnedSetup
   std::vector<Eigen::Vector2d> at;
   for (Eigen::Index i = 0; i < in.set.frames.rows(); ++i)
     at.push_back(fingerprint.locate(in.set.frames.row(i).transpose()));
-  MeasuredRow nearest = row_for(in, "fingerprint", "-", "calibration presses", Located{at, 0});
+  MeasuredRow nearest =
+      row_for(in, "fingerprint", "-", "calibration presses", Located{at, 0, NAN, ""});
   nearest.finetune_n = static_cast<int>(in.cal.frames.rows());
   nearest.settings = fmt::format("{} nearest frames (leave-one-out on CAL: {:.3f})",
                                  fingerprint.neighbours(), fingerprint.leave_one_out_error());

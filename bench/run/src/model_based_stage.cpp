@@ -110,27 +110,31 @@ std::vector<Eigen::VectorXd> first_images(const SampleMatrix& images, int count)
   return out;
 }
 
+void fit_on_validation(Reconstructor& method, const std::string& name, const RunConfig& config,
+                       const SampleMatrix& frames, const SampleMatrix& labels,
+                       const PixelGrid& grid) {
+  const Eigen::Index n = find_method(name).sweep_on_subset
+                             ? std::min<Eigen::Index>(config.sweep_frames, frames.rows())
+                             : frames.rows();
+  method.fit(frames.topRows(n), labels.topRows(n),
+             [&grid](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+               return correlation(x, y, grid);
+             });
+}
+
 namespace {
 
 MethodResults tune_and_score(const Context& context, const std::string& name, const RunData& data,
                              const Reconstruction& reconstruction, const NoisyFrames& noisy) {
   const RunConfig& config = context.config;
-  const MethodSpec& spec = find_method(name);
-  const ScoreFn score = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
-    return correlation(x, y, reconstruction.grid);
-  };
-  const Eigen::Index tuning_frames =
-      spec.sweep_on_subset
-          ? std::min<Eigen::Index>(config.sweep_frames, data.validation.frames.rows())
-          : data.validation.frames.rows();
   MethodResults out;
   for (std::size_t k = 0; k < data.snrs.size(); ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     MethodOptions mo;
     mo.choose = "validation";
     auto method = make_reconstructor(name, reconstruction.problem, mo);
-    method->fit(noisy.validation[k].topRows(tuning_frames),
-                data.validation.labels.topRows(tuning_frames), score);
+    fit_on_validation(*method, name, config, noisy.validation[k], data.validation.labels,
+                      reconstruction.grid);
     const double setup = reconstruction.setup_s + seconds_since(t0);
     SampleMatrix images;
     std::vector<std::vector<Circle>> circles;

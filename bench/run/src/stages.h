@@ -80,6 +80,12 @@ struct MethodResults {
   std::vector<Eigen::VectorXd> images;
 };
 
+// A model-based method's hyperparameter by mean CC on validation frames (the iterative methods'
+// on the first config.sweep_frames): how the run tunes every method in simulation.
+void fit_on_validation(Reconstructor& method, const std::string& name, const RunConfig& config,
+                       const SampleMatrix& frames, const SampleMatrix& labels,
+                       const PixelGrid& grid);
+
 // 3. A model-based method: its hyperparameter by validation CC at each SNR, scored on the test set.
 MethodResults run_model_based(const Context& context, const std::string& method,
                               const RunData& data, const Reconstruction& reconstruction,

@@ -33,4 +33,9 @@ struct PressTruth {
 };
 PressTruth read_touch_file(const TouchFileOptions& options, long long frames, double radius);
 
+// A press set that presses can be scored or tuned on beside others read on `protocol`: one known
+// touch a frame, the same channels and magnitudes. InputError(path, "touches" or "protocol").
+void check_press_set(const std::string& path, const Dataset& data,
+                     const MeasurementProtocol& protocol);
+
 }  // namespace eitbench
