@@ -230,10 +230,13 @@ void write_training(std::ostream& o, const RunResults& r) {
     const double best = t.best_round > 0 && t.best_round <= static_cast<int>(t.history.size())
                             ? t.history[t.best_round - 1].validation_loss
                             : NAN;
-    o << fmt::format("| {} | {} | {} | {} | {} | {:.4g} | {:.0f} | {:.0f} % | {:.1f} |\n",
-                     t.augment, t.converged ? "yes" : "**no** (budget)", t.steps, t.samples,
-                     t.best_epoch, best, t.samples_per_second, 100 * t.fraction_of_gemm_peak,
-                     t.seconds);
+    // The CPU's GEMM peak is measured only for CPU training; a GPU run has none to compare with.
+    const std::string of_peak = t.fraction_of_gemm_peak > 0
+                                    ? fmt::format("{:.0f} %", 100 * t.fraction_of_gemm_peak)
+                                    : std::string("–");
+    o << fmt::format("| {} | {} | {} | {} | {} | {:.4g} | {:.0f} | {} | {:.1f} |\n", t.augment,
+                     t.converged ? "yes" : "**no** (budget)", t.steps, t.samples, t.best_epoch,
+                     best, t.samples_per_second, of_peak, t.seconds);
   }
   o << "\n![Training (light) and validation MSE against samples seen](loss_curves.png)\n";
   write_device_inference(o, r);
