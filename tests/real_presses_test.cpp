@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "cli_fixture.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/training_data.h"
+#include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/bench/methods/press_fingerprint.h"
 #include "eitbench/bench/methods/press_labels.h"
 #include "eitbench/bench/report/results.h"
@@ -18,6 +20,8 @@
 
 namespace eitbench {
 namespace {
+
+constexpr double kPi = 3.14159265358979323846;
 
 // Frames that vary smoothly with the press position: a fingerprint's neighbours are its
 // neighbours on the sensor.
@@ -222,6 +226,60 @@ TEST_F(MeasuredRun, RefusesPressSetsItCannotScoreHonestly) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("set_all.h5: touches: is not a press set"), std::string::npos)
       << r.output;
+}
+
+// The sensor fit on the calibration presses (calibrate --presses CAL --out) writes a sensor file
+// with its press fit; the run scores the methods that locate presses on the model a second time,
+// their positions taken back through it. A fit of the scored presses is refused before any work.
+TEST_F(MeasuredRun, ScoresThroughTheSensorsPressFit) {
+  const std::string set = press_set("set", 11), cal = press_set("cal", 12);
+  const std::string mesh = " --electrodes 16 --density coarse";
+  Result r = run("calibrate --presses " + cal + mesh + " --step 2 --out " + path("sensor.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const SensorFile sensor = read_sensor_file(path("sensor.json"));
+  ASSERT_TRUE(sensor.press_fit.has_value());
+  EXPECT_FALSE(sensor.fitted);  // no --reference: nominal background and impedances
+  // The stand-in's positions are the simulated circles' centres: no turn, no scale to find but
+  // what the linear model's bias on its strong touches (contrast up to 0.9) puts there.
+  const SensorPressFit& fit = *sensor.press_fit;
+  const double turn = std::min(fit.rotate_degrees, 360 - fit.rotate_degrees);
+  EXPECT_LT(turn, 5.0);
+  EXPECT_FALSE(fit.mirror);
+  EXPECT_NEAR(fit.scale, 1.0, 0.15);
+  EXPECT_LT(fit.relative_residual, fit.start_residual);
+
+  ASSERT_EQ(
+      run("calibrate --presses " + set + mesh + " --out " + path("fit_of_set.json")).exit_code, 0);
+  const std::string base = "run --preset tiny --quiet --methods noser --augment none --measured " +
+                           set + " --calibration " + cal + " --finetune 0 --out " + path("out");
+  r = run(base + " --sensor " + path("fit_of_set.json"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("press_fit.presses: was fitted on"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(path("out/data.h5")));
+
+  r = run(base + " --sensor " + path("sensor.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const RunResults results = read_results_json(path("out/results.json"));
+  auto find = [&](const std::string& method, const std::string& training) {
+    for (const MeasuredRow& m : results.measured)
+      if (m.method == method && m.training == training) return &m;
+    return static_cast<const MeasuredRow*>(nullptr);
+  };
+  for (const std::string method : {"noser", "dnn"}) {
+    const MeasuredRow* plain = find(method, "simulation");
+    const MeasuredRow* through = find(method, "simulation + sensor fit");
+    ASSERT_NE(plain, nullptr) << method;
+    ASSERT_NE(through, nullptr) << method;
+    // The fit moves a position in the disk by at most (|1 - 1/s| + 2 sin(turn / 2)) R, and the
+    // median error by no more.
+    const double moved = std::abs(1 - 1 / fit.scale) + 2 * std::sin(turn * kPi / 360);
+    EXPECT_LE(std::abs(through->centre_error_median - plain->centre_error_median), moved + 1e-9)
+        << method;
+    // (The tiny run's network finds no press: the centre, which no fit moves.)
+    if (method == "noser") EXPECT_NE(through->centre_error_median, plain->centre_error_median);
+  }
+  EXPECT_NE(find("noser", "calibration presses + sensor fit"), nullptr);
+  EXPECT_EQ(find("fingerprint", "calibration presses + sensor fit"), nullptr);
 }
 
 }  // namespace

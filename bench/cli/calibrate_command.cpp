@@ -1,6 +1,6 @@
 // eitbench calibrate: the background conductivity and each electrode's contact impedance fitted
-// to a frame of the untouched sensor, written as a sensor file that forward, jacobian,
-// reconstruct and run take with --sensor.
+// to a frame of the untouched sensor, and the frame and touch of a press set (--presses), written
+// as a sensor file that forward, jacobian, reconstruct and run take with --sensor.
 #include <fmt/core.h>
 
 #include <memory>
@@ -11,12 +11,49 @@
 #include "eitbench/solvers/calibration.h"
 #include "eitbench/solvers/press_frame.h"
 #include "options.h"
+#include "press_frame_command.h"
 
 namespace eitbench::cli {
 
 #ifdef EITBENCH_HAVE_CERES
-void print_press_frame(const Mesh& mesh, const std::string& path,
-                       const PressFrameOptions& options);  // press_frame_command.cpp
+namespace {
+
+void print_calibration(const Calibration& c) {
+  fmt::print(
+      "background {:.6g} S/m; contact impedances {:.4g} .. {:.4g}; residual {:.3g} of the "
+      "frame after {} iterations{}\n",
+      c.background, c.contact_impedances.minCoeff(), c.contact_impedances.maxCoeff(),
+      c.relative_residual, c.iterations, c.converged ? "" : " (NOT converged)");
+}
+
+// The background and the contact impedances fitted to the empty sensor's frame at `path`.
+Calibration calibrate_reference(const Mesh& mesh, const std::string& path,
+                                const std::string& variable, const std::string& order,
+                                double background, double contact_impedance, double current) {
+  ImportOptions io;
+  io.electrodes = mesh.num_electrodes();
+  io.order = order == "ascending" ? MeasurementOrder::ascending : MeasurementOrder::rotating;
+  io.variable = variable;
+  io.keep_maps = true;
+  const Measurements m = read_measurements(path, io);
+  // A map's pairs that touch a driven electrode carry the contact impedances; without them the
+  // impedances are a guess the noise decides.
+  const bool map = m.maps.size() > 0;
+  const Eigen::VectorXd reference =
+      (map ? m.maps : m.frames).colwise().mean().transpose();  // a map, or rotating order
+  if (!map)
+    fmt::print(stderr,
+               "note: {} holds L(L-3) frames, which read no current-carrying electrode: the "
+               "background is well determined, the contact impedances only noise-free. An L x L "
+               "map (forward --values map) reads them.\n",
+               path);
+  ForwardOptions start;
+  start.contact_impedance = contact_impedance;
+  start.current = current;
+  return calibrate(mesh, start, background, reference, MeasurementOrder::rotating, {}, path);
+}
+
+}  // namespace
 
 std::function<void()> add_calibrate_command(CLI::App& app) {
   struct Args {
@@ -24,24 +61,33 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
     std::string reference, variable, order = "rotating", out, presses;
     double background = 1, contact_impedance = 0.01, current = 1;
     PressFrameOptions frame;
+    PressSensorOptions fit;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
       "calibrate",
       "Fit the background conductivity and each electrode's contact impedance to the empty "
-      "sensor's frame; write a sensor file (--sensor of forward, jacobian, reconstruct, run)");
+      "sensor's frame, and the frame and touch of labelled presses; write a sensor file "
+      "(--sensor of forward, jacobian, reconstruct, run)");
   cmd->add_option("--reference", args->reference,
                   "the untouched sensor's frames, absolute voltages (.csv/.npy/.npz/.mat; the "
                   "mean of several): an L x L map of every adjacent pair (needed for the contact "
                   "impedances) or L(L-3) values");
   cmd->add_option("--presses", args->presses,
                   "a press set (import --touches): fit how its recorded positions lie on the "
-                  "electrodes (the turn and the handedness that best explain its changes)");
+                  "electrodes (the turn and the handedness that best explain its changes); with "
+                  "--out also their scale and the touch (a disc's radius and contrast, per unit "
+                  "depth where the set records depths), written into the sensor file");
   cmd->add_option("--step", args->frame.step_degrees, "--presses: the turns tried, in degrees")
       ->capture_default_str();
   cmd->add_option("--touch-radius", args->frame.touch_radius,
                   "--presses: each press drawn as a disc of this radius (x R)")
       ->capture_default_str();
+  cmd->add_option("--huber", args->fit.huber,
+                  "--presses --out: a Huber loss on each press's misfit beyond this (relative to "
+                  "the set's; 0: least squares)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--variable", args->variable, "array or variable in --reference");
   cmd->add_option("--order", args->order, "order of L(L-3)-value frames")
       ->capture_default_str()
@@ -56,54 +102,45 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
       ->check(kPositive);
   cmd->add_option("--current", args->current, "the drive current the frame was measured with")
       ->capture_default_str();
-  cmd->add_option("--out", args->out, "the sensor file to write (JSON; with --reference)");
+  cmd->add_option("--out", args->out,
+                  "the sensor file to write (JSON): with --reference its background and contact "
+                  "impedances, with --presses the press fit (without --reference, the nominal "
+                  "--background and --contact-impedance, marked as not fitted)");
   return [args] {
     const Mesh mesh = load_mesh(args->mesh);
     if (args->reference.empty() && args->presses.empty())
       throw InputError("calibrate", "",
                        "needs --reference (the empty sensor's frame) or --presses (a press set)");
-    if (!args->presses.empty()) print_press_frame(mesh, args->presses, args->frame);
-    if (args->reference.empty()) return;
+    std::optional<SensorPressFit> press_fit;
+    if (!args->presses.empty() && args->out.empty())
+      print_press_frame(mesh, args->presses, args->frame);
+    else if (!args->presses.empty())
+      press_fit = fit_press_sensor_file(mesh, args->presses, args->frame, args->fit);
+    if (args->reference.empty() && args->out.empty()) return;
     if (args->out.empty())
       throw InputError("--out", "", "--reference needs --out, the sensor file to write");
-    ImportOptions io;
-    io.electrodes = mesh.num_electrodes();
-    io.order =
-        args->order == "ascending" ? MeasurementOrder::ascending : MeasurementOrder::rotating;
-    io.variable = args->variable;
-    io.keep_maps = true;
-    const Measurements m = read_measurements(args->reference, io);
-    // A map's pairs that touch a driven electrode carry the contact impedances; without them the
-    // impedances are a guess the noise decides.
-    const bool map = m.maps.size() > 0;
-    const Eigen::VectorXd reference =
-        (map ? m.maps : m.frames).colwise().mean().transpose();  // a map, or rotating order
-    if (!map)
-      fmt::print(stderr,
-                 "note: {} holds L(L-3) frames, which read no current-carrying electrode: the "
-                 "background is well determined, the contact impedances only noise-free. An L x L "
-                 "map (forward --values map) reads them.\n",
-                 args->reference);
-    ForwardOptions start;
-    start.contact_impedance = args->contact_impedance;
-    start.current = args->current;
-    const Calibration c = calibrate(mesh, start, args->background, reference,
-                                    MeasurementOrder::rotating, {}, args->reference);
     SensorFile s;
     s.electrodes = mesh.num_electrodes();
-    s.background = c.background;
-    s.contact_impedances = c.contact_impedances;
     s.current = args->current;
-    s.reference = args->reference;
-    s.relative_residual = c.relative_residual;
-    s.iterations = c.iterations;
-    s.converged = c.converged;
+    s.press_fit = press_fit;
+    if (args->reference.empty()) {  // the press fit alone: nominal values, marked as such
+      s.background = args->background;
+      s.contact_impedances = Eigen::VectorXd::Constant(s.electrodes, args->contact_impedance);
+      s.fitted = false;
+    } else {
+      const Calibration c =
+          calibrate_reference(mesh, args->reference, args->variable, args->order, args->background,
+                              args->contact_impedance, args->current);
+      s.background = c.background;
+      s.contact_impedances = c.contact_impedances;
+      s.reference = args->reference;
+      s.relative_residual = c.relative_residual;
+      s.iterations = c.iterations;
+      s.converged = c.converged;
+      print_calibration(c);
+    }
     write_sensor_file(args->out, s);
-    fmt::print(
-        "background {:.6g} S/m; contact impedances {:.4g} .. {:.4g}; residual {:.3g} of the "
-        "frame after {} iterations{}\nwrote {}\n",
-        c.background, c.contact_impedances.minCoeff(), c.contact_impedances.maxCoeff(),
-        c.relative_residual, c.iterations, c.converged ? "" : " (NOT converged)", args->out);
+    fmt::print("wrote {}\n", args->out);
   };
 }
 #else

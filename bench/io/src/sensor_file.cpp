@@ -19,6 +19,38 @@ double positive(const nlohmann::json& j, const std::string& path, const char* fi
   return v;
 }
 
+double finite(const nlohmann::json& j, const std::string& path, const char* field) {
+  if (!j.contains(field) || !j[field].is_number())
+    throw InputError(path, std::string("press_fit.") + field, "missing, or not a number");
+  const double v = j[field].get<double>();
+  if (!std::isfinite(v))
+    throw InputError(path, std::string("press_fit.") + field, "must be finite");
+  return v;
+}
+
+SensorPressFit read_press_fit(const nlohmann::json& j, const std::string& path) {
+  if (!j.is_object()) throw InputError(path, "press_fit", "must be an object");
+  SensorPressFit f;
+  f.presses = j.value("presses", "");
+  f.rotate_degrees = finite(j, path, "rotate_degrees");
+  f.scale = finite(j, path, "scale");
+  f.touch_radius = finite(j, path, "touch_radius");
+  f.contrast = finite(j, path, "contrast");
+  f.gain = j.contains("gain") ? finite(j, path, "gain") : 1.0;
+  for (const auto& [field, value] :
+       {std::pair{"scale", f.scale}, {"touch_radius", f.touch_radius}, {"gain", f.gain}})
+    if (!(value > 0)) throw InputError(path, std::string("press_fit.") + field, "must be positive");
+  if (!j.contains("mirror") || !j["mirror"].is_boolean())
+    throw InputError(path, "press_fit.mirror", "missing, or not true or false");
+  f.mirror = j["mirror"].get<bool>();
+  f.per_depth = j.value("per_depth", false);
+  f.start_residual = j.value("start_residual", 0.0);
+  f.relative_residual = j.value("relative_residual", 0.0);
+  f.iterations = j.value("iterations", 0);
+  f.converged = j.value("converged", false);
+  return f;
+}
+
 }  // namespace
 
 void write_sensor_file(const std::string& path, const SensorFile& s) {
@@ -33,7 +65,23 @@ void write_sensor_file(const std::string& path, const SensorFile& s) {
                        {{"reference", s.reference},
                         {"relative_residual", s.relative_residual},
                         {"iterations", s.iterations},
-                        {"converged", s.converged}}}};
+                        {"converged", s.converged},
+                        {"fitted", s.fitted}}}};
+  if (s.press_fit) {
+    const SensorPressFit& f = *s.press_fit;
+    j["press_fit"] = {{"presses", f.presses},
+                      {"rotate_degrees", f.rotate_degrees},
+                      {"mirror", f.mirror},
+                      {"scale", f.scale},
+                      {"touch_radius", f.touch_radius},
+                      {"contrast", f.contrast},
+                      {"per_depth", f.per_depth},
+                      {"gain", f.gain},
+                      {"start_residual", f.start_residual},
+                      {"relative_residual", f.relative_residual},
+                      {"iterations", f.iterations},
+                      {"converged", f.converged}};
+  }
   write_text_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
 }
 
@@ -73,7 +121,9 @@ SensorFile read_sensor_file(const std::string& path) {
     s.relative_residual = c.value("relative_residual", 0.0);
     s.iterations = c.value("iterations", 0);
     s.converged = c.value("converged", false);
+    s.fitted = c.value("fitted", true);
   }
+  if (j.contains("press_fit")) s.press_fit = read_press_fit(j["press_fit"], path);
   return s;
 }
 

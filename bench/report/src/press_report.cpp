@@ -23,7 +23,9 @@ std::string length(double v, double mm) {
 }
 
 bool without_real_labels(const MeasuredRow& m) {
-  return m.training == "none" || m.training == "simulation" || m.training == "calibration presses";
+  return m.training == "none" || m.training == "simulation" ||
+         m.training == "calibration presses" || m.training == "simulation + sensor fit" ||
+         m.training == "calibration presses + sensor fit";
 }
 
 std::string name(const MeasuredRow& m) {
@@ -45,8 +47,9 @@ void write_ranking(std::ostream& o, const std::vector<MeasuredRow>& rows, double
     const double drop = m->centre_error_fraction_of_radius / m->simulated_fraction_of_radius;
     o << fmt::format(
         "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", ++rank, name(*m),
-        m->training == "calibration presses" ? fmt::format("{} calibration presses", m->finetune_n)
-                                             : m->training,
+        m->training.rfind("calibration presses", 0) == 0
+            ? fmt::format("{} {}", m->finetune_n, m->training)
+            : m->training,
         length(m->centre_error_median, mm), length(m->centre_error_mean, mm),
         length(m->centre_error_p90, mm), length(m->novel_centre_error_median, mm),
         length(m->novel_centre_error_mean, mm),

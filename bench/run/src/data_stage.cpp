@@ -206,6 +206,7 @@ RunData load_data(const Context& context) {
     // Both sets are checked before the simulated stages, so that a wrong file costs nothing.
     check_press_set(config.measured, presses, protocol);
     check_press_set(config.press_calibration, read_dataset(config.press_calibration), protocol);
+    sensor_press_fit(config);
     r.data = simulated(context, &protocol);
     r.data_path = (context.out / "data.h5").string();
   } else if (config.data.empty()) {

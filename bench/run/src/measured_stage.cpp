@@ -9,10 +9,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/data/training_data.h"
+#include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/press_fingerprint.h"
 #include "eitbench/bench/methods/press_labels.h"
@@ -89,6 +91,7 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
   for (const auto& m : config.methods) methods += m + " ";
   p["methods"] = methods;
   p["scores"] = "all presses and those at new positions (0.01 R)";
+  p["sensor"] = file_hash(config.sensor);  // its press fit gives rows of its own
   p["press training"] = "fine-tuned at a tenth of the peak rate; from scratch at the peak rate";
   return p;
 }
@@ -125,7 +128,21 @@ struct StageInputs {
   const Reconstruction& reconstruction;
   const PressFrames &set, &cal;
   const RunResults& simulated;
+  // The sensor file's press fit (calibrate --presses on CAL), when it has one.
+  const std::optional<SensorPressFit>& press_fit;
 };
+
+// Positions on the model back in the recorded frame, by the inverse of the sensor's press fit:
+// q = R(a) M (s p) on the model, so p = M R(-a) q / s.
+Located through_fit(Located located, const SensorPressFit& fit) {
+  const double a = -fit.rotate_degrees * 3.14159265358979323846 / 180;
+  const double c = std::cos(a), s = std::sin(a);
+  for (Eigen::Vector2d& q : located.at) {
+    const double x = (c * q.x() - s * q.y()) / fit.scale, y = (s * q.x() + c * q.y()) / fit.scale;
+    q = {x, fit.mirror ? -y : y};
+  }
+  return located;
+}
 
 MeasuredRow row_for(const StageInputs& in, const std::string& method, const std::string& augment,
                     const std::string& training, const Located& located) {
@@ -164,6 +181,22 @@ void log_row(const Context& context, const MeasuredRow& row) {
       row.none_found > 0 ? fmt::format(" ({} without a touch)", row.none_found) : ""));
 }
 
+// `row` again with its positions taken back to the recorded frame through the sensor's press fit.
+MeasuredRow fitted_twin(const StageInputs& in, const MeasuredRow& row, const Located& located) {
+  MeasuredRow twin = row_for(in, row.method, row.augment, row.training + " + sensor fit",
+                             through_fit(located, *in.press_fit));
+  twin.finetune_n = row.finetune_n;
+  twin.settings =
+      row.settings + fmt::format(
+                         "; positions / {:.4f}, turned by {:.2f} degrees{} "
+                         "(the sensor's press fit on {})",
+                         in.press_fit->scale, -in.press_fit->rotate_degrees,
+                         in.press_fit->mirror ? ", mirrored" : "", in.press_fit->presses);
+  twin.simulated_fraction_of_radius = row.simulated_fraction_of_radius;
+  log_row(in.context, twin);
+  return twin;
+}
+
 // A model-based method tuned two ways: in simulation (noise-free validation CC, as the main row
 // at infinite SNR) and on CAL's presses (the lowest mean centre error).
 void model_based_rows(const StageInputs& in, const std::string& name,
@@ -192,14 +225,15 @@ void model_based_rows(const StageInputs& in, const std::string& name,
       tuned_on = n;
     }
     const double threshold = press_threshold(*method, grid, in.cal);
-    MeasuredRow row =
-        row_for(in, name, "-", training,
-                located_presses(*method, grid, background, in.set, threshold, config.timed_frames));
+    const Located located =
+        located_presses(*method, grid, background, in.set, threshold, config.timed_frames);
+    MeasuredRow row = row_for(in, name, "-", training, located);
     row.finetune_n = static_cast<int>(tuned_on);
     if (!std::isnan(threshold))
       row.settings += fmt::format(", touch threshold {:g} (on CAL)", threshold);
     log_row(in.context, row);
     rows.push_back(row);
+    if (in.press_fit) rows.push_back(fitted_twin(in, row, located));
   }
 }
 
@@ -207,18 +241,22 @@ void model_based_rows(const StageInputs& in, const std::string& name,
 // see them (a model fine-tuned on a few must not be tuned on the rest).
 MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
                         const std::string& augment, const std::string& training, int n,
-                        bool threshold_on_cal) {
+                        bool threshold_on_cal, std::optional<MeasuredRow>* twin = nullptr) {
   const auto method = make_learned_reconstructor(model);
   const PixelGrid& grid = in.reconstruction.grid;
   const double threshold = threshold_on_cal ? press_threshold(*method, grid, in.cal) : 0.5;
-  MeasuredRow row =
-      row_for(in, "dnn", augment, training,
-              located_presses(*method, grid, 0, in.set, threshold, in.context.config.timed_frames));
+  const Located located =
+      located_presses(*method, grid, 0, in.set, threshold, in.context.config.timed_frames);
+  MeasuredRow row = row_for(in, "dnn", augment, training, located);
   row.finetune_n = n;
   row.settings = fmt::format("touch threshold {:g}{}", threshold,
                              threshold_on_cal ? " (on CAL)" : " (fixed: no presses to tune it on)");
   if (training != "simulation") row.simulated_fraction_of_radius = NAN;
   log_row(in.context, row);
+  if (twin)
+    *twin = in.press_fit && training == "simulation"
+                ? std::optional<MeasuredRow>(fitted_twin(in, row, located))
+                : std::nullopt;
   return row;
 }
 
@@ -327,7 +365,9 @@ std::vector<MeasuredRow> measured_rows(const StageInputs& in, const LearnedSetup
   models.reserve(augments.size());
   for (const std::string& augment : augments) {
     models.push_back(read_model_file(learned_model_path(in.context, augment)));
-    rows.push_back(learned_row(in, models.back(), augment, "simulation", 0, true));
+    std::optional<MeasuredRow> twin;
+    rows.push_back(learned_row(in, models.back(), augment, "simulation", 0, true, &twin));
+    if (twin) rows.push_back(*twin);
     // Fine-tuning starts from the model trained with the whole group when there is one.
     if (!base || augment == "d16") base = &models.back();
   }
@@ -336,6 +376,22 @@ std::vector<MeasuredRow> measured_rows(const StageInputs& in, const LearnedSetup
 }
 
 }  // namespace
+
+// Refused when fitted on the scored presses: nothing may be tuned on them.
+std::optional<SensorPressFit> sensor_press_fit(const RunConfig& config) {
+  if (config.sensor.empty()) return std::nullopt;
+  std::optional<SensorPressFit> fit = read_sensor_file(config.sensor).press_fit;
+  if (!fit) return fit;
+  std::error_code error;
+  const bool same = fs::equivalent(fit->presses, config.measured, error) ||
+                    fs::path(fit->presses).filename() == fs::path(config.measured).filename();
+  if (same)
+    throw InputError(config.sensor, "press_fit.presses",
+                     "was fitted on " + fit->presses +
+                         ", the presses --measured scores: fit it on "
+                         "the calibration presses (calibrate --presses CAL --out)");
+  return fit;
+}
 
 std::vector<MeasuredRow> run_measured(const Context& context, const RunData& data,
                                       const Reconstruction& reconstruction,
@@ -363,7 +419,15 @@ std::vector<MeasuredRow> run_measured(const Context& context, const RunData& dat
       "real presses: {} of the {} scored presses lie farther than {:g} R from every calibration "
       "press (scored apart as new positions)",
       std::count(set.novel.begin(), set.novel.end(), true), set.novel.size(), kNovel));
-  const StageInputs in{context, data, reconstruction, set, cal, simulated};
+  const std::optional<SensorPressFit> press_fit = sensor_press_fit(config);
+  if (press_fit)
+    context.say(fmt::format(
+        "real presses: the sensor's press fit (on {}): recorded positions x {:.4f}, turned by "
+        "{:.2f} degrees{}; the methods that locate presses on the model get a second row through "
+        "it",
+        press_fit->presses, press_fit->scale, press_fit->rotate_degrees,
+        press_fit->mirror ? " after the mirror" : ""));
+  const StageInputs in{context, data, reconstruction, set, cal, simulated, press_fit};
   rows = measured_rows(in, setup, augments);
   nlohmann::json j = nlohmann::json::array();
   for (const MeasuredRow& r : rows) j.push_back(to_json(r));

@@ -8,11 +8,13 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "eitbench/bench/data/dataset.h"
 #include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/bench/methods/touch_signal.h"
 #include "eitbench/bench/report/results.h"
 #include "eitbench/bench/run/config.h"
@@ -127,6 +129,9 @@ std::vector<MeasuredRow> run_measured(const Context& context, const RunData& dat
                                       const LearnedSetup& setup,
                                       const std::vector<std::string>& augments,
                                       const RunResults& simulated);
+// The press fit of the run's sensor file (calibrate --presses --out), if it has one; InputError
+// when it was fitted on the scored presses. Checked before the simulated stages too.
+std::optional<SensorPressFit> sensor_press_fit(const RunConfig& config);
 // Where the run keeps the learned model trained with `augment` (models/dnn_<augment>.pt).
 std::string learned_model_path(const Context& context, const std::string& augment);
 

@@ -96,6 +96,8 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
     if (n == train_count && budget == "converged" && from_main_run(main_runs, p)) return p;
     const std::string name = fmt::format("efficiency_{}_{}_{}", augment, budget, n);
     Provenance provenance = data.provenance;  // the test frames it is scored on, too
+    // The sensor file sets the model-based methods' model and the press fit, not the network's.
+    provenance.erase("sensor");
     for (const auto& [key, value] : training_provenance(config, data)) provenance[key] = value;
     provenance["steps"] = std::to_string(steps);
     // Points made when a size took the split's first n frames are made again.

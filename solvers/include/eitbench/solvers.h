@@ -6,6 +6,7 @@
 #include "eitbench/solvers/greit.h"
 #include "eitbench/solvers/linear_problem.h"
 #include "eitbench/solvers/press_frame.h"
+#include "eitbench/solvers/press_sensor.h"  // with Ceres
 #include "eitbench/solvers/reconstructor.h"
 #include "eitbench/solvers/shape.h"
 #include "eitbench/solvers/tikhonov.h"

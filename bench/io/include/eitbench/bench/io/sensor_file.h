@@ -4,11 +4,32 @@
 // and the drive current, with how the calibration went.
 //   {"format": "eitbench-sensor-1", "electrodes": 16, "background": 0.05,
 //    "contact_impedances": [...16 values...], "current": 1,
-//    "calibration": {"reference": "...", "relative_residual": ..., "iterations": ..., ...}}
+//    "calibration": {"reference": "...", "relative_residual": ..., "iterations": ..., ...},
+//    "press_fit": {"presses": "...", "rotate_degrees": ..., "mirror": false, "scale": ...,
+//                  "touch_radius": ..., "contrast": ..., "per_depth": true, ...}}
+// The press fit is optional (calibrate --presses --out writes it): how a press set's recorded
+// positions lie on the electrodes and the touch that explains its changes (press_sensor.h).
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 
 namespace eitbench {
+
+struct SensorPressFit {
+  std::string presses;  // the press set it was fitted to
+  // A recorded position p lies at R(rotate_degrees) M (scale p) on the model (M: y -> -y when
+  // mirror).
+  double rotate_degrees = 0;
+  bool mirror = false;
+  double scale = 1;
+  double touch_radius = 0;  // the disc's radius, the mesh's unit
+  double contrast = 0;      // on the label scale, per unit of depth when per_depth
+  bool per_depth = false;
+  double gain = 1;  // the set's frames times this are in the model's units (its reference's fit)
+  double start_residual = 0, relative_residual = 0;
+  int iterations = 0;
+  bool converged = false;
+};
 
 struct SensorFile {
   int electrodes = 0;
@@ -19,6 +40,8 @@ struct SensorFile {
   double relative_residual = 0;
   int iterations = 0;
   bool converged = false;
+  bool fitted = true;  // false: background and impedances are nominal, not fitted to a frame
+  std::optional<SensorPressFit> press_fit;
 };
 
 // Atomic. InputError naming the path when it cannot be written.

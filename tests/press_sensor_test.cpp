@@ -1,0 +1,142 @@
+// Fitting the simulated press to real ones: a stand-in "real" sensor, simulated on a finer mesh
+// with wider electrodes and contact impedances spread 0.5x to 2x, records its presses in a frame
+// turned and scaled against the model's, each press a disc whose contrast grows with its depth.
+// The fit, on the coarser nominal model, recovers the turn, the scale, the disc's radius and its
+// contrast per unit depth; bad input is refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "eitbench/bench/io/sensor_file.h"
+#include "eitbench/jacobian.h"
+#include "eitbench/jacobian/error.h"
+#include "eitbench/solvers.h"
+#include "test_support.h"
+
+namespace eitbench {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Truth {
+  double turn_degrees = 0, scale = 1, radius = 0.12, contrast_per_depth = 0.15;
+};
+
+struct Recording {
+  SampleMatrix differences;
+  Eigen::MatrixX2d positions;  // in the recording's frame and unit
+  Eigen::VectorXd depths;
+};
+
+Recording stand_in(const Truth& t, int presses) {
+  ForwardOptions o;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> factor(std::log(0.5), std::log(2.0));
+  o.contact_impedances.resize(16);
+  for (auto& z : o.contact_impedances) z = 0.01 * std::exp(factor(rng));
+  const ForwardModel sensor(testing::disk(16, MeshDensity::medium, 0.6), o);
+  auto inputs = [&](const std::vector<Circle>& c) {
+    return sensor.inputs(sensor.solve(conductivity_from_circles(sensor.mesh(), c, 1.0)));
+  };
+  const Eigen::VectorXd none = inputs({});
+  Recording r{SampleMatrix(presses, none.size()), Eigen::MatrixX2d(presses, 2),
+              Eigen::VectorXd(presses)};
+  const double a = -t.turn_degrees * kPi / 180;
+  for (int i = 0; i < presses; ++i) {
+    const double rho = 0.15 + 0.6 * i / presses, phi = 2.39996 * i;  // the golden angle
+    const double x = rho * std::cos(phi), y = rho * std::sin(phi);
+    r.depths[i] = 0.5 + (i % 5) * 0.25;
+    r.differences.row(i) =
+        (inputs({{x, y, t.radius, 1 - t.contrast_per_depth * r.depths[i]}}) - none).transpose();
+    // Written down as p_file = R(-turn) p / scale.
+    r.positions.row(i) << (std::cos(a) * x - std::sin(a) * y) / t.scale,
+        (std::sin(a) * x + std::cos(a) * y) / t.scale;
+  }
+  return r;
+}
+
+TEST(PressSensor, RecoversTheFrameAndTheTouchOfAStandInSensor) {
+  const auto model = std::make_shared<const ForwardModel>(testing::disk(16, MeshDensity::coarse));
+  const LinearProblem problem = make_linear_problem(model, 1.0, PixelGrid(32, 1.0));
+  Truth t;
+  t.turn_degrees = 37.4;
+  t.scale = 1.15;
+  const Recording r = stand_in(t, 40);
+  PressFrameOptions fo;
+  fo.step_degrees = 5;  // a coarse search: the fit finds the rest
+  const PressFrame start = fit_press_frame(problem, r.differences, r.positions, fo);
+  const PressSensor s = fit_press_sensor(problem, r.differences, r.positions, r.depths, start);
+  EXPECT_FALSE(s.mirror);
+  EXPECT_TRUE(s.per_depth);
+  EXPECT_NEAR(s.rotate_degrees, t.turn_degrees, 1.0);
+  EXPECT_NEAR(s.scale, t.scale, 0.03 * t.scale);
+  EXPECT_NEAR(s.touch_radius, t.radius, 0.15 * t.radius);
+  EXPECT_NEAR(s.contrast, t.contrast_per_depth, 0.2 * t.contrast_per_depth);
+  EXPECT_LT(s.relative_residual, 0.5 * s.start_residual);
+  EXPECT_LT(s.relative_residual, 0.25);
+
+  // Without depths, one contrast for every press: their mean's.
+  const PressSensor flat = fit_press_sensor(problem, r.differences, r.positions, {}, start);
+  EXPECT_FALSE(flat.per_depth);
+  EXPECT_NEAR(flat.rotate_degrees, t.turn_degrees, 1.5);
+  EXPECT_GT(flat.relative_residual, s.relative_residual);
+}
+
+TEST(PressSensor, BadInputIsRefused) {
+  const auto model = std::make_shared<const ForwardModel>(testing::disk(16, MeshDensity::coarse));
+  const LinearProblem problem = make_linear_problem(model, 1.0, PixelGrid(32, 1.0));
+  const Recording r = stand_in({}, 4);
+  const PressFrame start;
+  EXPECT_EQ(testing::input_error_at([&] {
+              fit_press_sensor(problem, r.differences, r.positions, r.depths.head(3), start);
+            }),
+            "presses.depths");
+  Eigen::VectorXd negative = r.depths;
+  negative[1] = -1;
+  EXPECT_EQ(testing::input_error_at(
+                [&] { fit_press_sensor(problem, r.differences, r.positions, negative, start); }),
+            "presses.depths");
+  EXPECT_EQ(testing::input_error_at([&] {
+              fit_press_sensor(problem, r.differences.topRows(2), r.positions.topRows(2), {},
+                               start);
+            }),
+            "presses.");
+  PressSensorOptions o;
+  o.start_radius = 0.9;
+  EXPECT_EQ(testing::input_error_at(
+                [&] { fit_press_sensor(problem, r.differences, r.positions, {}, start, o); }),
+            "PressSensorOptions.start_radius");
+}
+
+// The press fit travels in the sensor file; a file with a bad press fit is refused, naming the
+// field.
+TEST(SensorFilePressFit, RoundTripsAndRefusesBadFields) {
+  const auto dir = std::filesystem::temp_directory_path() / "eitbench_press_fit_test";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "sensor.json").string();
+  SensorFile s;
+  s.electrodes = 16, s.background = 0.05, s.fitted = false;
+  s.contact_impedances = Eigen::VectorXd::Constant(16, 0.01);
+  SensorPressFit f;
+  f.presses = "cal.h5", f.rotate_degrees = 1.5, f.mirror = true, f.scale = 0.76;
+  f.touch_radius = 0.27, f.contrast = 0.22, f.per_depth = true, f.gain = 6e-6;
+  s.press_fit = f;
+  write_sensor_file(path, s);
+  const SensorFile back = read_sensor_file(path);
+  ASSERT_TRUE(back.press_fit.has_value());
+  EXPECT_FALSE(back.fitted);
+  EXPECT_EQ(back.press_fit->presses, "cal.h5");
+  EXPECT_TRUE(back.press_fit->mirror);
+  EXPECT_DOUBLE_EQ(back.press_fit->scale, 0.76);
+  EXPECT_DOUBLE_EQ(back.press_fit->touch_radius, 0.27);
+  EXPECT_DOUBLE_EQ(back.press_fit->gain, 6e-6);
+  s.press_fit->scale = -1;
+  write_sensor_file(path, s);
+  EXPECT_EQ(testing::input_error_at([&] { read_sensor_file(path); }), path + ".press_fit.scale");
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace eitbench
