@@ -14,6 +14,7 @@
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/data/training_data.h"
 #include "eitbench/jacobian.h"
+#include "eitbench/jacobian/error.h"
 
 namespace eitbench {
 namespace {
@@ -154,6 +155,58 @@ TEST(Simulate, IsDeterministicWhateverTheThreadCount) {
   EXPECT_NE(simulate_dataset(o).differences, one.differences);
   fs::remove(a);
   fs::remove(b);
+}
+
+// The variation (docs/real-presses.md): touches drawn in the asked ranges, each sample's sensor
+// randomised from its own stream (the same on any thread count), its change consistent with its
+// frame, and the touches the same as without randomisation (drawn first); bad ranges refused.
+TEST(Simulate, VariationDrawsItsRangesAndRandomisesEachSample) {
+  SimulationOptions o;
+  o.preset = "tiny";
+  o.seed = 11;
+  o.density = MeshDensity::coarse;
+  o.variation.radius_min = 0.2, o.variation.radius_max = 0.3;
+  o.variation.contrast_min = 0.05, o.variation.contrast_max = 0.25;
+  const Dataset plain = simulate_dataset(o);
+  for (const auto& list : plain.circles)
+    for (const Circle& c : list) {
+      EXPECT_GE(c.r, 0.2 - 1e-12);
+      EXPECT_LE(c.r, 0.3 + 1e-12);
+      EXPECT_GE(c.conductivity, plain.background * (1 - 0.25) - 1e-15);
+      EXPECT_LE(c.conductivity, plain.background * (1 - 0.05) + 1e-15);
+    }
+  EXPECT_NE(plain.simulation_mesh.find("touches 0.2-0.3 R, contrast 0.05-0.25"), std::string::npos);
+
+  o.variation.impedance_spread = 0.7, o.variation.gain_error = 0.03;
+  o.variation.snr_min_db = 30, o.variation.snr_max_db = 40;
+  o.threads = 1;
+  const Dataset one = simulate_dataset(o);
+  o.threads = 2;
+  const Dataset two = simulate_dataset(o);
+  EXPECT_EQ(one.differences, two.differences);
+  EXPECT_EQ(one.labels, plain.labels);  // the same touches
+  const ForwardModel model(generate_disk_mesh({16, MeshDensity::coarse}));
+  double cosine = 0;
+  for (int i = 0; i < one.size(); ++i) {
+    const Eigen::VectorXd change = one.frames.row(i).transpose() - one.reference;
+    const Eigen::VectorXd inputs = model.protocol().reduce(change, MeasurementOrder::rotating);
+    EXPECT_LT((inputs - one.differences.row(i).transpose()).norm(), 1e-9 * inputs.norm());
+    const Eigen::VectorXd a = one.differences.row(i), b = plain.differences.row(i);
+    EXPECT_NE(a, b);
+    cosine += a.dot(b) / (a.norm() * b.norm()) / one.size();
+  }
+  EXPECT_GT(cosine, 0.8);  // the same touches, seen through another sensor each
+  EXPECT_LT(cosine, 0.9999);
+
+  SimulationVariation bad;
+  bad.radius_min = 0.3, bad.radius_max = 0.2;
+  EXPECT_THROW(bad.validate(), InputError);
+  bad = {};
+  bad.contrast_max = 0.3;  // without --touch-radius
+  EXPECT_THROW(bad.validate(), InputError);
+  bad = {};
+  bad.snr_min_db = 50, bad.snr_max_db = 40;
+  EXPECT_THROW(bad.validate(), InputError);
 }
 
 TEST(DatasetFile, RoundTrips) {

@@ -217,4 +217,35 @@ bool reduced_values(const ModelSetup& s, int L) {
                        " (reduced)");
 }
 
+namespace {
+// "MIN,MAX" into two numbers.
+void add_range(CLI::App& app, const std::string& flag, double& lo, double& hi,
+               const std::string& help) {
+  app.add_option_function<std::vector<double>>(
+         flag, [&lo, &hi](const std::vector<double>& v) { lo = v[0], hi = v[1]; }, help)
+      ->delimiter(',')
+      ->expected(2)
+      ->type_name("MIN,MAX");
+}
+}  // namespace
+
+void add_variation_options(CLI::App& app, SimulationVariation& v) {
+  add_range(app, "--touch-radius", v.radius_min, v.radius_max,
+            "each touch's radius drawn uniformly in [MIN, MAX] (x R; default: 0.05,0.25), e.g. "
+            "the sensor fit's press radius");
+  add_range(app, "--touch-contrast", v.contrast_min, v.contrast_max,
+            "with --touch-radius: each touch's contrast c (sigma = sigma_0 (1 - c)) uniform in "
+            "[MIN, MAX] (default: sigma uniform in [0.0001, 0.05] S/m)");
+  app.add_option("--randomise-impedance", v.impedance_spread,
+                 "domain randomisation: each sample's contact impedances, each electrode's x "
+                 "e^U(-S, S) (0: off)")
+      ->check(kNonNegative);
+  app.add_option("--randomise-gain", v.gain_error,
+                 "domain randomisation: each sample's channel gains 1 + N(0, G) (0: off)")
+      ->check(kNonNegative);
+  add_range(app, "--randomise-snr", v.snr_min_db, v.snr_max_db,
+            "domain randomisation: each sample's change with noise at an SNR uniform in [MIN, "
+            "MAX] dB");
+}
+
 }  // namespace eitbench::cli

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/jacobian.h"
 #include "eitbench/jacobian/shape_mesh.h"
@@ -58,6 +59,10 @@ struct ProtocolChoice {
   bool magnitude = false;         // frames are |v|, as boards such as OpenEIT report
 };
 void add_protocol_options(CLI::App& app, ProtocolChoice& choice);
+// --touch-radius MIN,MAX, --touch-contrast MIN,MAX, --randomise-impedance S, --randomise-gain G,
+// --randomise-snr MIN,MAX (docs/real-presses.md#simulating-the-fitted-sensor); checked by
+// SimulationVariation::validate when the command runs.
+void add_variation_options(CLI::App& app, SimulationVariation& variation);
 // The protocol for `electrodes` (InputError naming --protocol or the CSV file).
 std::shared_ptr<const MeasurementProtocol> load_protocol(const ProtocolChoice& choice,
                                                          int electrodes);

@@ -78,6 +78,7 @@ std::function<void()> add_run_command(CLI::App& app) {
     double learning_rate = 0;
     std::vector<std::string> methods, augments;
     ProtocolChoice protocol;
+    SimulationVariation variation;
     bool resume = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
@@ -161,6 +162,7 @@ std::function<void()> add_run_command(CLI::App& app) {
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("--quiet", args->quiet, "no progress output");
   add_protocol_options(*cmd, args->protocol);
+  add_variation_options(*cmd, args->variation);
   return [args] {
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;
@@ -170,6 +172,8 @@ std::function<void()> add_run_command(CLI::App& app) {
     c.electrodes = args->electrodes;
     c.protocol = args->protocol.spec;
     c.magnitude = args->protocol.magnitude;
+    c.variation = args->variation;
+    c.variation.validate();
     c.out = args->out.empty() ? "out/" + args->preset : args->out;
     c.seed = args->seed;
     c.measured = args->measured;

@@ -56,6 +56,7 @@ std::function<void()> add_simulate_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "HDF5 file to write")->required();
   cmd->add_flag("--quiet", args->quiet, "no progress output");
   add_protocol_options(*cmd, args->protocol);
+  add_variation_options(*cmd, args->options.variation);
   return [args] {
     args->options.density = parse_density(args->density);
     if (!args->mesh.empty()) {

@@ -1,5 +1,6 @@
 #include "eitbench/bench/data/simulate.h"
 
+#include <fmt/core.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -39,6 +40,38 @@ PresetCounts preset_counts(const std::string& preset) {
   return counts;
 }
 
+void SimulationVariation::validate() const {
+  if (touches_set() || radius_min != 0) {
+    if (!(radius_min > 0 && radius_min <= radius_max && radius_max < 1))
+      throw InputError("--touch-radius", "", "needs 0 < MIN <= MAX < 1 (x R)");
+    if (!(contrast_min >= 0 && contrast_min <= contrast_max && contrast_max < 1))
+      throw InputError("--touch-contrast", "", "needs 0 <= MIN <= MAX < 1");
+  } else if (contrast_max != 0 || contrast_min != 0) {
+    throw InputError("--touch-contrast", "", "goes with --touch-radius");
+  }
+  if (!(impedance_spread >= 0 && impedance_spread <= 3))
+    throw InputError("--randomise-impedance", "", "must lie in [0, 3] (a factor up to e^3)");
+  if (!(gain_error >= 0 && gain_error < 0.5))
+    throw InputError("--randomise-gain", "", "must lie in [0, 0.5)");
+  if (snr_max_db != 0 && !(snr_min_db > 0 && snr_min_db <= snr_max_db && snr_max_db <= 200))
+    throw InputError("--randomise-snr", "", "needs 0 < MIN <= MAX <= 200 (dB)");
+}
+
+std::string describe(const SimulationVariation& v) {
+  std::string out;
+  if (v.touches_set())
+    out = fmt::format("touches {:g}-{:g} R, contrast {:g}-{:g}", v.radius_min, v.radius_max,
+                      v.contrast_min, v.contrast_max);
+  std::string r;
+  auto add = [&r](const std::string& part) { r += (r.empty() ? "" : ", ") + part; };
+  if (v.impedance_spread > 0)
+    add(fmt::format("impedances x e^U(-{0:g}, {0:g})", v.impedance_spread));
+  if (v.gain_error > 0) add(fmt::format("gains {:g} %", 100 * v.gain_error));
+  if (v.snr_max_db > 0) add(fmt::format("SNR {:g}-{:g} dB", v.snr_min_db, v.snr_max_db));
+  if (!r.empty()) out += (out.empty() ? "" : "; ") + std::string("randomised: ") + r;
+  return out;
+}
+
 namespace {
 
 // k non-overlapping circles by rejection (docs/conventions.md): `propose` draws one candidate, or
@@ -59,16 +92,30 @@ std::vector<Circle> draw_circles(int k, RandomStream& rng, Propose propose) {
   }
   throw InputError("sensor mesh", "",
                    "no room for " + std::to_string(k) +
-                       " separate touches of radius 0.05 R to 0.25 R inside it (R: half its "
-                       "larger side): is it very thin?");
+                       " separate touches of the drawn radii inside it (R: half its larger "
+                       "side): is it very thin, or are the touches too large?");
 }
 
+// A touch's radius and conductivity: the presets' draws, or the variation's ranges.
+struct TouchDraw {
+  const SimulationVariation& v;
+  double background;
+  double radius(RandomStream& g, double R) const {
+    return v.touches_set() ? g.uniform(v.radius_min * R, v.radius_max * R)
+                           : g.uniform(0.05 * R, 0.25 * R);
+  }
+  double sigma(RandomStream& g) const {
+    return v.touches_set() ? background * (1 - g.uniform(v.contrast_min, v.contrast_max))
+                           : g.uniform(0.0001, 0.05);
+  }
+};
+
 // Fully inside the disk of radius R: centres uniform over the disk of radius R - r.
-std::vector<Circle> draw_circles(int k, double R, RandomStream& rng) {
-  return draw_circles(k, rng, [R](RandomStream& g) -> std::optional<Circle> {
-    const double r = g.uniform(0.05 * R, 0.25 * R);
+std::vector<Circle> draw_circles(int k, double R, const TouchDraw& touch, RandomStream& rng) {
+  return draw_circles(k, rng, [R, &touch](RandomStream& g) -> std::optional<Circle> {
+    const double r = touch.radius(g, R);
     const double rho = (R - r) * std::sqrt(g.uniform()), phi = 2 * M_PI * g.uniform();
-    const double sigma = g.uniform(0.0001, 0.05);
+    const double sigma = touch.sigma(g);
     return Circle{rho * std::cos(phi), rho * std::sin(phi), r, sigma};
   });
 }
@@ -76,16 +123,47 @@ std::vector<Circle> draw_circles(int k, double R, RandomStream& rng) {
 // On a sensor of any shape: centres uniform over the grid's box, kept when inside the mesh and at
 // least r from its boundary; radii as on the disk, in units of the grid's R.
 std::vector<Circle> draw_circles(int k, const MeshDomain& domain, const PixelGrid& grid,
-                                 RandomStream& rng) {
+                                 const TouchDraw& touch, RandomStream& rng) {
   const double R = grid.radius();
   return draw_circles(k, rng, [&](RandomStream& g) -> std::optional<Circle> {
-    const double r = g.uniform(0.05 * R, 0.25 * R);
+    const double r = touch.radius(g, R);
     const double x = g.uniform(-R, R), y = g.uniform(-R, R);  // in this order, always
     const Eigen::Vector2d at = grid.box_centre() + Eigen::Vector2d(x, y);
-    const double sigma = g.uniform(0.0001, 0.05);
+    const double sigma = touch.sigma(g);
     if (!domain.contains(at) || domain.boundary_distance(at) < r) return std::nullopt;
     return Circle{at.x(), at.y(), r, sigma};
   });
+}
+
+// One sample's change on its own draw of the sensor: contact impedances spread about the nominal
+// ones (its own model, and its own empty frame to differ from), channel gains, then noise at a
+// drawn SNR. Draws after the sample's circles, from its stream, so thread counts do not matter.
+Eigen::VectorXd randomised_change(const ForwardModel& nominal, const ForwardOptions& forward,
+                                  const Eigen::VectorXd& sigma, double background,
+                                  const SimulationVariation& v, RandomStream& rng) {
+  const Mesh& mesh = nominal.mesh();
+  const Eigen::VectorXd empty = Eigen::VectorXd::Constant(mesh.num_triangles(), background);
+  Eigen::VectorXd change;
+  if (v.impedance_spread > 0) {
+    ForwardOptions own = forward;
+    own.contact_impedances.resize(mesh.num_electrodes());
+    for (auto& z : own.contact_impedances)
+      z = forward.contact_impedance *
+          std::exp(rng.uniform(-v.impedance_spread, v.impedance_spread));
+    const ForwardModel model(mesh, own);
+    change = model.measured(sigma) - model.measured(empty);
+  } else {
+    change = nominal.measured(sigma) - nominal.measured(empty);
+  }
+  if (v.gain_error > 0)
+    for (auto& c : change) c *= 1 + v.gain_error * rng.normal();
+  if (v.snr_max_db > 0) {
+    const double snr = rng.uniform(v.snr_min_db, v.snr_max_db);
+    const double sd = std::sqrt(change.squaredNorm() / static_cast<double>(change.size()) /
+                                std::pow(10.0, snr / 10));
+    for (auto& c : change) c += sd * rng.normal();
+  }
+  return change;
 }
 
 // The meshes and grid a simulation works on: the disk's, or a sensor mesh's.
@@ -116,6 +194,7 @@ SimulationGeometry simulation_geometry(const SimulationOptions& o) {
 
 Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress) {
   const PresetCounts counts = preset_counts(o.preset);
+  o.variation.validate();
   if (!(o.background > 0)) throw InputError("--background", "", "must be positive");
   const SimulationGeometry geometry = simulation_geometry(o);
   const Mesh& mesh = geometry.simulation;
@@ -139,6 +218,7 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   data.seed = o.seed;
   data.preset = o.preset;
   data.simulation_mesh = geometry.description;
+  if (const std::string v = describe(o.variation); !v.empty()) data.simulation_mesh += "; " + v;
   if (o.sensor_mesh) {
     data.sensor_mesh = mesh_text(*o.sensor_mesh);
     data.sensor_group = find_sensor_group(*o.sensor_mesh, {}, o.sensor_source).name();
@@ -164,17 +244,25 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   data.labels.resize(n, grid.num_pixels());
   data.circles.resize(n);
 
+  const TouchDraw touch{o.variation, o.background};
   std::atomic<int> done{0};
   tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(0, n, [&](int i) {
       RandomStream rng(o.seed, static_cast<std::uint64_t>(i));  // sample i's own stream
-      data.circles[i] = o.sensor_mesh ? draw_circles(circle_count[i], *domain, grid, rng)
-                                      : draw_circles(circle_count[i], grid.radius(), rng);
-      const Eigen::VectorXd frame =
-          model.measured(conductivity_from_circles(mesh, data.circles[i], o.background));
-      data.frames.row(i) = frame.transpose();
-      data.differences.row(i) = protocol.to_inputs(frame - data.reference).transpose();
+      data.circles[i] = o.sensor_mesh ? draw_circles(circle_count[i], *domain, grid, touch, rng)
+                                      : draw_circles(circle_count[i], grid.radius(), touch, rng);
+      const Eigen::VectorXd sigma = conductivity_from_circles(mesh, data.circles[i], o.background);
+      if (o.variation.randomised()) {  // the frame the nominal sensor would give that change
+        const Eigen::VectorXd change =
+            randomised_change(model, forward, sigma, o.background, o.variation, rng);
+        data.frames.row(i) = (data.reference + change).transpose();
+        data.differences.row(i) = protocol.to_inputs(change).transpose();
+      } else {
+        const Eigen::VectorXd frame = model.measured(sigma);
+        data.frames.row(i) = frame.transpose();
+        data.differences.row(i) = protocol.to_inputs(frame - data.reference).transpose();
+      }
       // Labels are float32 in the file: rounded here too, so that a set in memory and the same
       // set read back are identical (a training checkpoint hashes them).
       data.labels.row(i) = circles_image(grid, data.circles[i], o.background)

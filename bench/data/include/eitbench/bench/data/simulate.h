@@ -10,6 +10,31 @@
 
 namespace eitbench {
 
+// What a simulated set may vary beyond the presets' touches, so that a model trained on it meets
+// a real sensor (docs/real-presses.md#simulating-the-fitted-sensor): the touches' size and
+// strength, and each sample's sensor drawn around the nominal one (domain randomisation). The
+// defaults are the presets' own draws, and draw nothing more: the set is bit for bit the same.
+struct SimulationVariation {
+  // Each touch's radius (x R) and contrast c (sigma = sigma_0 (1 - c) inside), uniform in
+  // [min, max]. Unset (max 0): the presets' 0.05-0.25 R, sigma uniform in [0.0001, 0.05] S/m.
+  double radius_min = 0, radius_max = 0;
+  double contrast_min = 0, contrast_max = 0;
+  // Each sample's contact impedances, each electrode's x exp(U(-s, s)) (0: the nominal ones).
+  double impedance_spread = 0;
+  // Each sample's channel gains, each 1 + N(0, g) (0: exact).
+  double gain_error = 0;
+  // Each sample's change with white noise at an SNR uniform in [min, max] dB (max 0: none).
+  double snr_min_db = 0, snr_max_db = 0;
+
+  bool touches_set() const { return radius_max > 0; }
+  bool randomised() const { return impedance_spread > 0 || gain_error > 0 || snr_max_db > 0; }
+  // InputError naming the flag (--touch-radius, --touch-contrast, --randomise-...) of a bad value.
+  void validate() const;
+};
+// "touches 0.2-0.35 R, contrast 0-0.3; randomised: impedances x e^U(-0.5, 0.5), gains 2 %, SNR
+// 25-50 dB"; "" for the defaults.
+std::string describe(const SimulationVariation& v);
+
 struct SimulationOptions {
   std::string preset = "quick";  // quick | standard | paper (sample counts)
   std::uint64_t seed = 1;
@@ -30,6 +55,7 @@ struct SimulationOptions {
   // The measurement protocol the frames are read on (docs/protocols.md), with its magnitude flag.
   // Null: the adjacent protocol, rotating order. Its electrodes must be the sensor's.
   std::shared_ptr<const MeasurementProtocol> protocol;
+  SimulationVariation variation;  // the touches' sizes, domain randomisation
 };
 
 // Samples with 1, 2, 3 and 4 circles for a preset: paper 7,035 / 7,298 / 7,500 / 7,500; standard

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "eitbench/bench/data/simulate.h"
 #include "eitbench/jacobian/disk_mesh.h"
 
 namespace eitbench {
@@ -25,6 +26,9 @@ struct RunConfig {
   // adjacent-ascending, opposite, skip-K or a CSV file; magnitude: frames are |v|.
   std::string protocol = "adjacent";
   bool magnitude = false;
+  // The simulated touches' sizes and domain randomisation (docs/real-presses.md): the presets'
+  // draws by default.
+  SimulationVariation variation;
 
   // Real presses (docs/real-presses.md): a press set to score every method on (`measured`) and a
   // labelled press set of the same sensor that tunes them (`press_calibration`); the preset is
