@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <sstream>
 
 #include "commands.h"
 #include "eitbench/bench/methods/registry.h"
@@ -22,6 +23,24 @@ namespace {
 
 // "0,10,30,100,all" -> {0, 10, 30, 100, -1}: sizes of 0 or at least 3 (two to train, one to
 // stop on), ascending, each once.
+// --sweep: "none", or training-set sizes in ascending order, each at least 2.
+std::vector<int> parse_sweep(const std::string& text) {
+  if (text == "none") return {};
+  std::vector<int> sizes;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    char* end = nullptr;
+    const long n = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || n < 2 || n > 100000000)
+      throw InputError("--sweep", "", "'" + item + "' is not a training-set size (2 or more)");
+    if (!sizes.empty() && n <= sizes.back())
+      throw InputError("--sweep", "", "sizes must ascend, each once");
+    sizes.push_back(static_cast<int>(n));
+  }
+  if (sizes.empty()) throw InputError("--sweep", "", "needs sizes, or none");
+  return sizes;
+}
+
 std::vector<int> parse_finetune(const std::string& text) {
   std::vector<int> sizes;
   if (text.empty()) return sizes;
@@ -70,7 +89,7 @@ void check_press_sets(const RunConfig& c) {
 std::function<void()> add_run_command(CLI::App& app) {
   struct Args {
     std::string preset = "quick", data, reference, out, device, sensor, mesh, measured,
-                press_calibration, finetune;
+                press_calibration, finetune, sweep;
     double radius_mm = 0;
     std::uint64_t seed = 1;
     int threads = 2, electrodes = 16, epochs = 0, patience = -1;
@@ -109,6 +128,9 @@ std::function<void()> add_run_command(CLI::App& app) {
       "with --measured: numbers of the calibration set's first presses to fine-tune the "
       "learned model on, with and without d16 augmentation, beside the network trained "
       "on them from scratch (e.g. 0,10,30,100,300,all; 0: as trained in simulation)");
+  cmd->add_option("--sweep", args->sweep,
+                  "the data-efficiency sweep's training-set sizes, comma-separated (default: the "
+                  "preset's, e.g. quick 500,1000,2000), or none to leave it out");
   cmd->add_option("--finetune-steps", args->finetune_steps,
                   "each fine-tuning's budget in optimiser steps (early stopping ends it sooner)")
       ->capture_default_str()
@@ -180,6 +202,7 @@ std::function<void()> add_run_command(CLI::App& app) {
     c.press_calibration = args->press_calibration;
     c.finetune = parse_finetune(args->finetune);
     c.finetune_steps = args->finetune_steps;
+    if (!args->sweep.empty()) c.efficiency_sizes = parse_sweep(args->sweep);
     c.radius_mm = args->radius_mm;
     check_press_sets(c);
     c.resume = args->resume;
