@@ -1,11 +1,13 @@
 // Stage 6: real presses (run --measured SET --calibration CAL). Every method of the run is scored
 // on where it puts each press of SET. Each model-based method twice: tuned in simulation as the
-// main rows are, and tuned on CAL's presses; the learned models as trained in simulation; floors
+// main rows are, and tuned on CAL's presses; the learned models as trained in simulation; each of
+// these again through its own position map fitted on CAL and through the sensor's press fit; floors
 // from predicting the centre and from a fingerprint of CAL's labelled frames; and, with
 // --finetune, the learned model fine-tuned on CAL's first n presses beside the same network trained
 // on them alone. Nothing is tuned or trained on SET.
 #include <fmt/core.h>
 
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -92,6 +94,7 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
   p["methods"] = methods;
   p["scores"] = "all presses and those at new positions (0.01 R)";
   p["sensor"] = file_hash(config.sensor);  // its press fit gives rows of its own
+  p["calibrated rows"] = "sensor fit; each method's affine position map on CAL";
   p["press training"] = "fine-tuned at a tenth of the peak rate; from scratch at the peak rate";
   return p;
 }
@@ -197,6 +200,47 @@ MeasuredRow fitted_twin(const StageInputs& in, const MeasuredRow& row, const Loc
   return twin;
 }
 
+// The affine map that best takes a method's positions of CAL's presses to their recorded centres
+// (least squares over the presses it found a touch in): the systematic part of its error, such as
+// EIT's pull towards the centre, learned from the calibration presses alone. None with fewer than
+// 6 found presses.
+std::optional<Eigen::Matrix<double, 3, 2>> position_map(const Located& on_cal,
+                                                        const PressFrames& cal) {
+  std::vector<Eigen::Index> found;
+  for (std::size_t i = 0; i < on_cal.at.size(); ++i)
+    if (on_cal.at[i] != Eigen::Vector2d::Zero()) found.push_back(static_cast<Eigen::Index>(i));
+  if (found.size() < 6) return std::nullopt;
+  Eigen::MatrixXd q(static_cast<Eigen::Index>(found.size()), 3), p(q.rows(), 2);
+  for (Eigen::Index k = 0; k < q.rows(); ++k) {
+    const auto i = static_cast<std::size_t>(found[static_cast<std::size_t>(k)]);
+    q.row(k) << on_cal.at[i].x(), on_cal.at[i].y(), 1;
+    p.row(k) << cal.touches[i][0].x, cal.touches[i][0].y;
+  }
+  return Eigen::Matrix<double, 3, 2>(q.colPivHouseholderQr().solve(p));
+}
+
+// `row` again with its positions moved by the method's own position map (position_map) fitted on
+// CAL: presses it found nothing in stay at the centre.
+std::optional<MeasuredRow> mapped_twin(const StageInputs& in, const MeasuredRow& row,
+                                       const Located& located, const Located& on_cal) {
+  const auto map = position_map(on_cal, in.cal);
+  if (!map) return std::nullopt;
+  Located moved = located;
+  for (Eigen::Vector2d& q : moved.at)
+    if (q != Eigen::Vector2d::Zero()) q = (Eigen::RowVector3d(q.x(), q.y(), 1) * *map).transpose();
+  MeasuredRow twin = row_for(in, row.method, row.augment, row.training + " + position map", moved);
+  twin.finetune_n = row.finetune_n;
+  twin.settings = row.settings + fmt::format(
+                                     "; positions through the affine map fitted on CAL's "
+                                     "presses (x' = {:.3f} x + {:.3f} y + {:.3f}, y' = {:.3f} x + "
+                                     "{:.3f} y + {:.3f})",
+                                     (*map)(0, 0), (*map)(1, 0), (*map)(2, 0), (*map)(0, 1),
+                                     (*map)(1, 1), (*map)(2, 1));
+  twin.simulated_fraction_of_radius = row.simulated_fraction_of_radius;
+  log_row(in.context, twin);
+  return twin;
+}
+
 // A model-based method tuned two ways: in simulation (noise-free validation CC, as the main row
 // at infinite SNR) and on CAL's presses (the lowest mean centre error).
 void model_based_rows(const StageInputs& in, const std::string& name,
@@ -234,6 +278,10 @@ void model_based_rows(const StageInputs& in, const std::string& name,
     log_row(in.context, row);
     rows.push_back(row);
     if (in.press_fit) rows.push_back(fitted_twin(in, row, located));
+    if (training != std::string("simulation"))
+      if (auto twin = mapped_twin(in, row, located,
+                                  located_presses(*method, grid, background, in.cal, threshold, 0)))
+        rows.push_back(*twin);
   }
 }
 
@@ -241,7 +289,7 @@ void model_based_rows(const StageInputs& in, const std::string& name,
 // see them (a model fine-tuned on a few must not be tuned on the rest).
 MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
                         const std::string& augment, const std::string& training, int n,
-                        bool threshold_on_cal, std::optional<MeasuredRow>* twin = nullptr) {
+                        bool threshold_on_cal, std::vector<MeasuredRow>* twins = nullptr) {
   const auto method = make_learned_reconstructor(model);
   const PixelGrid& grid = in.reconstruction.grid;
   const double threshold = threshold_on_cal ? press_threshold(*method, grid, in.cal) : 0.5;
@@ -253,10 +301,12 @@ MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
                              threshold_on_cal ? " (on CAL)" : " (fixed: no presses to tune it on)");
   if (training != "simulation") row.simulated_fraction_of_radius = NAN;
   log_row(in.context, row);
-  if (twin)
-    *twin = in.press_fit && training == "simulation"
-                ? std::optional<MeasuredRow>(fitted_twin(in, row, located))
-                : std::nullopt;
+  if (twins && training == "simulation") {
+    if (in.press_fit) twins->push_back(fitted_twin(in, row, located));
+    if (auto twin =
+            mapped_twin(in, row, located, located_presses(*method, grid, 0, in.cal, threshold, 0)))
+      twins->push_back(*twin);
+  }
   return row;
 }
 
@@ -365,9 +415,9 @@ std::vector<MeasuredRow> measured_rows(const StageInputs& in, const LearnedSetup
   models.reserve(augments.size());
   for (const std::string& augment : augments) {
     models.push_back(read_model_file(learned_model_path(in.context, augment)));
-    std::optional<MeasuredRow> twin;
-    rows.push_back(learned_row(in, models.back(), augment, "simulation", 0, true, &twin));
-    if (twin) rows.push_back(*twin);
+    std::vector<MeasuredRow> twins;
+    rows.push_back(learned_row(in, models.back(), augment, "simulation", 0, true, &twins));
+    rows.insert(rows.end(), twins.begin(), twins.end());
     // Fine-tuning starts from the model trained with the whole group when there is one.
     if (!base || augment == "d16") base = &models.back();
   }
