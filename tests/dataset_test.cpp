@@ -202,6 +202,9 @@ TEST(Simulate, VariationDrawsItsRangesAndRandomisesEachSample) {
   bad.radius_min = 0.3, bad.radius_max = 0.2;
   EXPECT_THROW(bad.validate(), InputError);
   bad = {};
+  bad.radius_min = 0.2, bad.radius_max = 0.3;  // without --touch-contrast: no change at all
+  EXPECT_THROW(bad.validate(), InputError);
+  bad = {};
   bad.contrast_max = 0.3;  // without --touch-radius
   EXPECT_THROW(bad.validate(), InputError);
   bad = {};

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <random>
 
 #include "eitbench/bench/io/sensor_file.h"
@@ -77,11 +78,60 @@ TEST(PressSensor, RecoversTheFrameAndTheTouchOfAStandInSensor) {
   EXPECT_LT(s.relative_residual, 0.5 * s.start_residual);
   EXPECT_LT(s.relative_residual, 0.25);
 
+  // The fit's frame takes each recorded position to where the press truly was.
+  const Recording truth = stand_in({}, 40);  // the same presses, recorded as they are
+  double worst = 0;
+  for (int i = 0; i < 40; ++i)
+    worst = std::max(worst, (model_position(r.positions.row(i).transpose(), s.rotate_degrees,
+                                            s.mirror, s.scale) -
+                             truth.positions.row(i).transpose())
+                                .norm());
+  EXPECT_LT(worst, 0.03);
+
   // Without depths, one contrast for every press: their mean's.
   const PressSensor flat = fit_press_sensor(problem, r.differences, r.positions, {}, start);
   EXPECT_FALSE(flat.per_depth);
   EXPECT_NEAR(flat.rotate_degrees, t.turn_degrees, 1.5);
   EXPECT_GT(flat.relative_residual, s.relative_residual);
+}
+
+// A few presses the model cannot explain (a slipped probe: another press's frame, ten times
+// stronger) pull a least-squares fit; the Huber loss keeps the frame.
+TEST(PressSensor, AHuberLossKeepsTheFrameAgainstOutliers) {
+  const auto model = std::make_shared<const ForwardModel>(testing::disk(16, MeshDensity::coarse));
+  const LinearProblem problem = make_linear_problem(model, 1.0, PixelGrid(32, 1.0));
+  Truth t;
+  t.turn_degrees = 37.4;
+  t.scale = 1.15;
+  Recording r = stand_in(t, 40);
+  for (int i : {3, 17, 29}) r.differences.row(i) = 10 * r.differences.row((i + 20) % 40);
+  PressFrameOptions fo;
+  fo.step_degrees = 5;
+  const PressFrame start = fit_press_frame(problem, r.differences, r.positions, fo);
+  PressSensorOptions o;
+  o.huber = 1;
+  const PressSensor robust =
+      fit_press_sensor(problem, r.differences, r.positions, r.depths, start, o);
+  const PressSensor plain = fit_press_sensor(problem, r.differences, r.positions, r.depths, start);
+  EXPECT_NEAR(robust.rotate_degrees, t.turn_degrees, 1.0);
+  EXPECT_NEAR(robust.scale, t.scale, 0.03 * t.scale);
+  EXPECT_NEAR(robust.contrast, t.contrast_per_depth, 0.2 * t.contrast_per_depth);
+  EXPECT_GT(std::abs(plain.contrast - t.contrast_per_depth),
+            std::abs(robust.contrast - t.contrast_per_depth));
+}
+
+// The map from recorded positions to the model and back are each other's inverse, the mirror
+// first: R(a) M (s p).
+TEST(PressSensor, ModelAndRecordedPositionsAreInverse) {
+  const Eigen::Vector2d p(0.3, 0.4);
+  const Eigen::Vector2d q = model_position(p, 30, true, 1.2);
+  // M p = (0.3, -0.4), x 1.2 = (0.36, -0.48), turned by 30 degrees counter-clockwise.
+  const double c = std::cos(kPi / 6), s = std::sin(kPi / 6);
+  EXPECT_NEAR(q.x(), c * 0.36 + s * 0.48, 1e-12);
+  EXPECT_NEAR(q.y(), s * 0.36 - c * 0.48, 1e-12);
+  EXPECT_LT((recorded_position(q, 30, true, 1.2) - p).norm(), 1e-12);
+  EXPECT_LT((recorded_position(model_position(p, 282, false, 0.76), 282, false, 0.76) - p).norm(),
+            1e-12);
 }
 
 TEST(PressSensor, BadInputIsRefused) {
@@ -135,6 +185,18 @@ TEST(SensorFilePressFit, RoundTripsAndRefusesBadFields) {
   s.press_fit->scale = -1;
   write_sensor_file(path, s);
   EXPECT_EQ(testing::input_error_at([&] { read_sensor_file(path); }), path + ".press_fit.scale");
+  // A field of the wrong type is named too, not left to the JSON library.
+  s.press_fit->scale = 0.76;
+  write_sensor_file(path, s);
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::string flag = "\"per_depth\": true";
+  const auto at = text.find(flag);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, flag.size(), "\"per_depth\": \"yes\"");
+  std::ofstream(path) << text;
+  EXPECT_EQ(testing::input_error_at([&] { read_sensor_file(path); }),
+            path + ".press_fit.per_depth");
   std::filesystem::remove_all(dir);
 }
 

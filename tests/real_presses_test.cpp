@@ -285,7 +285,9 @@ TEST_F(MeasuredRun, ScoresThroughTheSensorsPressFit) {
   // presses simulated where they are recorded, so far better than the centre.
   const MeasuredRow* mapped = find("noser", "calibration presses + position map");
   ASSERT_NE(mapped, nullptr);
-  EXPECT_LT(mapped->centre_error_median, 0.5 * find("centre", "none")->centre_error_median);
+  const MeasuredRow* centre = find("centre", "none");
+  ASSERT_NE(centre, nullptr);
+  EXPECT_LT(mapped->centre_error_median, 0.5 * centre->centre_error_median);
   EXPECT_EQ(find("fingerprint", "calibration presses + sensor fit"), nullptr);
 }
 

@@ -111,18 +111,15 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
     if (args->reference.empty() && args->presses.empty())
       throw InputError("calibrate", "",
                        "needs --reference (the empty sensor's frame) or --presses (a press set)");
-    std::optional<SensorPressFit> press_fit;
-    if (!args->presses.empty() && args->out.empty())
+    if (!args->presses.empty() && args->out.empty()) {
       print_press_frame(mesh, args->presses, args->frame);
-    else if (!args->presses.empty())
-      press_fit = fit_press_sensor_file(mesh, args->presses, args->frame, args->fit);
-    if (args->reference.empty() && args->out.empty()) return;
+      if (args->reference.empty()) return;
+    }
     if (args->out.empty())
       throw InputError("--out", "", "--reference needs --out, the sensor file to write");
     SensorFile s;
     s.electrodes = mesh.num_electrodes();
     s.current = args->current;
-    s.press_fit = press_fit;
     if (args->reference.empty()) {  // the press fit alone: nominal values, marked as such
       s.background = args->background;
       s.contact_impedances = Eigen::VectorXd::Constant(s.electrodes, args->contact_impedance);
@@ -138,6 +135,13 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
       s.iterations = c.iterations;
       s.converged = c.converged;
       print_calibration(c);
+    }
+    if (!args->presses.empty()) {  // on the sensor just calibrated (or the nominal one)
+      ForwardOptions forward;
+      forward.contact_impedances = s.contact_impedances;
+      forward.current = s.current;
+      s.press_fit =
+          fit_press_sensor_file(mesh, args->presses, args->frame, args->fit, forward, s.background);
     }
     write_sensor_file(args->out, s);
     fmt::print("wrote {}\n", args->out);

@@ -81,7 +81,8 @@ const std::map<std::string, Table>& tables() {
       {"info", kOrder},
       {"reconstruct", kMesh + kOrder + kSolvers},
       {"calibrate", kMesh + Table{{"PressFrameOptions", "step_degrees", "--step"},
-                                  {"PressFrameOptions", "touch_radius", "--touch-radius"}}},
+                                  {"PressFrameOptions", "touch_radius", "--touch-radius"},
+                                  {"PressSensorOptions", "huber", "--huber"}}},
       {"train", kBudget + kTraining},
       {"run", kBudget},
   };

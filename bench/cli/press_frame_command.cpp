@@ -6,6 +6,7 @@
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/data/sensor.h"
+#include "eitbench/bench/io/content_hash.h"
 #include "eitbench/solvers.h"
 #include "options.h"
 #include "press_frame_command.h"
@@ -21,7 +22,9 @@ struct Presses {
   std::shared_ptr<const ForwardModel> model;
 };
 
-Presses read_presses(const Mesh& mesh, const std::string& path) {
+// `forward`: the sensor's contact impedances and current (calibrated, or nominal); the protocol
+// is the set's.
+Presses read_presses(const Mesh& mesh, const std::string& path, ForwardOptions forward = {}) {
   Presses p{read_dataset(path), {}, {}, nullptr};
   const Dataset& d = p.d;
   if (d.touches.empty())
@@ -41,7 +44,6 @@ Presses read_presses(const Mesh& mesh, const std::string& path) {
     if (p.depths.size() > 0) p.depths[i] = list[0].size;
   }
   if (p.depths.size() > 0 && !p.depths.allFinite()) p.depths.resize(0);  // not every depth known
-  ForwardOptions forward;
   forward.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(d));
   p.model = std::make_shared<const ForwardModel>(mesh, forward);
   return p;
@@ -84,9 +86,10 @@ void print_press_frame(const Mesh& mesh, const std::string& path,
 
 SensorPressFit fit_press_sensor_file(const Mesh& mesh, const std::string& path,
                                      const PressFrameOptions& frame,
-                                     const PressSensorOptions& options) {
-  const Presses p = read_presses(mesh, path);
-  const LinearProblem problem = make_linear_problem(p.model, 1.0, PixelGrid(64, p.d.radius));
+                                     const PressSensorOptions& options,
+                                     const ForwardOptions& forward, double background) {
+  const Presses p = read_presses(mesh, path, forward);
+  const LinearProblem problem = make_linear_problem(p.model, background, PixelGrid(64, p.d.radius));
   const PressFrame start = search_frame(p, problem, frame, path);
   // The changes in the model's units, so that the contrast is on the label scale: the set's
   // reference fitted to the model's empty frame (no reference recorded: the frames as they are).
@@ -97,6 +100,7 @@ SensorPressFit fit_press_sensor_file(const Mesh& mesh, const std::string& path,
                                          p.depths, start, options);
   SensorPressFit f;
   f.presses = path;
+  f.presses_hash = file_hash(path);
   f.rotate_degrees = s.rotate_degrees, f.mirror = s.mirror, f.scale = s.scale;
   f.touch_radius = s.touch_radius, f.contrast = s.contrast, f.per_depth = s.per_depth;
   f.gain = gain.scale;
@@ -109,6 +113,11 @@ SensorPressFit fit_press_sensor_file(const Mesh& mesh, const std::string& path,
       f.rotate_degrees, f.mirror ? " after the mirror" : "", f.scale, f.touch_radius,
       f.touch_radius / p.d.radius, f.contrast, f.per_depth ? " per unit depth" : " every press",
       f.relative_residual, f.start_residual, f.iterations, f.converged ? "" : " (NOT converged)");
+  if (s.scale_at_bound || s.radius_at_bound)
+    fmt::print(stderr,
+               "warning: the {} ended on its bound: are the positions in the mesh's unit "
+               "(import --touch-scale)?\n",
+               s.scale_at_bound ? "scale" : "touch radius");
   if (std::isnan(gain.fit))
     fmt::print("  the set records no reference frame: its changes taken in the model's units\n");
   else

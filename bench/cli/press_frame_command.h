@@ -14,9 +14,11 @@ namespace eitbench::cli {
 void print_press_frame(const Mesh& mesh, const std::string& path, const PressFrameOptions& options);
 
 // The frame search, then the sensor fit from it (press_sensor.h) on the set's changes brought to
-// the model's units by its reference frame; prints both.
+// the model's units by its reference frame, on the model of `forward` (the sensor's impedances
+// and current) at `background`; prints both.
 SensorPressFit fit_press_sensor_file(const Mesh& mesh, const std::string& path,
                                      const PressFrameOptions& frame,
-                                     const PressSensorOptions& options);
+                                     const PressSensorOptions& options,
+                                     const ForwardOptions& forward, double background);
 
 }  // namespace eitbench::cli

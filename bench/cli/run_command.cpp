@@ -21,8 +21,6 @@ namespace eitbench::cli {
 
 namespace {
 
-// "0,10,30,100,all" -> {0, 10, 30, 100, -1}: sizes of 0 or at least 3 (two to train, one to
-// stop on), ascending, each once.
 // --sweep: "none", or training-set sizes in ascending order, each at least 2.
 std::vector<int> parse_sweep(const std::string& text) {
   if (text == "none") return {};
@@ -37,10 +35,12 @@ std::vector<int> parse_sweep(const std::string& text) {
       throw InputError("--sweep", "", "sizes must ascend, each once");
     sizes.push_back(static_cast<int>(n));
   }
-  if (sizes.empty()) throw InputError("--sweep", "", "needs sizes, or none");
+  if (sizes.empty() || text.back() == ',') throw InputError("--sweep", "", "needs sizes, or none");
   return sizes;
 }
 
+// "0,10,30,100,all" -> {0, 10, 30, 100, -1}: sizes of 0 or at least 3 (two to train, one to
+// stop on), ascending, each once.
 std::vector<int> parse_finetune(const std::string& text) {
   std::vector<int> sizes;
   if (text.empty()) return sizes;

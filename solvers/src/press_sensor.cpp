@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -97,6 +98,21 @@ Eigen::Vector2d oriented(const Eigen::MatrixX2d& positions, Eigen::Index i, bool
 
 }  // namespace
 
+Eigen::Vector2d model_position(const Eigen::Vector2d& recorded, double rotate_degrees, bool mirror,
+                               double scale) {
+  const double a = rotate_degrees * kPi / 180, c = std::cos(a), s = std::sin(a);
+  const double x = scale * recorded.x(), y = scale * (mirror ? -recorded.y() : recorded.y());
+  return {c * x - s * y, s * x + c * y};
+}
+
+Eigen::Vector2d recorded_position(const Eigen::Vector2d& on_model, double rotate_degrees,
+                                  bool mirror, double scale) {
+  const double a = -rotate_degrees * kPi / 180, c = std::cos(a), s = std::sin(a);
+  const double x = (c * on_model.x() - s * on_model.y()) / scale;
+  const double y = (s * on_model.x() + c * on_model.y()) / scale;
+  return {x, mirror ? -y : y};
+}
+
 PressSensor fit_press_sensor(const LinearProblem& problem, const SampleMatrix& differences,
                              const Eigen::MatrixX2d& positions, const Eigen::VectorXd& depths,
                              const PressFrame& start, const PressSensorOptions& options) {
@@ -129,12 +145,11 @@ PressSensor fit_press_sensor(const LinearProblem& problem, const SampleMatrix& d
     auto* cost =
         new PressMisfit(model, differences.row(i).transpose().cast<double>(),
                         oriented(positions, i, start.mirror), per_depth ? depths[i] : 1.0, norm);
-    ceres::LossFunction* loss = nullptr;
-    // The Huber scale is on a press's squared misfit, relative to the set's norm over presses.
-    if (options.huber > 0) {
-      const double typical = options.huber / std::sqrt(static_cast<double>(n));
-      loss = new ceres::HuberLoss(typical * typical);
-    }
+    // Huber's scale is a residual norm (Ceres squares it): a press whose misfit is `huber` of a
+    // typical press's change, ||D|| / sqrt(n) in these units.
+    ceres::LossFunction* loss =
+        options.huber > 0 ? new ceres::HuberLoss(options.huber / std::sqrt(static_cast<double>(n)))
+                          : nullptr;
     fit.AddResidualBlock(cost, loss, p);
   }
   const double turn = p[kTurn], reach = options.max_turn_degrees * kPi / 180;
@@ -144,6 +159,11 @@ PressSensor fit_press_sensor(const LinearProblem& problem, const SampleMatrix& d
   fit.SetParameterUpperBound(p, kLogScale, std::log(options.max_scale));
   fit.SetParameterLowerBound(p, kRadius, options.min_radius * R);
   fit.SetParameterUpperBound(p, kRadius, options.max_radius * R);
+  // A press lowers the conductivity (c > 0), never below zero (c < 1 at the deepest press).
+  const double deepest = per_depth ? depths.maxCoeff() : 1.0;
+  p[kContrast] = std::clamp(p[kContrast], 1e-6, 0.99 / deepest);
+  fit.SetParameterLowerBound(p, kContrast, 0);
+  fit.SetParameterUpperBound(p, kContrast, 0.99 / deepest);
 
   // ||model - measured|| / ||measured||, without the loss: what the fit's figure means.
   auto residual = [&] {
@@ -164,7 +184,7 @@ PressSensor fit_press_sensor(const LinearProblem& problem, const SampleMatrix& d
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_QR;
   so.max_num_iterations = options.max_iterations;
-  so.num_threads = 2;
+  so.num_threads = 1;  // sums in one order: the same file on every run (ShapeModel is parallel)
   so.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &fit, &summary);
@@ -179,6 +199,11 @@ PressSensor fit_press_sensor(const LinearProblem& problem, const SampleMatrix& d
   out.iterations = static_cast<int>(summary.iterations.size()) - 1;
   out.converged = summary.termination_type == ceres::CONVERGENCE;
   out.relative_residual = residual();
+  auto at = [](double v, double lo, double hi) {
+    return std::abs(v - lo) < 1e-6 * std::abs(lo) || std::abs(v - hi) < 1e-6 * std::abs(hi);
+  };
+  out.scale_at_bound = at(p[kLogScale], -std::log(options.max_scale), std::log(options.max_scale));
+  out.radius_at_bound = at(p[kRadius], options.min_radius * R, options.max_radius * R);
   return out;
 }
 

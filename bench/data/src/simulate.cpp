@@ -44,8 +44,11 @@ void SimulationVariation::validate() const {
   if (touches_set() || radius_min != 0) {
     if (!(radius_min > 0 && radius_min <= radius_max && radius_max < 1))
       throw InputError("--touch-radius", "", "needs 0 < MIN <= MAX < 1 (x R)");
-    if (!(contrast_min >= 0 && contrast_min <= contrast_max && contrast_max < 1))
-      throw InputError("--touch-contrast", "", "needs 0 <= MIN <= MAX < 1");
+    if (!(contrast_min >= 0 && contrast_min <= contrast_max && contrast_max > 0 &&
+          contrast_max < 1))
+      throw InputError("--touch-contrast", "",
+                       "needs 0 <= MIN <= MAX < 1 and MAX > 0 (with --touch-radius: touches of "
+                       "contrast 0 change nothing)");
   } else if (contrast_max != 0 || contrast_min != 0) {
     throw InputError("--touch-contrast", "", "goes with --touch-radius");
   }
@@ -92,8 +95,8 @@ std::vector<Circle> draw_circles(int k, RandomStream& rng, Propose propose) {
   }
   throw InputError("sensor mesh", "",
                    "no room for " + std::to_string(k) +
-                       " separate touches of the drawn radii inside it (R: half its larger "
-                       "side): is it very thin, or are the touches too large?");
+                       " separate touches of the drawn radii inside the sensor (R: half its "
+                       "larger side): is it very thin, or --touch-radius too large?");
 }
 
 // A touch's radius and conductivity: the presets' draws, or the variation's ranges.
@@ -138,22 +141,23 @@ std::vector<Circle> draw_circles(int k, const MeshDomain& domain, const PixelGri
 // One sample's change on its own draw of the sensor: contact impedances spread about the nominal
 // ones (its own model, and its own empty frame to differ from), channel gains, then noise at a
 // drawn SNR. Draws after the sample's circles, from its stream, so thread counts do not matter.
-Eigen::VectorXd randomised_change(const ForwardModel& nominal, const ForwardOptions& forward,
-                                  const Eigen::VectorXd& sigma, double background,
-                                  const SimulationVariation& v, RandomStream& rng) {
+Eigen::VectorXd randomised_change(const ForwardModel& nominal, const Eigen::VectorXd& reference,
+                                  const ForwardOptions& forward, const Eigen::VectorXd& sigma,
+                                  double background, const SimulationVariation& v,
+                                  RandomStream& rng) {
   const Mesh& mesh = nominal.mesh();
-  const Eigen::VectorXd empty = Eigen::VectorXd::Constant(mesh.num_triangles(), background);
   Eigen::VectorXd change;
-  if (v.impedance_spread > 0) {
+  if (v.impedance_spread > 0) {  // a model of its own: a solve of its empty frame too
     ForwardOptions own = forward;
     own.contact_impedances.resize(mesh.num_electrodes());
     for (auto& z : own.contact_impedances)
       z = forward.contact_impedance *
           std::exp(rng.uniform(-v.impedance_spread, v.impedance_spread));
     const ForwardModel model(mesh, own);
-    change = model.measured(sigma) - model.measured(empty);
+    change = model.measured(sigma) -
+             model.measured(Eigen::VectorXd::Constant(mesh.num_triangles(), background));
   } else {
-    change = nominal.measured(sigma) - nominal.measured(empty);
+    change = nominal.measured(sigma) - reference;
   }
   if (v.gain_error > 0)
     for (auto& c : change) c *= 1 + v.gain_error * rng.normal();
@@ -254,8 +258,8 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
                                       : draw_circles(circle_count[i], grid.radius(), touch, rng);
       const Eigen::VectorXd sigma = conductivity_from_circles(mesh, data.circles[i], o.background);
       if (o.variation.randomised()) {  // the frame the nominal sensor would give that change
-        const Eigen::VectorXd change =
-            randomised_change(model, forward, sigma, o.background, o.variation, rng);
+        const Eigen::VectorXd change = randomised_change(model, data.reference, forward, sigma,
+                                                         o.background, o.variation, rng);
         data.frames.row(i) = (data.reference + change).transpose();
         data.differences.row(i) = protocol.to_inputs(change).transpose();
       } else {

@@ -31,19 +31,22 @@ std::string output_target(const std::string& path) {
     // Most users who point a link somewhere mean the file there: it is replaced, the link kept.
     target = fs::canonical(target, error);
     if (error)
-      throw InputError(path, "", "is a symbolic link to nothing (" + error.message() +
-                                     "): remove it, or point it at a file");
+      throw InputError(path, "",
+                       "is a symbolic link to nothing (" + error.message() +
+                           "): remove it, or point it at a file");
   }
   const fs::file_status status = fs::status(target, error);
   if (!fs::exists(status)) return target.string();
   if (fs::is_directory(status)) throw InputError(path, "", "is a directory, expected a file name");
   if (!fs::is_regular_file(status))
-    throw InputError(path, "", "is a FIFO, a device or a socket: eitbench writes only regular files");
+    throw InputError(path, "",
+                     "is a FIFO, a device or a socket: eitbench writes only regular files");
   const std::lock_guard<std::mutex> lock(g_mutex);
   for (const std::string& input : g_inputs)
     if (fs::equivalent(target, input, error))
-      throw InputError(path, "", "is the same file as the input " + input +
-                                     ": writing it would destroy the input; choose another output");
+      throw InputError(path, "",
+                       "is the same file as the input " + input +
+                           ": writing it would destroy the input; choose another output");
   return target.string();
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <type_traits>
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/jacobian/error.h"
@@ -28,10 +29,27 @@ double finite(const nlohmann::json& j, const std::string& path, const char* fiel
   return v;
 }
 
+// An optional field of `j` (under `object`) as T, or `fallback` when absent; InputError naming it
+// when it has another type.
+template <typename T>
+T optional_field(const nlohmann::json& j, const std::string& path, const std::string& object,
+                 const char* field, T fallback) {
+  if (!j.contains(field)) return fallback;
+  const auto& v = j[field];
+  const bool fits = std::is_same_v<T, bool>          ? v.is_boolean()
+                    : std::is_same_v<T, int>         ? v.is_number_integer()
+                    : std::is_same_v<T, std::string> ? v.is_string()
+                                                     : v.is_number();
+  if (!fits) throw InputError(path, object + field, "has the wrong type");
+  return v.get<T>();
+}
+
 SensorPressFit read_press_fit(const nlohmann::json& j, const std::string& path) {
   if (!j.is_object()) throw InputError(path, "press_fit", "must be an object");
   SensorPressFit f;
-  f.presses = j.value("presses", "");
+  const std::string in = "press_fit.";
+  f.presses = optional_field<std::string>(j, path, in, "presses", "");
+  f.presses_hash = optional_field<std::string>(j, path, in, "presses_hash", "");
   f.rotate_degrees = finite(j, path, "rotate_degrees");
   f.scale = finite(j, path, "scale");
   f.touch_radius = finite(j, path, "touch_radius");
@@ -43,11 +61,11 @@ SensorPressFit read_press_fit(const nlohmann::json& j, const std::string& path) 
   if (!j.contains("mirror") || !j["mirror"].is_boolean())
     throw InputError(path, "press_fit.mirror", "missing, or not true or false");
   f.mirror = j["mirror"].get<bool>();
-  f.per_depth = j.value("per_depth", false);
-  f.start_residual = j.value("start_residual", 0.0);
-  f.relative_residual = j.value("relative_residual", 0.0);
-  f.iterations = j.value("iterations", 0);
-  f.converged = j.value("converged", false);
+  f.per_depth = optional_field(j, path, in, "per_depth", false);
+  f.start_residual = optional_field(j, path, in, "start_residual", 0.0);
+  f.relative_residual = optional_field(j, path, in, "relative_residual", 0.0);
+  f.iterations = optional_field(j, path, in, "iterations", 0);
+  f.converged = optional_field(j, path, in, "converged", false);
   return f;
 }
 
@@ -70,6 +88,7 @@ void write_sensor_file(const std::string& path, const SensorFile& s) {
   if (s.press_fit) {
     const SensorPressFit& f = *s.press_fit;
     j["press_fit"] = {{"presses", f.presses},
+                      {"presses_hash", f.presses_hash},
                       {"rotate_degrees", f.rotate_degrees},
                       {"mirror", f.mirror},
                       {"scale", f.scale},
@@ -117,11 +136,12 @@ SensorFile read_sensor_file(const std::string& path) {
   s.current = j["current"].get<double>();
   if (j.contains("calibration") && j["calibration"].is_object()) {
     const auto& c = j["calibration"];
-    s.reference = c.value("reference", "");
-    s.relative_residual = c.value("relative_residual", 0.0);
-    s.iterations = c.value("iterations", 0);
-    s.converged = c.value("converged", false);
-    s.fitted = c.value("fitted", true);
+    const std::string in = "calibration.";
+    s.reference = optional_field<std::string>(c, path, in, "reference", "");
+    s.relative_residual = optional_field(c, path, in, "relative_residual", 0.0);
+    s.iterations = optional_field(c, path, in, "iterations", 0);
+    s.converged = optional_field(c, path, in, "converged", false);
+    s.fitted = optional_field(c, path, in, "fitted", true);
   }
   if (j.contains("press_fit")) s.press_fit = read_press_fit(j["press_fit"], path);
   return s;

@@ -135,15 +135,10 @@ struct StageInputs {
   const std::optional<SensorPressFit>& press_fit;
 };
 
-// Positions on the model back in the recorded frame, by the inverse of the sensor's press fit:
-// q = R(a) M (s p) on the model, so p = M R(-a) q / s.
+// Positions on the model back in the recorded frame, by the inverse of the sensor's press fit.
 Located through_fit(Located located, const SensorPressFit& fit) {
-  const double a = -fit.rotate_degrees * 3.14159265358979323846 / 180;
-  const double c = std::cos(a), s = std::sin(a);
-  for (Eigen::Vector2d& q : located.at) {
-    const double x = (c * q.x() - s * q.y()) / fit.scale, y = (s * q.x() + c * q.y()) / fit.scale;
-    q = {x, fit.mirror ? -y : y};
-  }
+  for (Eigen::Vector2d& q : located.at)
+    q = recorded_position(q, fit.rotate_degrees, fit.mirror, fit.scale);
   return located;
 }
 
@@ -185,31 +180,38 @@ void log_row(const Context& context, const MeasuredRow& row) {
 }
 
 // `row` again with its positions taken back to the recorded frame through the sensor's press fit.
-MeasuredRow fitted_twin(const StageInputs& in, const MeasuredRow& row, const Located& located) {
-  MeasuredRow twin = row_for(in, row.method, row.augment, row.training + " + sensor fit",
-                             through_fit(located, *in.press_fit));
+// `row` again, scored at `moved` (its positions corrected by `how`, named in its training and
+// settings).
+MeasuredRow twin_of(const StageInputs& in, const MeasuredRow& row, const Located& moved,
+                    const std::string& how, const std::string& settings) {
+  MeasuredRow twin = row_for(in, row.method, row.augment, row.training + " + " + how, moved);
   twin.finetune_n = row.finetune_n;
-  twin.settings =
-      row.settings + fmt::format(
-                         "; positions / {:.4f}, turned by {:.2f} degrees{} "
-                         "(the sensor's press fit on {})",
-                         in.press_fit->scale, -in.press_fit->rotate_degrees,
-                         in.press_fit->mirror ? ", mirrored" : "", in.press_fit->presses);
+  twin.settings = row.settings + "; " + settings;
   twin.simulated_fraction_of_radius = row.simulated_fraction_of_radius;
   log_row(in.context, twin);
   return twin;
 }
 
+MeasuredRow fitted_twin(const StageInputs& in, const MeasuredRow& row, const Located& located) {
+  const SensorPressFit& fit = *in.press_fit;
+  return twin_of(
+      in, row, through_fit(located, fit), "sensor fit",
+      fmt::format("positions / {:.4f}, turned by {:.2f} degrees{} (the sensor's press "
+                  "fit on {})",
+                  fit.scale, -fit.rotate_degrees, fit.mirror ? ", mirrored" : "", fit.presses));
+}
+
 // The affine map that best takes a method's positions of CAL's presses to their recorded centres
 // (least squares over the presses it found a touch in): the systematic part of its error, such as
 // EIT's pull towards the centre, learned from the calibration presses alone. None with fewer than
-// 6 found presses.
+// 12 found presses (twice the map's six unknowns). A press found nowhere sits at the centre
+// exactly (located_in), which a found blob's centroid never is.
 std::optional<Eigen::Matrix<double, 3, 2>> position_map(const Located& on_cal,
                                                         const PressFrames& cal) {
   std::vector<Eigen::Index> found;
   for (std::size_t i = 0; i < on_cal.at.size(); ++i)
     if (on_cal.at[i] != Eigen::Vector2d::Zero()) found.push_back(static_cast<Eigen::Index>(i));
-  if (found.size() < 6) return std::nullopt;
+  if (found.size() < 12) return std::nullopt;
   Eigen::MatrixXd q(static_cast<Eigen::Index>(found.size()), 3), p(q.rows(), 2);
   for (Eigen::Index k = 0; k < q.rows(); ++k) {
     const auto i = static_cast<std::size_t>(found[static_cast<std::size_t>(k)]);
@@ -228,17 +230,11 @@ std::optional<MeasuredRow> mapped_twin(const StageInputs& in, const MeasuredRow&
   Located moved = located;
   for (Eigen::Vector2d& q : moved.at)
     if (q != Eigen::Vector2d::Zero()) q = (Eigen::RowVector3d(q.x(), q.y(), 1) * *map).transpose();
-  MeasuredRow twin = row_for(in, row.method, row.augment, row.training + " + position map", moved);
-  twin.finetune_n = row.finetune_n;
-  twin.settings = row.settings + fmt::format(
-                                     "; positions through the affine map fitted on CAL's "
-                                     "presses (x' = {:.3f} x + {:.3f} y + {:.3f}, y' = {:.3f} x + "
-                                     "{:.3f} y + {:.3f})",
-                                     (*map)(0, 0), (*map)(1, 0), (*map)(2, 0), (*map)(0, 1),
-                                     (*map)(1, 1), (*map)(2, 1));
-  twin.simulated_fraction_of_radius = row.simulated_fraction_of_radius;
-  log_row(in.context, twin);
-  return twin;
+  const auto& m = *map;
+  return twin_of(in, row, moved, "position map",
+                 fmt::format("positions through the affine map fitted on CAL's presses (x' = "
+                             "{:.3f} x + {:.3f} y + {:.3f}, y' = {:.3f} x + {:.3f} y + {:.3f})",
+                             m(0, 0), m(1, 0), m(2, 0), m(0, 1), m(1, 1), m(2, 1)));
 }
 
 // A model-based method tuned two ways: in simulation (noise-free validation CC, as the main row
@@ -432,14 +428,16 @@ std::optional<SensorPressFit> sensor_press_fit(const RunConfig& config) {
   if (config.sensor.empty()) return std::nullopt;
   std::optional<SensorPressFit> fit = read_sensor_file(config.sensor).press_fit;
   if (!fit) return fit;
-  std::error_code error;
-  const bool same = fs::equivalent(fit->presses, config.measured, error) ||
-                    fs::path(fit->presses).filename() == fs::path(config.measured).filename();
+  // The same bytes wherever the file lies (a copy, another folder); by name for a file written
+  // by hand without the hash.
+  const bool same = fit->presses_hash.empty()
+                        ? fs::path(fit->presses).filename() == fs::path(config.measured).filename()
+                        : fit->presses_hash == file_hash(config.measured);
   if (same)
     throw InputError(config.sensor, "press_fit.presses",
                      "was fitted on " + fit->presses +
-                         ", the presses --measured scores: fit it on "
-                         "the calibration presses (calibrate --presses CAL --out)");
+                         ", the presses --measured scores: fit it on the calibration presses "
+                         "(calibrate --presses CAL --out)");
   return fit;
 }
 

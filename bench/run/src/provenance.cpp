@@ -2,43 +2,9 @@
 
 #include <fmt/core.h>
 
-#include <cstring>
-#include <fstream>
-
-#include "eitbench/jacobian/random.h"
+#include "eitbench/bench/io/content_hash.h"
 
 namespace eitbench::run {
-namespace {
-
-class Hasher {
- public:
-  void add(std::uint64_t bits) { h_ = mix64(h_ ^ bits); }
-  void add(double v) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    add(bits);
-  }
-  void add(const std::string& text) {
-    add(static_cast<std::uint64_t>(text.size()));
-    std::uint64_t word = 0;
-    for (std::size_t k = 0; k < text.size(); ++k) {
-      word = (word << 8) | static_cast<unsigned char>(text[k]);
-      if (k % 8 == 7) add(word), word = 0;
-    }
-    add(word);
-  }
-  template <typename Matrix>
-  void add_matrix(const Matrix& m) {
-    add(static_cast<std::uint64_t>(m.rows())), add(static_cast<std::uint64_t>(m.cols()));
-    for (Eigen::Index k = 0; k < m.size(); ++k) add(static_cast<double>(m.data()[k]));
-  }
-  std::string hex() const { return fmt::format("{:016x}", h_); }
-
- private:
-  std::uint64_t h_ = 0x9e3779b97f4a7c15ull;
-};
-
-}  // namespace
 
 std::string fingerprint(const Provenance& p) {
   Hasher h;
@@ -74,14 +40,6 @@ std::string content_hash(const Dataset& d) {
   for (Split s : d.split) h.add(static_cast<std::uint64_t>(s));
   // A sensor of another shape: its mesh too (a disk's hash stays what it was).
   if (!d.sensor_mesh.empty()) h.add(d.sensor_mesh);
-  return h.hex();
-}
-
-std::string file_hash(const std::string& path) {
-  if (path.empty()) return "";
-  std::ifstream in(path, std::ios::binary);
-  Hasher h;
-  h.add(std::string(std::istreambuf_iterator<char>(in), {}));
   return h.hex();
 }
 

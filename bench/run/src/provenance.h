@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "eitbench/bench/data/dataset.h"
+#include "eitbench/bench/io/content_hash.h"
 
 namespace eitbench::run {
 
@@ -20,7 +21,7 @@ std::string differing_parts(const Provenance& stored, const Provenance& wanted);
 
 // 16 hex digits of a data set's content: every array, the circles, the splits and the sensor.
 std::string content_hash(const Dataset& data);
-// Of a file's bytes ("" when there is no path).
-std::string file_hash(const std::string& path);
+// Of a file's bytes ("" when there is no path): content_hash.h's.
+using eitbench::file_hash;
 
 }  // namespace eitbench::run

@@ -16,13 +16,14 @@
 namespace eitbench {
 
 struct PressSensorOptions {
-  double start_radius = 0.1;     // the disc's radius to start from (x R)
-  double min_radius = 0.02;      // the radius stays within [min, max] (x R)
-  double max_radius = 0.5;       //
+  double start_radius = 0.1;  // the disc's radius to start from (x R)
+  double min_radius = 0.02;   // the radius stays within [min, max] (x R)
+  double max_radius = 0.5;
   double max_scale = 2;          // the scale stays within [1 / max_scale, max_scale] (> 1)
   double max_turn_degrees = 20;  // the turn moves at most this far from the search's (> 0)
-  // 0: plain least squares. Otherwise a Huber loss on each press's relative misfit beyond this,
-  // so that a few presses the model cannot explain (a slipped probe) do not pull the fit.
+  // 0: plain least squares. Otherwise a Huber loss on each press whose misfit exceeds this
+  // fraction of a typical press's change (the set's norm / sqrt(n)), so that a few presses the
+  // model cannot explain (a slipped probe) do not pull the fit.
   double huber = 0;
   int max_iterations = 100;  // Levenberg-Marquardt steps, at least 1
   void validate() const;     // InputError("PressSensorOptions", field)
@@ -44,7 +45,16 @@ struct PressSensor {
   double start_residual = 0, relative_residual = 0;
   int iterations = 0;
   bool converged = false;
+  // The fit ended on a bound (options): worth a look, e.g. positions in another unit.
+  bool scale_at_bound = false, radius_at_bound = false;
 };
+
+// A recorded position on the model, R(a) M (scale p), and back: p = M R(-a) q / scale (a in
+// degrees, M: y -> -y when mirror).
+Eigen::Vector2d model_position(const Eigen::Vector2d& recorded, double rotate_degrees, bool mirror,
+                               double scale);
+Eigen::Vector2d recorded_position(const Eigen::Vector2d& on_model, double rotate_degrees,
+                                  bool mirror, double scale);
 
 // differences: N x m measured changes in the model's units (the problem's inputs); positions: N x
 // 2 recorded centres; depths: N values, or empty where no depth is known (NaN anywhere: none are

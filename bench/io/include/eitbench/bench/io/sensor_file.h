@@ -16,7 +16,8 @@
 namespace eitbench {
 
 struct SensorPressFit {
-  std::string presses;  // the press set it was fitted to
+  std::string presses;       // the press set it was fitted to
+  std::string presses_hash;  // its bytes' (content_hash.h): a run refuses to score that set
   // A recorded position p lies at R(rotate_degrees) M (scale p) on the model (M: y -> -y when
   // mirror).
   double rotate_degrees = 0;
