@@ -389,6 +389,23 @@ TEST(Results, JsonRoundTrip) {
   EXPECT_EQ(back.recommendation, r.recommendation);
 }
 
+// The pick: the best CC, unless a method within 0.02 CC of it is at least 1.5x faster; a few
+// microseconds between two GPU models are timing noise, not a reason.
+TEST(Report, RecommendsTheBestUnlessAnotherIsClearlyFaster) {
+  ResultRow best;
+  best.method = "dnn", best.augment = "d16", best.snr_db = 40, best.cc = 0.899, best.frames = 9;
+  best.latency_median_ms = 0.331;
+  ResultRow close = best;
+  close.augment = "paper", close.cc = 0.881, close.latency_median_ms = 0.329;
+  EXPECT_EQ(recommend({best, close}).rfind("Pick **dnn (d16)**", 0), 0u)
+      << recommend({best, close});
+  close.latency_median_ms = 0.2;  // 1.66x faster, 0.018 CC behind: it wins
+  EXPECT_EQ(recommend({best, close}).rfind("Pick **dnn (paper)**", 0), 0u);
+  close.cc = 0.87;  // 0.029 behind: the best CC wins however fast the other
+  close.latency_median_ms = 0.01;
+  EXPECT_EQ(recommend({best, close}).rfind("Pick **dnn (d16)**", 0), 0u);
+}
+
 // A model timed on a GPU gets the report's GPU inference table; a CPU run's report has none.
 TEST(Report, GpuInferenceOnlyWhereMeasured) {
   RunResults r;
