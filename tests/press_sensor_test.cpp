@@ -58,16 +58,32 @@ Recording stand_in(const Truth& t, int presses) {
   return r;
 }
 
-TEST(PressSensor, RecoversTheFrameAndTheTouchOfAStandInSensor) {
+// The fit's model: the nominal sensor on the coarse mesh.
+LinearProblem nominal_problem() {
   const auto model = std::make_shared<const ForwardModel>(testing::disk(16, MeshDensity::coarse));
-  const LinearProblem problem = make_linear_problem(model, 1.0, PixelGrid(32, 1.0));
+  return make_linear_problem(model, 1.0, PixelGrid(32, 1.0));
+}
+
+// Positions recorded turned by 37.4 degrees and scaled by 1 / 1.15.
+Truth turned_and_scaled() {
   Truth t;
   t.turn_degrees = 37.4;
   t.scale = 1.15;
+  return t;
+}
+
+// The frame search on a coarse grid of turns: the fit finds the rest.
+PressFrame coarse_search(const LinearProblem& problem, const Recording& r) {
+  PressFrameOptions o;
+  o.step_degrees = 5;
+  return fit_press_frame(problem, r.differences, r.positions, o);
+}
+
+TEST(PressSensor, RecoversTheFrameAndTheTouchOfAStandInSensor) {
+  const LinearProblem problem = nominal_problem();
+  const Truth t = turned_and_scaled();
   const Recording r = stand_in(t, 40);
-  PressFrameOptions fo;
-  fo.step_degrees = 5;  // a coarse search: the fit finds the rest
-  const PressFrame start = fit_press_frame(problem, r.differences, r.positions, fo);
+  const PressFrame start = coarse_search(problem, r);
   const PressSensor s = fit_press_sensor(problem, r.differences, r.positions, r.depths, start);
   EXPECT_FALSE(s.mirror);
   EXPECT_TRUE(s.per_depth);
@@ -98,16 +114,11 @@ TEST(PressSensor, RecoversTheFrameAndTheTouchOfAStandInSensor) {
 // A few presses the model cannot explain (a slipped probe: another press's frame, ten times
 // stronger) pull a least-squares fit; the Huber loss keeps the frame.
 TEST(PressSensor, AHuberLossKeepsTheFrameAgainstOutliers) {
-  const auto model = std::make_shared<const ForwardModel>(testing::disk(16, MeshDensity::coarse));
-  const LinearProblem problem = make_linear_problem(model, 1.0, PixelGrid(32, 1.0));
-  Truth t;
-  t.turn_degrees = 37.4;
-  t.scale = 1.15;
+  const LinearProblem problem = nominal_problem();
+  const Truth t = turned_and_scaled();
   Recording r = stand_in(t, 40);
   for (int i : {3, 17, 29}) r.differences.row(i) = 10 * r.differences.row((i + 20) % 40);
-  PressFrameOptions fo;
-  fo.step_degrees = 5;
-  const PressFrame start = fit_press_frame(problem, r.differences, r.positions, fo);
+  const PressFrame start = coarse_search(problem, r);
   PressSensorOptions o;
   o.huber = 1;
   const PressSensor robust =
@@ -135,8 +146,7 @@ TEST(PressSensor, ModelAndRecordedPositionsAreInverse) {
 }
 
 TEST(PressSensor, BadInputIsRefused) {
-  const auto model = std::make_shared<const ForwardModel>(testing::disk(16, MeshDensity::coarse));
-  const LinearProblem problem = make_linear_problem(model, 1.0, PixelGrid(32, 1.0));
+  const LinearProblem problem = nominal_problem();
   const Recording r = stand_in({}, 4);
   const PressFrame start;
   EXPECT_EQ(testing::input_error_at([&] {

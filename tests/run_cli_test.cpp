@@ -253,6 +253,30 @@ TEST_F(RunCli, MeasuredFramesAreReconstructedWithTheSimulatedPresetsChoices) {
   EXPECT_FALSE(fs::exists(path("measured/touch_centre_errors.png")));
 }
 
+// The flags that shape the simulated set and the sweep refuse what they cannot use, naming the
+// flag, before anything is simulated or written.
+TEST_F(RunCli, SweepAndVariationFlagsRefuseBadValues) {
+  const std::string base = "run --preset tiny --quiet --out " + path("out") + " ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--sweep 5,3", "--sweep: sizes must ascend"},
+      {"--sweep 500,", "--sweep: '' is not a training-set size"},
+      {"--sweep 1", "--sweep: '1' is not a training-set size"},
+      {"--touch-radius 0.2,0.3", "--touch-contrast: needs"},
+      {"--touch-contrast 0,0.3", "--touch-contrast: goes with --touch-radius"},
+      {"--randomise-snr 50,40", "--randomise-snr: needs"},
+  };
+  for (const auto& [flags, message] : cases) {
+    const Result r = run(base + flags);
+    EXPECT_EQ(r.exit_code, 2) << flags << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << flags << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(path("out/data.h5"))) << flags;
+  }
+  const Result s =
+      run("simulate --preset tiny --quiet --touch-radius 0.2,0.3 --out " + path("set.h5"));
+  EXPECT_EQ(s.exit_code, 2) << s.output;
+  EXPECT_FALSE(fs::exists(path("set.h5")));
+}
+
 TEST_F(RunCli, KilledSimulationLeavesNoFile) {
   const std::string out = path("d.h5");
   ASSERT_TRUE(kill_when("simulate --preset quick --quiet --out " + out, [&] {

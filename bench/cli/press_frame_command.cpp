@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/data/press_touches.h"
 #include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/io/content_hash.h"
 #include "eitbench/solvers.h"
@@ -27,8 +28,7 @@ struct Presses {
 Presses read_presses(const Mesh& mesh, const std::string& path, ForwardOptions forward = {}) {
   Presses p{read_dataset(path), {}, {}, nullptr};
   const Dataset& d = p.d;
-  if (d.touches.empty())
-    throw InputError(path, "touches", "is not a press set (import --touches makes one)");
+  check_press_set(path, d, measurement_protocol(d));  // one known touch a frame
   if (mesh.num_electrodes() != d.electrodes)
     throw InputError(
         path, "electrodes",
@@ -36,12 +36,9 @@ Presses read_presses(const Mesh& mesh, const std::string& path, ForwardOptions f
   p.positions.resize(d.size(), 2);
   if (d.touch_size == "depth") p.depths.resize(d.size());
   for (int i = 0; i < d.size(); ++i) {
-    const auto& list = d.touches[static_cast<std::size_t>(i)];
-    if (list.size() != 1)
-      throw InputError(path, "touches",
-                       fmt::format("frame {} has {} touches; the fit takes one", i, list.size()));
-    p.positions.row(i) << list[0].x, list[0].y;
-    if (p.depths.size() > 0) p.depths[i] = list[0].size;
+    const PressTouch& t = d.touches[static_cast<std::size_t>(i)][0];
+    p.positions.row(i) << t.x, t.y;
+    if (p.depths.size() > 0) p.depths[i] = t.size;
   }
   if (p.depths.size() > 0 && !p.depths.allFinite()) p.depths.resize(0);  // not every depth known
   forward.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(d));

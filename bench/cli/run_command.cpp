@@ -6,7 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <sstream>
+#include <optional>
 
 #include "commands.h"
 #include "eitbench/bench/methods/registry.h"
@@ -21,21 +21,44 @@ namespace eitbench::cli {
 
 namespace {
 
+// "a,b,c" -> {"a", "b", "c"}; every comma separates, so "a," ends with an empty item.
+std::vector<std::string> comma_items(const std::string& text) {
+  std::vector<std::string> items;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    items.push_back(text.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return items;
+}
+
+// A whole decimal number, or none for anything else ("", "1.5", "2x").
+std::optional<int> whole_number(const std::string& item) {
+  std::size_t used = 0;
+  int n = 0;
+  try {
+    n = std::stoi(item, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (used != item.size() || item.empty()) return std::nullopt;
+  return n;
+}
+
 // --sweep: "none", or training-set sizes in ascending order, each at least 2.
 std::vector<int> parse_sweep(const std::string& text) {
   if (text == "none") return {};
+  if (text.empty()) throw InputError("--sweep", "", "needs sizes, or none");
   std::vector<int> sizes;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) {
-    char* end = nullptr;
-    const long n = std::strtol(item.c_str(), &end, 10);
-    if (item.empty() || *end != '\0' || n < 2 || n > 100000000)
+  for (const std::string& item : comma_items(text)) {
+    const std::optional<int> n = whole_number(item);
+    if (!n || *n < 2 || *n > 100000000)
       throw InputError("--sweep", "", "'" + item + "' is not a training-set size (2 or more)");
-    if (!sizes.empty() && n <= sizes.back())
+    if (!sizes.empty() && *n <= sizes.back())
       throw InputError("--sweep", "", "sizes must ascend, each once");
-    sizes.push_back(static_cast<int>(n));
+    sizes.push_back(*n);
   }
-  if (sizes.empty() || text.back() == ',') throw InputError("--sweep", "", "needs sizes, or none");
   return sizes;
 }
 
@@ -44,22 +67,14 @@ std::vector<int> parse_sweep(const std::string& text) {
 std::vector<int> parse_finetune(const std::string& text) {
   std::vector<int> sizes;
   if (text.empty()) return sizes;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', start), text.size());
-    const std::string item = text.substr(start, comma - start);
-    start = comma + 1;
+  for (const std::string& item : comma_items(text)) {
     int n = -1;
     if (item != "all") {
-      std::size_t used = 0;
-      try {
-        n = std::stoi(item, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != item.size() || item.empty() || n < 0 || n == 1 || n == 2)
+      const std::optional<int> number = whole_number(item);
+      if (!number || *number < 0 || *number == 1 || *number == 2)
         throw InputError("--finetune", "",
                          "'" + item + "' is not a number of presses: 0, 3 or more, or all");
+      n = *number;
     }
     if (!sizes.empty() && (sizes.back() < 0 || (n >= 0 && n <= sizes.back())))
       throw InputError("--finetune", "", "sizes must ascend, each once, all last");

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "eitbench/jacobian/error.h"
 #include "shape_model.h"
@@ -48,22 +49,29 @@ class PressMisfit : public ceres::SizedCostFunction<ceres::DYNAMIC, kParameters>
     set_num_residuals(static_cast<int>(measured_.size()));
   }
 
+  // The model's change for this press at parameters `p`, and its d/d[cx, cy, r, c] when asked.
+  Eigen::VectorXd predicted(const double* p, Eigen::MatrixXd* d = nullptr) const {
+    const Eigen::Vector2d at = centre(p);
+    const double circle[4] = {at.x(), at.y(), p[kRadius], p[kContrast] * depth_};
+    return model_.difference({circle}, false, d);
+  }
+
+  // (predicted - measured) / norm: the press's share of the set's relative residual.
+  Eigen::VectorXd misfit(const double* p) const { return (predicted(p) - measured_) / norm_; }
+
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     const double* p = parameters[0];
-    const double scale = std::exp(p[kLogScale]), c = std::cos(p[kTurn]), s = std::sin(p[kTurn]);
-    const double x = position_.x(), y = position_.y();
-    const double circle[4] = {scale * (c * x - s * y), scale * (s * x + c * y), p[kRadius],
-                              p[kContrast] * depth_};
     Eigen::MatrixXd d;  // m x 4: by cx, cy, r, c
-    const Eigen::VectorXd v = model_.difference({circle}, false, jacobians ? &d : nullptr);
+    const Eigen::VectorXd v = predicted(p, jacobians ? &d : nullptr);
     const Eigen::Index m = measured_.size();
     Eigen::Map<Eigen::VectorXd>(residuals, m) = (v - measured_) / norm_;
     if (jacobians && jacobians[0]) {
+      const Eigen::Vector2d at = centre(p);
       Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, kParameters, Eigen::RowMajor>> J(
           jacobians[0], m, kParameters);
-      J.col(kTurn) = (d.col(1) * circle[0] - d.col(0) * circle[1]) / norm_;
-      J.col(kLogScale) = (d.col(0) * circle[0] + d.col(1) * circle[1]) / norm_;
+      J.col(kTurn) = (d.col(1) * at.x() - d.col(0) * at.y()) / norm_;
+      J.col(kLogScale) = (d.col(0) * at.x() + d.col(1) * at.y()) / norm_;
       J.col(kRadius) = d.col(2) / norm_;
       J.col(kContrast) = d.col(3) * depth_ / norm_;
     }
@@ -71,6 +79,13 @@ class PressMisfit : public ceres::SizedCostFunction<ceres::DYNAMIC, kParameters>
   }
 
  private:
+  // The recorded (oriented) position turned and scaled by p: the disc's centre on the model.
+  Eigen::Vector2d centre(const double* p) const {
+    const double scale = std::exp(p[kLogScale]), c = std::cos(p[kTurn]), s = std::sin(p[kTurn]);
+    const double x = position_.x(), y = position_.y();
+    return {scale * (c * x - s * y), scale * (s * x + c * y)};
+  }
+
   const detail::ShapeModel& model_;
   Eigen::VectorXd measured_;
   Eigen::Vector2d position_;
@@ -125,32 +140,34 @@ PressSensor fit_press_sensor(const LinearProblem& problem, const SampleMatrix& d
   const double norm = differences.norm();
   if (!(norm > 0)) throw InputError("presses", "", "hold no change: every frame is zero");
 
+  // One misfit a press, kept here (Ceres borrows them) for the start and the residuals too.
+  std::vector<std::unique_ptr<PressMisfit>> misfits;
+  for (Eigen::Index i = 0; i < n; ++i)
+    misfits.push_back(std::make_unique<PressMisfit>(model, differences.row(i).transpose(),
+                                                    oriented(positions, i, start.mirror),
+                                                    per_depth ? depths[i] : 1.0, norm));
+
   double p[kParameters] = {start.rotate_degrees * kPi / 180, 0, options.start_radius * R, 1};
   // The start's contrast: the least-squares one for the start's geometry (the model is linear in
   // it), so that the first step moves the geometry, not the amplitude.
   double along = 0, across = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    const PressMisfit unit(model, Eigen::VectorXd::Zero(differences.cols()),
-                           oriented(positions, i, start.mirror), per_depth ? depths[i] : 1.0, 1);
-    Eigen::VectorXd u(differences.cols());
-    const double* blocks[] = {p};
-    unit.Evaluate(blocks, u.data(), nullptr);
-    along += u.dot(differences.row(i).transpose().cast<double>());
+    const Eigen::VectorXd u = misfits[static_cast<std::size_t>(i)]->predicted(p);  // contrast 1
+    along += u.dot(differences.row(i).transpose());
     across += u.squaredNorm();
   }
   p[kContrast] = across > 0 ? along / across : 1;
 
-  ceres::Problem fit;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    auto* cost =
-        new PressMisfit(model, differences.row(i).transpose().cast<double>(),
-                        oriented(positions, i, start.mirror), per_depth ? depths[i] : 1.0, norm);
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem fit(po);
+  for (const auto& misfit : misfits) {
     // Huber's scale is a residual norm (Ceres squares it): a press whose misfit is `huber` of a
     // typical press's change, ||D|| / sqrt(n) in these units.
     ceres::LossFunction* loss =
         options.huber > 0 ? new ceres::HuberLoss(options.huber / std::sqrt(static_cast<double>(n)))
                           : nullptr;
-    fit.AddResidualBlock(cost, loss, p);
+    fit.AddResidualBlock(misfit.get(), loss, p);
   }
   const double turn = p[kTurn], reach = options.max_turn_degrees * kPi / 180;
   fit.SetParameterLowerBound(p, kTurn, turn - reach);
@@ -168,15 +185,7 @@ PressSensor fit_press_sensor(const LinearProblem& problem, const SampleMatrix& d
   // ||model - measured|| / ||measured||, without the loss: what the fit's figure means.
   auto residual = [&] {
     double sum = 0;
-    Eigen::VectorXd r(differences.cols());
-    const double* blocks[] = {p};
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const PressMisfit misfit(model, differences.row(i).transpose().cast<double>(),
-                               oriented(positions, i, start.mirror), per_depth ? depths[i] : 1.0,
-                               norm);
-      misfit.Evaluate(blocks, r.data(), nullptr);
-      sum += r.squaredNorm();
-    }
+    for (const auto& misfit : misfits) sum += misfit->misfit(p).squaredNorm();
     return std::sqrt(sum);
   };
   PressSensor out;

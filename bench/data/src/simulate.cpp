@@ -75,6 +75,11 @@ std::string describe(const SimulationVariation& v) {
   return out;
 }
 
+std::string with_variation(const std::string& mesh, const SimulationVariation& v) {
+  const std::string variation = describe(v);
+  return variation.empty() ? mesh : mesh + "; " + variation;
+}
+
 namespace {
 
 // k non-overlapping circles by rejection (docs/conventions.md): `propose` draws one candidate, or
@@ -221,8 +226,7 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   data.image_size = o.image_size;
   data.seed = o.seed;
   data.preset = o.preset;
-  data.simulation_mesh = geometry.description;
-  if (const std::string v = describe(o.variation); !v.empty()) data.simulation_mesh += "; " + v;
+  data.simulation_mesh = with_variation(geometry.description, o.variation);
   if (o.sensor_mesh) {
     data.sensor_mesh = mesh_text(*o.sensor_mesh);
     data.sensor_group = find_sensor_group(*o.sensor_mesh, {}, o.sensor_source).name();

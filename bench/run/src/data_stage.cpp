@@ -51,8 +51,6 @@ std::string simulation_differs(const Dataset& d, const RunConfig& config,
       config.mesh_file.empty()
           ? "disk L=" + std::to_string(config.electrodes) + " " + to_string(config.simulation)
           : sensor_name(config) + ", refined once";
-  const std::string variation = describe(config.variation);
-  const std::string simulation_mesh = variation.empty() ? mesh : mesh + "; " + variation;
   std::string diff;
   auto differs = [&](const std::string& what, const std::string& has, const std::string& asked) {
     if (has != asked)
@@ -60,7 +58,7 @@ std::string simulation_differs(const Dataset& d, const RunConfig& config,
   };
   differs("preset", d.preset, config.preset);
   differs("seed", std::to_string(d.seed), std::to_string(config.seed));
-  differs("simulation mesh", d.simulation_mesh, simulation_mesh);
+  differs("simulation mesh", d.simulation_mesh, with_variation(mesh, config.variation));
   differs("program", d.program, program_version());
   const MeasurementProtocol wanted = simulation_protocol(config, d.electrodes, data_protocol);
   differs("protocol", measurement_protocol(d).name() + (d.magnitude ? " (magnitudes)" : ""),

@@ -114,14 +114,22 @@ Located located_presses(const Reconstructor& method, const PixelGrid& grid, doub
 }
 
 // The blob threshold with the lowest mean centre error on CAL's presses (the first wins a tie).
-double press_threshold(const Reconstructor& method, const PixelGrid& grid, const PressFrames& cal) {
-  if (method.finds_circles()) return NAN;
+// With `on_cal`, also where the method puts CAL's presses at that threshold (its position map's
+// data), from the same reconstructions; a method that gives circles needs no threshold, and is
+// located by them.
+double press_threshold(const Reconstructor& method, const PixelGrid& grid, double background,
+                       const PressFrames& cal, Located* on_cal = nullptr) {
+  if (method.finds_circles()) {
+    if (on_cal) *on_cal = located_presses(method, grid, background, cal, NAN, 0);
+    return NAN;
+  }
   const SampleMatrix images = method.reconstruct_all(cal.frames);
   double best = INFINITY, chosen = 0.5;
   for (double t : TouchOptions().thresholds) {
     const double mean = score_presses(touches_in_images(images, grid, t), cal.touches).mean;
     if (mean < best) best = mean, chosen = t;
   }
+  if (on_cal) *on_cal = located_in(touches_in_images(images, grid, chosen));
   return chosen;
 }
 
@@ -179,7 +187,6 @@ void log_row(const Context& context, const MeasuredRow& row) {
       row.none_found > 0 ? fmt::format(" ({} without a touch)", row.none_found) : ""));
 }
 
-// `row` again with its positions taken back to the recorded frame through the sensor's press fit.
 // `row` again, scored at `moved` (its positions corrected by `how`, named in its training and
 // settings).
 MeasuredRow twin_of(const StageInputs& in, const MeasuredRow& row, const Located& moved,
@@ -192,6 +199,7 @@ MeasuredRow twin_of(const StageInputs& in, const MeasuredRow& row, const Located
   return twin;
 }
 
+// `row` again with its positions taken back to the recorded frame through the sensor's press fit.
 MeasuredRow fitted_twin(const StageInputs& in, const MeasuredRow& row, const Located& located) {
   const SensorPressFit& fit = *in.press_fit;
   return twin_of(
@@ -237,6 +245,15 @@ std::optional<MeasuredRow> mapped_twin(const StageInputs& in, const MeasuredRow&
                              m(0, 0), m(1, 0), m(2, 0), m(0, 1), m(1, 1), m(2, 1)));
 }
 
+// `row`'s twins: through the sensor's press fit when it has one, and through the method's own
+// position map when `on_cal` (where it put CAL's presses) is given.
+void push_twins(const StageInputs& in, const MeasuredRow& row, const Located& located,
+                const Located* on_cal, std::vector<MeasuredRow>& rows) {
+  if (in.press_fit) rows.push_back(fitted_twin(in, row, located));
+  if (on_cal)
+    if (auto twin = mapped_twin(in, row, located, *on_cal)) rows.push_back(*twin);
+}
+
 // A model-based method tuned two ways: in simulation (noise-free validation CC, as the main row
 // at infinite SNR) and on CAL's presses (the lowest mean centre error).
 void model_based_rows(const StageInputs& in, const std::string& name,
@@ -264,7 +281,11 @@ void model_based_rows(const StageInputs& in, const std::string& name,
                   press_score(grid, 0.5));
       tuned_on = n;
     }
-    const double threshold = press_threshold(*method, grid, in.cal);
+    // The map is CAL's: a method tuned in simulation keeps to labels it never saw.
+    const bool mapped = training != std::string("simulation");
+    Located on_cal;
+    const double threshold =
+        press_threshold(*method, grid, background, in.cal, mapped ? &on_cal : nullptr);
     const Located located =
         located_presses(*method, grid, background, in.set, threshold, config.timed_frames);
     MeasuredRow row = row_for(in, name, "-", training, located);
@@ -273,22 +294,21 @@ void model_based_rows(const StageInputs& in, const std::string& name,
       row.settings += fmt::format(", touch threshold {:g} (on CAL)", threshold);
     log_row(in.context, row);
     rows.push_back(row);
-    if (in.press_fit) rows.push_back(fitted_twin(in, row, located));
-    if (training != std::string("simulation"))
-      if (auto twin = mapped_twin(in, row, located,
-                                  located_presses(*method, grid, background, in.cal, threshold, 0)))
-        rows.push_back(*twin);
+    push_twins(in, row, located, mapped ? &on_cal : nullptr, rows);
   }
 }
 
 // A learned model scored as it is; its threshold chosen on CAL's presses, or 0.5 when it may not
-// see them (a model fine-tuned on a few must not be tuned on the rest).
+// see them (a model fine-tuned on a few must not be tuned on the rest). With `twins`, its twins
+// (push_twins) go there.
 MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
                         const std::string& augment, const std::string& training, int n,
                         bool threshold_on_cal, std::vector<MeasuredRow>* twins = nullptr) {
   const auto method = make_learned_reconstructor(model);
   const PixelGrid& grid = in.reconstruction.grid;
-  const double threshold = threshold_on_cal ? press_threshold(*method, grid, in.cal) : 0.5;
+  Located on_cal;
+  const double threshold =
+      threshold_on_cal ? press_threshold(*method, grid, 0, in.cal, twins ? &on_cal : nullptr) : 0.5;
   const Located located =
       located_presses(*method, grid, 0, in.set, threshold, in.context.config.timed_frames);
   MeasuredRow row = row_for(in, "dnn", augment, training, located);
@@ -297,12 +317,7 @@ MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
                              threshold_on_cal ? " (on CAL)" : " (fixed: no presses to tune it on)");
   if (training != "simulation") row.simulated_fraction_of_radius = NAN;
   log_row(in.context, row);
-  if (twins && training == "simulation") {
-    if (in.press_fit) twins->push_back(fitted_twin(in, row, located));
-    if (auto twin =
-            mapped_twin(in, row, located, located_presses(*method, grid, 0, in.cal, threshold, 0)))
-      twins->push_back(*twin);
-  }
+  if (twins) push_twins(in, row, located, &on_cal, *twins);
   return row;
 }
 

@@ -34,6 +34,9 @@ struct SimulationVariation {
 // "touches 0.2-0.35 R, contrast 0-0.3; randomised: impedances x e^U(-0.5, 0.5), gains 2 %, SNR
 // 25-50 dB"; "" for the defaults.
 std::string describe(const SimulationVariation& v);
+// A set's simulation_mesh: the mesh's description, then the variation's when there is one (what a
+// resumed run compares).
+std::string with_variation(const std::string& mesh, const SimulationVariation& v);
 
 struct SimulationOptions {
   std::string preset = "quick";  // quick | standard | paper (sample counts)
