@@ -315,6 +315,12 @@ TEST_F(RunCli, ReportRedrawsTheRunFromItsStoredResults) {
     ASSERT_TRUE(fs::exists(copy / name)) << name;
     EXPECT_EQ(file_bytes(copy / name), file_bytes(finished / name)) << name;
   }
+  // The pick is re-made from the rows: a stored one from an older rule does not survive.
+  RunResults stale = read_results_json((copy / "results.json").string());
+  stale.recommendation = "Pick **an older rule's choice**.";
+  write_results_json((copy / "results.json").string(), stale);
+  ASSERT_EQ(run("report --quiet " + copy.string()).exit_code, 0);
+  EXPECT_EQ(file_bytes(copy / "report.md"), file_bytes(finished / "report.md"));
   // Without the images, everything else is drawn and the old figure is left alone.
   fs::remove(copy / "reconstructions.npy");
   fs::remove(copy / "reconstructions.png");

@@ -24,7 +24,7 @@ std::function<void()> add_report_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "report",
       "Re-draw a benchmark run's report.md, results.csv and figures from its results.json and "
-      "reconstructions.npy");
+      "reconstructions.npy (the pick made again by this version's rule)");
   cmd->add_option("folder", args->folder, "the run's output folder (eitbench run --out)")
       ->required();
   cmd->add_flag("--quiet", args->quiet, "no summary table");

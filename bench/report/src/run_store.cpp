@@ -113,7 +113,10 @@ void write_run_store(const std::string& folder, const RunResults& results,
 RunResults draw_run_report(const std::string& folder, bool quiet) {
   const fs::path dir(folder);
   require_input_folder(folder);
-  const RunResults results = read_results_json((dir / "results.json").string());
+  RunResults results = read_results_json((dir / "results.json").string());
+  // The pick is derived, like the figures: made again by this version's rule, so that a report
+  // re-drawn after the rule changed follows it (results.json keeps what the run said).
+  results.recommendation = recommend(results.rows, results.training);
   const fs::path images = dir / "reconstructions.npy";
   if (!can_draw_figures()) {
     if (!quiet)

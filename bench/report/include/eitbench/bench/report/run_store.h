@@ -22,7 +22,8 @@ namespace eitbench {
 void write_run_store(const std::string& folder, const RunResults& results,
                      const std::vector<ImageRow>& figure, const PixelGrid& grid);
 
-// Draws the report and its figures from the store in `folder` and returns the stored results.
+// Draws the report and its figures from the store in `folder` and returns the stored results,
+// the recommendation made again from their rows by this version's rule.
 // InputError naming the file on a missing or malformed store; a run without reconstructions.npy
 // (an older version's) gets everything but reconstructions.png.
 RunResults draw_run_report(const std::string& folder, bool quiet = true);
