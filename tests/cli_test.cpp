@@ -562,10 +562,56 @@ TEST_F(Cli, OptionsRefusedByALibraryNameTheFlag) {
   EXPECT_FALSE(fs::exists(path("model.pt")));
 }
 
+// simulate --shard K/N and merge from the command line: the merged set equals one process's,
+// info names a shard, a command that needs a set refuses one, and every refusal exits 2 leaving
+// no output.
+TEST_F(Cli, ShardsSimulateSeparatelyAndMergeIntoOneSet) {
+  const std::string common = "simulate --preset tiny --seed 8 --density coarse --quiet ";
+  ASSERT_EQ(run(common + "--out " + path("whole.h5")).exit_code, 0);
+  for (int k = 0; k < 3; ++k) {
+    const Result r = run(common + "--threads " + std::to_string(1 + k % 2) + " --shard " +
+                         std::to_string(k) + "/3 --out " + path("s" + std::to_string(k) + ".h5"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  const Result info = run("info " + path("s1.h5"));
+  EXPECT_NE(info.output.find("shard 1 of 3"), std::string::npos) << info.output;
+  const Result use = run("augment --in " + path("s1.h5") + " --group d16 --out " + path("a.h5"));
+  EXPECT_EQ(use.exit_code, 2) << use.output;
+  EXPECT_NE(use.output.find("eitbench merge"), std::string::npos) << use.output;
+  EXPECT_FALSE(fs::exists(path("a.h5")));
+
+  const Result missing =
+      run("merge " + path("s2.h5") + " " + path("s0.h5") + " --out " + path("m.h5"));
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("shard(s) 1 of 3 missing"), std::string::npos) << missing.output;
+  EXPECT_FALSE(fs::exists(path("m.h5")));
+  const Result merged = run("merge " + path("s2.h5") + " " + path("s0.h5") + " " + path("s1.h5") +
+                            " --out " + path("m.h5"));
+  ASSERT_EQ(merged.exit_code, 0) << merged.output;
+  const Dataset whole = read_dataset(path("whole.h5")), m = read_dataset(path("m.h5"));
+  EXPECT_EQ(m.frames, whole.frames);
+  EXPECT_EQ(m.differences, whole.differences);
+  EXPECT_EQ(m.labels, whole.labels);
+  EXPECT_EQ(m.split, whole.split);
+
+  for (const std::string bad : {"--shard 3/3", "--shard 1", "--shard a/b", "--shard 1/0"}) {
+    const Result r = run(common + bad + " --out " + path("bad.h5"));
+    EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find("--shard"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(path("bad.h5")));
+  }
+  const Result folder = run("merge " + path("") + " --out " + path("m2.h5"));
+  EXPECT_EQ(folder.exit_code, 2) << folder.output;
+  const Result onto = run("merge " + path("s0.h5") + " " + path("s1.h5") + " " + path("s2.h5") +
+                          " --out " + path("s1.h5"));
+  EXPECT_EQ(onto.exit_code, 2) << onto.output;  // no output replaces an input
+}
+
 TEST_F(Cli, HelpIsAvailableEverywhere) {
-  for (const std::string sub : {"", "mesh", "forward", "jacobian", "augment", "simulate", "info",
-                                "show", "import", "reconstruct", "train", "run", "compare",
-                                "history", "history add", "history show", "calibrate", "report"}) {
+  for (const std::string sub :
+       {"", "mesh", "forward", "jacobian", "augment", "simulate", "info", "show", "import",
+        "reconstruct", "train", "run", "compare", "history", "history add", "history show",
+        "calibrate", "report", "merge"}) {
     const Result r = run(sub + " --help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_NE(r.output.find("--"), std::string::npos);

@@ -10,6 +10,7 @@
 #include "eitbench/augment.h"
 #include "eitbench/bench/data/augment_file.h"
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/dataset_shards.h"
 #include "eitbench/bench/data/noise.h"
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/data/training_data.h"
@@ -25,13 +26,18 @@ std::string temp_path(const std::string& name) {
       .string();
 }
 
+// The tiny preset's options: seconds to simulate, every code path.
+SimulationOptions tiny_options(std::uint64_t seed, MeshDensity density) {
+  SimulationOptions o;
+  o.preset = "tiny";
+  o.seed = seed;
+  o.density = density;
+  return o;
+}
+
 const Dataset& tiny() {
   static const Dataset data = [] {
-    SimulationOptions o;
-    o.preset = "tiny";
-    o.seed = 11;
-    o.density = MeshDensity::medium;
-    return simulate_dataset(o);
+    return simulate_dataset(tiny_options(11, MeshDensity::medium));
   }();
   return data;
 }
@@ -135,10 +141,7 @@ TEST(Simulate, FramesAreForwardSolutionsAndDifferencesFollow) {
 }
 
 TEST(Simulate, IsDeterministicWhateverTheThreadCount) {
-  SimulationOptions o;
-  o.preset = "tiny";
-  o.seed = 11;
-  o.density = MeshDensity::medium;
+  SimulationOptions o = tiny_options(11, MeshDensity::medium);
   o.threads = 1;
   const Dataset one = simulate_dataset(o);
   const Dataset& many = tiny();  // all cores
@@ -161,10 +164,7 @@ TEST(Simulate, IsDeterministicWhateverTheThreadCount) {
 // randomised from its own stream (the same on any thread count), its change consistent with its
 // frame, and the touches the same as without randomisation (drawn first); bad ranges refused.
 TEST(Simulate, VariationDrawsItsRangesAndRandomisesEachSample) {
-  SimulationOptions o;
-  o.preset = "tiny";
-  o.seed = 11;
-  o.density = MeshDensity::coarse;
+  SimulationOptions o = tiny_options(11, MeshDensity::coarse);
   o.variation.radius_min = 0.2, o.variation.radius_max = 0.3;
   o.variation.contrast_min = 0.05, o.variation.contrast_max = 0.25;
   const Dataset plain = simulate_dataset(o);
@@ -210,6 +210,111 @@ TEST(Simulate, VariationDrawsItsRangesAndRandomisesEachSample) {
   bad = {};
   bad.snr_min_db = 50, bad.snr_max_db = 40;
   EXPECT_THROW(bad.validate(), InputError);
+}
+
+// Electrodes shifted per sample (--randomise-electrodes): each sample's own sensor, the same on
+// any thread count, the same touches as without it; the bound and a sensor mesh refused.
+TEST(Simulate, ElectrodeShiftsGiveEachSampleItsOwnSensor) {
+  SimulationOptions o = tiny_options(12, MeshDensity::coarse);
+  const Dataset plain = simulate_dataset(o);
+  o.variation.electrode_shift_deg = 2;
+  o.threads = 1;
+  const Dataset one = simulate_dataset(o);
+  o.threads = 2;
+  const Dataset two = simulate_dataset(o);
+  EXPECT_EQ(one.differences, two.differences);
+  EXPECT_EQ(one.labels, plain.labels);
+  EXPECT_NE(one.simulation_mesh.find("randomised: electrodes +-2 deg"), std::string::npos);
+  double cosine = 0;
+  for (int i = 0; i < one.size(); ++i) {
+    const Eigen::VectorXd a = one.differences.row(i), b = plain.differences.row(i);
+    EXPECT_NE(a, b);
+    cosine += a.dot(b) / (a.norm() * b.norm()) / one.size();
+  }
+  EXPECT_GT(cosine, 0.9);  // the same touches, electrodes a little off
+  EXPECT_LT(cosine, 0.99999);
+
+  o.variation.electrode_shift_deg = 3;  // a quarter of the coarse disk's gap is 2.8 degrees
+  EXPECT_THROW(simulate_dataset(o), InputError);
+  o.variation.electrode_shift_deg = 1;
+  o.sensor_mesh = std::make_shared<const Mesh>(generate_disk_mesh({16, MeshDensity::coarse}));
+  EXPECT_THROW(simulate_dataset(o), InputError);
+  SimulationVariation bad;
+  bad.electrode_shift_deg = -1;
+  EXPECT_THROW(bad.validate(), InputError);
+}
+
+// Shards (simulate --shard K/N, then merge, docs/scaling.md): for 2 and 3 shards, each on its own
+// thread count, the joined set's arrays are those of one process's set; a shard is refused where
+// a whole set is needed; merge refuses a missing, repeated or foreign shard and a whole set,
+// writing nothing.
+TEST(Shards, JoinedShardsAreTheWholeSet) {
+  SimulationOptions o = tiny_options(21, MeshDensity::coarse);
+  const std::string whole_path = temp_path("whole.h5");
+  write_dataset(whole_path, simulate_dataset(o));
+  const Dataset whole = read_dataset(whole_path);
+  std::vector<std::string> three;
+  for (int N : {2, 3}) {
+    std::vector<std::string> paths;
+    for (int K = N - 1; K >= 0; --K) {  // given in reverse: merge orders them
+      o.shard_index = K, o.shard_count = N, o.threads = 1 + K % 2;
+      const Dataset part = simulate_dataset(o);
+      EXPECT_EQ(part.shard.first, static_cast<long long>(whole.size()) * K / N);
+      EXPECT_EQ(part.shard.total, whole.size());
+      paths.push_back(temp_path("shard" + std::to_string(K) + "of" + std::to_string(N) + ".h5"));
+      write_dataset(paths.back(), part);
+    }
+    const std::string out = temp_path("merged.h5");
+    const ShardMerge merged = merge_dataset_shards(paths, out);
+    EXPECT_EQ(merged.shards, N);
+    EXPECT_EQ(merged.samples, whole.size());
+    const Dataset m = read_dataset(out);
+    EXPECT_TRUE(m.shard.whole());
+    EXPECT_EQ(m.frames, whole.frames);
+    EXPECT_EQ(m.differences, whole.differences);
+    EXPECT_EQ(m.labels, whole.labels);
+    EXPECT_EQ(m.reference, whole.reference);
+    EXPECT_EQ(m.split, whole.split);
+    ASSERT_EQ(m.circles.size(), whole.circles.size());
+    for (std::size_t i = 0; i < m.circles.size(); ++i)
+      for (std::size_t k = 0; k < m.circles[i].size(); ++k) {
+        EXPECT_EQ(m.circles[i][k].x, whole.circles[i][k].x);
+        EXPECT_EQ(m.circles[i][k].conductivity, whole.circles[i][k].conductivity);
+      }
+    EXPECT_EQ(m.seed, whole.seed);
+    EXPECT_EQ(m.simulation_mesh, whole.simulation_mesh);
+    fs::remove(out);
+    if (N == 3) three = paths;
+  }
+  // A shard is part of a set: refused wherever a set is used.
+  try {
+    read_dataset(three[0]);
+    ADD_FAILURE() << "a shard read as a set";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "shard_index");
+    EXPECT_NE(e.message().find("eitbench merge"), std::string::npos) << e.what();
+  }
+  const std::string out = temp_path("refused.h5");
+  const auto refused = [&](const std::vector<std::string>& paths, const std::string& field) {
+    try {
+      merge_dataset_shards(paths, out);
+      ADD_FAILURE() << "merged";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), field) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(out));
+  };
+  refused({three[0], three[2]}, "");  // shard 1 missing: named in the message
+  refused({three[0], three[1], three[2], three[1]}, "shard_index");
+  refused({three[0], three[1], whole_path}, "");
+  o.seed = 22, o.shard_index = 1, o.shard_count = 3;
+  const std::string foreign = temp_path("foreign.h5");
+  write_dataset(foreign, simulate_dataset(o));
+  refused({three[0], foreign, three[2]}, "seed");
+  o.shard_index = 3;
+  EXPECT_THROW(simulate_dataset(o), InputError);
+  for (const auto& p : three) fs::remove(p);
+  fs::remove(foreign), fs::remove(whole_path);
 }
 
 TEST(DatasetFile, RoundTrips) {

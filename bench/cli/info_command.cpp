@@ -34,6 +34,10 @@ void print_touches(const Dataset& d) {
 
 void print_dataset_summary(const std::string& path, const Dataset& d) {
   fmt::print("{}: eitbench data set, {} samples\n", path, d.size());
+  if (!d.shard.whole())
+    fmt::print("  shard {} of {}: rows {} to {} of the set's {} (eitbench merge joins them)\n",
+               d.shard.index, d.shard.count, d.shard.first, d.shard.first + d.size() - 1,
+               d.shard.total);
   fmt::print("  splits: train {}, validation {}, test {}\n", d.indices(Split::train).size(),
              d.indices(Split::validation).size(), d.indices(Split::test).size());
   fmt::print(
@@ -92,7 +96,7 @@ std::function<void()> add_info_command(CLI::App& app) {
     const bool matlab =
         args->path.size() > 4 && args->path.compare(args->path.size() - 4, 4, ".mat") == 0;
     if (is_hdf5_file(args->path) && !matlab) {
-      const Dataset d = read_dataset(args->path);
+      const Dataset d = read_dataset_or_shard(args->path);
       check_protocol_of(args->protocol, measurement_protocol(d), args->path);
       return print_dataset_summary(args->path, d);
     }

@@ -236,6 +236,11 @@ void add_variation_options(CLI::App& app, SimulationVariation& v) {
   add_range(app, "--touch-contrast", v.contrast_min, v.contrast_max,
             "with --touch-radius: each touch's contrast c (sigma = sigma_0 (1 - c)) uniform in "
             "[MIN, MAX] (default: sigma uniform in [0.0001, 0.05] S/m)");
+  app.add_option("--randomise-electrodes", v.electrode_shift_deg,
+                 "domain randomisation: each sample's electrodes turned along the rim by U(-DEG, "
+                 "DEG) degrees (the disk; 0: off)")
+      ->check(kNonNegative)
+      ->type_name("DEG");
   app.add_option("--randomise-impedance", v.impedance_spread,
                  "domain randomisation: each sample's contact impedances, each electrode's x "
                  "e^U(-S, S) (0: off)")
@@ -246,6 +251,29 @@ void add_variation_options(CLI::App& app, SimulationVariation& v) {
   add_range(app, "--randomise-snr", v.snr_min_db, v.snr_max_db,
             "domain randomisation: each sample's change with noise at an SNR uniform in [MIN, "
             "MAX] dB");
+}
+
+void add_shard_option(CLI::App& app, int& index, int& count) {
+  app.add_option_function<std::string>(
+         "--shard",
+         [&index, &count](const std::string& text) {
+           const auto slash = text.find('/');
+           try {
+             std::size_t k_end = 0, n_end = 0;
+             if (slash == std::string::npos) throw std::invalid_argument(text);
+             index = std::stoi(text.substr(0, slash), &k_end);
+             count = std::stoi(text.substr(slash + 1), &n_end);
+             if (k_end != slash || n_end != text.size() - slash - 1)
+               throw std::invalid_argument(text);
+           } catch (const std::logic_error&) {
+             throw CLI::ValidationError("--shard", "'" + text + "' is not K/N (e.g. 0/4)");
+           }
+           if (!(count >= 1 && count <= 100000 && index >= 0 && index < count))
+             throw CLI::ValidationError("--shard", "'" + text + "' needs 0 <= K < N <= 100000");
+         },
+         "this process's part of the work: shard K of N (0-based), each written on its own; "
+         "`eitbench merge` joins them into what one process writes (docs/scaling.md)")
+      ->type_name("K/N");
 }
 
 }  // namespace eitbench::cli

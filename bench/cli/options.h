@@ -59,10 +59,13 @@ struct ProtocolChoice {
   bool magnitude = false;         // frames are |v|, as boards such as OpenEIT report
 };
 void add_protocol_options(CLI::App& app, ProtocolChoice& choice);
-// --touch-radius MIN,MAX, --touch-contrast MIN,MAX, --randomise-impedance S, --randomise-gain G,
+// --touch-radius MIN,MAX, --touch-contrast MIN,MAX, --randomise-electrodes DEG,
+// --randomise-impedance S, --randomise-gain G,
 // --randomise-snr MIN,MAX (docs/real-presses.md#simulating-the-fitted-sensor); checked by
 // SimulationVariation::validate when the command runs.
 void add_variation_options(CLI::App& app, SimulationVariation& variation);
+// --shard K/N (docs/scaling.md): shard `index` of `count`; a parse error naming --shard otherwise.
+void add_shard_option(CLI::App& app, int& index, int& count);
 // The protocol for `electrodes` (InputError naming --protocol or the CSV file).
 std::shared_ptr<const MeasurementProtocol> load_protocol(const ProtocolChoice& choice,
                                                          int electrodes);

@@ -57,6 +57,7 @@ std::function<void()> add_simulate_command(CLI::App& app) {
   cmd->add_flag("--quiet", args->quiet, "no progress output");
   add_protocol_options(*cmd, args->protocol);
   add_variation_options(*cmd, args->options.variation);
+  add_shard_option(*cmd, args->options.shard_index, args->options.shard_count);
   return [args] {
     args->options.density = parse_density(args->density);
     if (!args->mesh.empty()) {
@@ -77,7 +78,11 @@ std::function<void()> add_simulate_command(CLI::App& app) {
           args->options.seed, args->options.protocol->name(), args->options.protocol->size(),
           args->options.protocol->magnitude() ? ", magnitudes" : "",
           args->mesh.empty() ? args->density : args->mesh + " refined once");
-    Progress progress("simulate", total, args->quiet);
+    const int K = args->options.shard_index, N = args->options.shard_count;
+    const int rows = static_cast<int>(static_cast<long long>(total) * (K + 1) / N -
+                                      static_cast<long long>(total) * K / N);
+    if (N > 1 && !args->quiet) fmt::print("shard {} of {}: {} of those samples\n", K, N, rows);
+    Progress progress("simulate", std::max(rows, 1), args->quiet);
     const auto t0 = std::chrono::steady_clock::now();
     const Dataset data =
         simulate_dataset(args->options, [&](int done, int) { progress.update(done); });

@@ -220,6 +220,28 @@ void read_touches(Reader& r, const std::string& path, hsize_t n, Dataset& d) {
   }
 }
 
+// A shard's place in its whole set; absent attributes: the whole set.
+Shard read_shard(const Reader& r, const std::string& path, hsize_t n) {
+  Shard s;
+  const double count = r.number("shard_count", 1, 1, 1e6);
+  if (count == 1) return s;
+  const double index = r.number("shard_index", 0, 0, count - 1, true);
+  const double first = r.number("shard_first", 0, 0, 1e12, true);
+  const double total = r.number("shard_total", 0, 1, 1e12, true);
+  for (const auto& [name, v] : {std::pair{"shard_count", count},
+                                {"shard_index", index},
+                                {"shard_first", first},
+                                {"shard_total", total}})
+    if (v != std::floor(v)) throw InputError(path, name, "must be a whole number");
+  if (first + static_cast<double>(n) > total)
+    throw InputError(
+        path, "shard_total",
+        fmt::format("is {:g}, but the shard's {} rows from row {:g} run past it", total, n, first));
+  s.count = static_cast<int>(count), s.index = static_cast<int>(index);
+  s.first = static_cast<long long>(first), s.total = static_cast<long long>(total);
+  return s;
+}
+
 Dataset read_dataset_checked(const std::string& path) {
   Reader r(path);
   Dataset d;
@@ -294,6 +316,7 @@ Dataset read_dataset_checked(const std::string& path) {
   const std::vector<double> differences = r.array<double>("differences", dims);
   const hsize_t n = dims[0];
   if (n == 0) throw InputError(path, "differences", "the data set is empty");
+  d.shard = read_shard(r, path, n);
   check_finite(r, "differences", differences.data(), differences.size());
   d.differences = Eigen::Map<const SampleMatrix>(differences.data(), static_cast<Eigen::Index>(n),
                                                  static_cast<Eigen::Index>(reduced));
@@ -357,6 +380,7 @@ std::string to_wire(const Dataset& d) {
   for (const auto& list : d.touches) w.vector(list);
   w.text(d.touch_size);
   w.vector(d.split);
+  w.pod(d.shard);
   return w.take();
 }
 
@@ -380,6 +404,7 @@ Dataset from_wire(const std::string& bytes) {
   for (auto& list : d.touches) list = r.vector<PressTouch>();
   d.touch_size = r.text();
   d.split = r.vector<Split>();
+  d.shard = r.pod<Shard>();
   return d;
 }
 
@@ -398,6 +423,17 @@ bool is_hdf5_file(const std::string& path) {
 }
 
 Dataset read_dataset(const std::string& path) {
+  Dataset d = read_dataset_or_shard(path);
+  if (!d.shard.whole())
+    throw InputError(path, "shard_index",
+                     fmt::format("the file is shard {} of {} (rows {} to {} of {}): join the "
+                                 "shards with `eitbench merge` first",
+                                 d.shard.index, d.shard.count, d.shard.first,
+                                 d.shard.first + d.size() - 1, d.shard.total));
+  return d;
+}
+
+Dataset read_dataset_or_shard(const std::string& path) {
   // libhdf5 may crash or hang on a corrupt file: it reads the file in a child (child_read.h).
   return from_wire(detail::read_in_child(path, [&path] {
     try {

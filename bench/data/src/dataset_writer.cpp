@@ -161,6 +161,12 @@ void write_attributes(H5::H5File& file, const Dataset& d) {
   write_attribute(file, "augmentation", d.augmentation);
   if (!d.sensor_mesh.empty()) write_attribute(file, "sensor_group", d.sensor_group);
   if (!d.touches.empty()) write_attribute(file, "touch_size", d.touch_size);
+  if (!d.shard.whole()) {
+    write_attribute(file, "shard_index", static_cast<long long>(d.shard.index));
+    write_attribute(file, "shard_count", static_cast<long long>(d.shard.count));
+    write_attribute(file, "shard_first", d.shard.first);
+    write_attribute(file, "shard_total", d.shard.total);
+  }
   write_attribute(file, "format_version", static_cast<long long>(kDatasetFormatVersion));
 }
 

@@ -12,6 +12,7 @@
 #include "eitbench/augment/sensor_group.h"
 #include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/support/version.h"
+#include "eitbench/jacobian/electrode_shift.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/forward_model.h"
 #include "eitbench/jacobian/pixel_grid.h"
@@ -52,6 +53,8 @@ void SimulationVariation::validate() const {
   } else if (contrast_max != 0 || contrast_min != 0) {
     throw InputError("--touch-contrast", "", "goes with --touch-radius");
   }
+  if (!(electrode_shift_deg >= 0 && electrode_shift_deg <= 45))
+    throw InputError("--randomise-electrodes", "", "must lie in [0, 45] degrees");
   if (!(impedance_spread >= 0 && impedance_spread <= 3))
     throw InputError("--randomise-impedance", "", "must lie in [0, 3] (a factor up to e^3)");
   if (!(gain_error >= 0 && gain_error < 0.5))
@@ -67,6 +70,7 @@ std::string describe(const SimulationVariation& v) {
                       v.contrast_min, v.contrast_max);
   std::string r;
   auto add = [&r](const std::string& part) { r += (r.empty() ? "" : ", ") + part; };
+  if (v.electrode_shift_deg > 0) add(fmt::format("electrodes +-{:g} deg", v.electrode_shift_deg));
   if (v.impedance_spread > 0)
     add(fmt::format("impedances x e^U(-{0:g}, {0:g})", v.impedance_spread));
   if (v.gain_error > 0) add(fmt::format("gains {:g} %", 100 * v.gain_error));
@@ -143,23 +147,36 @@ std::vector<Circle> draw_circles(int k, const MeshDomain& domain, const PixelGri
   });
 }
 
-// One sample's change on its own draw of the sensor: contact impedances spread about the nominal
-// ones (its own model, and its own empty frame to differ from), channel gains, then noise at a
-// drawn SNR. Draws after the sample's circles, from its stream, so thread counts do not matter.
+// One sample's change on its own draw of the sensor: electrodes shifted along the rim and contact
+// impedances spread about the nominal ones (its own model, and its own empty frame to differ
+// from), channel gains, then noise at a drawn SNR. Draws after the sample's circles, from its
+// stream, so thread counts do not matter; a part left at zero draws nothing.
 Eigen::VectorXd randomised_change(const ForwardModel& nominal, const Eigen::VectorXd& reference,
-                                  const ForwardOptions& forward, const Eigen::VectorXd& sigma,
-                                  double background, const SimulationVariation& v,
-                                  RandomStream& rng) {
+                                  const ForwardOptions& forward, const std::vector<Circle>& circles,
+                                  const Eigen::VectorXd& sigma, double background,
+                                  const SimulationVariation& v, RandomStream& rng) {
   const Mesh& mesh = nominal.mesh();
   Eigen::VectorXd change;
-  if (v.impedance_spread > 0) {  // a model of its own: a solve of its empty frame too
+  if (v.electrode_shift_deg > 0 || v.impedance_spread > 0) {  // a model of its own
+    std::optional<Mesh> shifted;
+    if (v.electrode_shift_deg > 0) {
+      std::vector<double> shifts(mesh.num_electrodes());
+      for (auto& s : shifts)
+        s = rng.uniform(-v.electrode_shift_deg, v.electrode_shift_deg) * M_PI / 180;
+      shifted = shift_electrodes(mesh, shifts);
+    }
+    const Mesh& own_mesh = shifted ? *shifted : mesh;
     ForwardOptions own = forward;
-    own.contact_impedances.resize(mesh.num_electrodes());
-    for (auto& z : own.contact_impedances)
-      z = forward.contact_impedance *
-          std::exp(rng.uniform(-v.impedance_spread, v.impedance_spread));
-    const ForwardModel model(mesh, own);
-    change = model.measured(sigma) -
+    if (v.impedance_spread > 0) {
+      own.contact_impedances.resize(mesh.num_electrodes());
+      for (auto& z : own.contact_impedances)
+        z = forward.contact_impedance *
+            std::exp(rng.uniform(-v.impedance_spread, v.impedance_spread));
+    }
+    const ForwardModel model(own_mesh, own);
+    const Eigen::VectorXd own_sigma =
+        shifted ? conductivity_from_circles(own_mesh, circles, background) : sigma;
+    change = model.measured(own_sigma) -
              model.measured(Eigen::VectorXd::Constant(mesh.num_triangles(), background));
   } else {
     change = nominal.measured(sigma) - reference;
@@ -199,6 +216,37 @@ SimulationGeometry simulation_geometry(const SimulationOptions& o) {
           "disk L=" + std::to_string(o.electrodes) + " " + to_string(o.density)};
 }
 
+// The shift's bound: two neighbours may differ by twice it, and shift_electrodes takes at most
+// half the narrowest gap between them.
+void check_electrode_shift(const SimulationOptions& o, const Mesh& mesh) {
+  const double d = o.variation.electrode_shift_deg;
+  if (d == 0) return;
+  if (o.sensor_mesh)
+    throw InputError("--randomise-electrodes", "",
+                     "moves the disk's electrodes; a sensor mesh's stay where the mesh has them");
+  const double limit = max_neighbour_shift(mesh) / 2 * 180 / M_PI;
+  if (d > limit)
+    throw InputError("--randomise-electrodes", "",
+                     fmt::format("{:g} degrees is more than this disk allows ({:.3g}: a quarter "
+                                 "of the gap between electrodes)",
+                                 d, limit));
+}
+
+// Shard K of N's rows [first, last) of a set of n.
+std::pair<int, int> shard_rows(const SimulationOptions& o, int n) {
+  if (!(o.shard_count >= 1 && o.shard_index >= 0 && o.shard_index < o.shard_count))
+    throw InputError("--shard", "", "needs K/N with 0 <= K < N");
+  const auto bound = [&](int k) {
+    return static_cast<int>(static_cast<long long>(n) * k / o.shard_count);
+  };
+  if (bound(o.shard_index + 1) == bound(o.shard_index))
+    throw InputError("--shard", "",
+                     fmt::format("shard {} of {} holds none of the set's {} samples: use fewer "
+                                 "shards",
+                                 o.shard_index, o.shard_count, n));
+  return {bound(o.shard_index), bound(o.shard_index + 1)};
+}
+
 }  // namespace
 
 Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress) {
@@ -207,6 +255,7 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   if (!(o.background > 0)) throw InputError("--background", "", "must be positive");
   const SimulationGeometry geometry = simulation_geometry(o);
   const Mesh& mesh = geometry.simulation;
+  check_electrode_shift(o, mesh);
   ForwardOptions forward;
   forward.current = o.current;
   forward.contact_impedance = o.contact_impedance;
@@ -239,46 +288,51 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   int n = 0;
   for (int c : counts.circles) n += c;
   std::vector<int> circle_count(n);
+  std::vector<Split> split;
   for (int k = 0, i = 0; k < 4; ++k)
     for (int j = 0; j < counts.circles[k]; ++j, ++i) {
       circle_count[i] = k + 1;
       const bool four = k == 3;
-      data.split.push_back(!four                   ? Split::train
-                           : j < counts.validation ? Split::validation
-                                                   : Split::test);
+      split.push_back(!four                   ? Split::train
+                      : j < counts.validation ? Split::validation
+                                              : Split::test);
     }
-  data.frames.resize(n, protocol.size());
-  data.differences.resize(n, protocol.input_size());
-  data.labels.resize(n, grid.num_pixels());
-  data.circles.resize(n);
+  const auto [first, last] = shard_rows(o, n);
+  const int rows = last - first;
+  data.split.assign(split.begin() + first, split.begin() + last);
+  if (o.shard_count > 1) data.shard = {o.shard_index, o.shard_count, first, n};
+  data.frames.resize(rows, protocol.size());
+  data.differences.resize(rows, protocol.input_size());
+  data.labels.resize(rows, grid.num_pixels());
+  data.circles.resize(rows);
 
   const TouchDraw touch{o.variation, o.background};
   std::atomic<int> done{0};
   tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic);
   arena.execute([&] {
-    tbb::parallel_for(0, n, [&](int i) {
+    tbb::parallel_for(0, rows, [&](int row) {
+      const int i = first + row;  // the sample's index in the whole set
       RandomStream rng(o.seed, static_cast<std::uint64_t>(i));  // sample i's own stream
-      data.circles[i] = o.sensor_mesh ? draw_circles(circle_count[i], *domain, grid, touch, rng)
-                                      : draw_circles(circle_count[i], grid.radius(), touch, rng);
-      const Eigen::VectorXd sigma = conductivity_from_circles(mesh, data.circles[i], o.background);
+      auto& circles = data.circles[row];
+      circles = o.sensor_mesh ? draw_circles(circle_count[i], *domain, grid, touch, rng)
+                              : draw_circles(circle_count[i], grid.radius(), touch, rng);
+      const Eigen::VectorXd sigma = conductivity_from_circles(mesh, circles, o.background);
       if (o.variation.randomised()) {  // the frame the nominal sensor would give that change
-        const Eigen::VectorXd change = randomised_change(model, data.reference, forward, sigma,
-                                                         o.background, o.variation, rng);
-        data.frames.row(i) = (data.reference + change).transpose();
-        data.differences.row(i) = protocol.to_inputs(change).transpose();
+        const Eigen::VectorXd change = randomised_change(model, data.reference, forward, circles,
+                                                         sigma, o.background, o.variation, rng);
+        data.frames.row(row) = (data.reference + change).transpose();
+        data.differences.row(row) = protocol.to_inputs(change).transpose();
       } else {
         const Eigen::VectorXd frame = model.measured(sigma);
-        data.frames.row(i) = frame.transpose();
-        data.differences.row(i) = protocol.to_inputs(frame - data.reference).transpose();
+        data.frames.row(row) = frame.transpose();
+        data.differences.row(row) = protocol.to_inputs(frame - data.reference).transpose();
       }
       // Labels are float32 in the file: rounded here too, so that a set in memory and the same
       // set read back are identical (a training checkpoint hashes them).
-      data.labels.row(i) = circles_image(grid, data.circles[i], o.background)
-                               .cast<float>()
-                               .cast<double>()
-                               .transpose();
+      data.labels.row(row) =
+          circles_image(grid, circles, o.background).cast<float>().cast<double>().transpose();
       const int finished = ++done;
-      if (progress) progress(finished, n);
+      if (progress) progress(finished, rows);
     });
   });
   return data;

@@ -3,6 +3,7 @@
 // from Gmsh), the measurement protocol, the complete-electrode-model forward solver and its
 // Jacobian on elements and on the 64x64 pixel grid.
 #include "eitbench/jacobian/disk_mesh.h"
+#include "eitbench/jacobian/electrode_shift.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/forward_model.h"
 #include "eitbench/jacobian/frame_layout.h"

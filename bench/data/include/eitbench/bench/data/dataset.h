@@ -25,7 +25,8 @@
 // image_size, seed, preset, simulation_mesh, simulation_triangles, protocol (its name),
 // magnitude (1 when the frames are |v|), frame_order, difference_layout, program, augmentation,
 // format_version, and with a sensor mesh sensor_group (the symmetry group found from it, for the
-// reader's information).
+// reader's information). A shard (simulate --shard K/N) also has shard_index, shard_count,
+// shard_first and shard_total: its rows are the whole set's shard_first onwards.
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
@@ -46,6 +47,15 @@ std::string to_string(Split split);
 // Dataset::touch_size says, NaN where not known.
 struct PressTouch {
   double x = 0, y = 0, size = NAN;
+};
+
+// Which part of a set a file holds: the whole set, or shard `index` of `count`, whose rows are the
+// whole set's rows first .. first + size - 1 of `total` (docs/scaling.md). Commands that use a set
+// refuse a shard; `eitbench merge` joins them.
+struct Shard {
+  int index = 0, count = 1;
+  long long first = 0, total = 0;
+  bool whole() const { return count == 1; }
 };
 
 struct Dataset {
@@ -84,6 +94,7 @@ struct Dataset {
   std::vector<std::vector<PressTouch>> touches;
   std::string touch_size;
   std::vector<Split> split;  // N
+  Shard shard;
 
   int size() const { return static_cast<int>(differences.rows()); }
   bool has_labels() const { return labels.cols() > 0; }

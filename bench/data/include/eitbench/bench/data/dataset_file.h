@@ -32,8 +32,11 @@ class DatasetWriter {
   long long rows_ = 0;
   bool committed_ = false;
 };
-// Reads and checks shapes, values and attributes; InputError names the file and the data set.
+// Reads and checks shapes, values and attributes; InputError names the file and the data set. A
+// shard (Dataset::shard) is refused: it is part of a set.
 Dataset read_dataset(const std::string& path);
+// The same, a shard accepted (merge, info).
+Dataset read_dataset_or_shard(const std::string& path);
 // True when the path is a regular file with HDF5's signature (whatever its name); false for
 // FIFOs, devices and folders, which it does not open.
 bool is_hdf5_file(const std::string& path);

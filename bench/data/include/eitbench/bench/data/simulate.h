@@ -19,6 +19,10 @@ struct SimulationVariation {
   // [min, max]. Unset (max 0): the presets' 0.05-0.25 R, sigma uniform in [0.0001, 0.05] S/m.
   double radius_min = 0, radius_max = 0;
   double contrast_min = 0, contrast_max = 0;
+  // Each sample's electrodes, each turned along the rim by U(-d, d) degrees (0: where the mesh
+  // puts them): electrodes glued off their places. The disk only; d at most a quarter of the
+  // narrowest gap between electrodes (2.8 degrees for 16 electrodes covering half the rim).
+  double electrode_shift_deg = 0;
   // Each sample's contact impedances, each electrode's x exp(U(-s, s)) (0: the nominal ones).
   double impedance_spread = 0;
   // Each sample's channel gains, each 1 + N(0, g) (0: exact).
@@ -27,12 +31,15 @@ struct SimulationVariation {
   double snr_min_db = 0, snr_max_db = 0;
 
   bool touches_set() const { return radius_max > 0; }
-  bool randomised() const { return impedance_spread > 0 || gain_error > 0 || snr_max_db > 0; }
-  // InputError naming the flag (--touch-radius, --touch-contrast, --randomise-...) of a bad value.
+  bool randomised() const {
+    return electrode_shift_deg > 0 || impedance_spread > 0 || gain_error > 0 || snr_max_db > 0;
+  }
+  // InputError naming the flag (--touch-radius, --touch-contrast, --randomise-...) of a bad value
+  // (the electrode shift's bound, which depends on the mesh, is checked where it is simulated).
   void validate() const;
 };
-// "touches 0.2-0.35 R, contrast 0-0.3; randomised: impedances x e^U(-0.5, 0.5), gains 2 %, SNR
-// 25-50 dB"; "" for the defaults.
+// "touches 0.2-0.35 R, contrast 0-0.3; randomised: electrodes +-2 deg, impedances x e^U(-0.5,
+// 0.5), gains 2 %, SNR 25-50 dB"; "" for the defaults.
 std::string describe(const SimulationVariation& v);
 // A set's simulation_mesh: the mesh's description, then the variation's when there is one (what a
 // resumed run compares).
@@ -59,6 +66,10 @@ struct SimulationOptions {
   // Null: the adjacent protocol, rotating order. Its electrodes must be the sensor's.
   std::shared_ptr<const MeasurementProtocol> protocol;
   SimulationVariation variation;  // the touches' sizes, domain randomisation
+  // This process's part of the set (docs/scaling.md): shard `shard_index` of `shard_count`, the
+  // whole set's rows n K / N .. n (K + 1) / N - 1. Each sample draws from its own stream, seeded by
+  // its index in the whole set, so the shards joined in order are the whole set bit for bit.
+  int shard_index = 0, shard_count = 1;
 };
 
 // Samples with 1, 2, 3 and 4 circles for a preset: paper 7,035 / 7,298 / 7,500 / 7,500; standard
