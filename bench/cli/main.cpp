@@ -16,20 +16,22 @@
 #include "eitbench/jacobian/error.h"
 #include "eitbench/learned/runtime.h"
 #include "flag_names.h"
+#include "world.h"
 
 int main(int argc, char** argv) {
   eitbench::keep_freed_memory();
+  eitbench::cli::join_world(argc, argv);  // under mpirun: this rank's place (docs/scaling.md)
   CLI::App app{
       "eitbench: electrical impedance tomography for tactile sensing, toolkit and benchmark"};
   app.set_version_flag("--version", [] {
     // What this build can do: the optional parts (docs/gpu.md) and where training runs.
     const auto& methods = eitbench::method_names();
     const bool shape = std::find(methods.begin(), methods.end(), "shape") != methods.end();
-    return fmt::format("{}\nGmsh meshing: {}; PNG figures: {}; shape fit (Ceres): {}; {}",
+    return fmt::format("{}\nGmsh meshing: {}; PNG figures: {}; shape fit (Ceres): {}; MPI: {}; {}",
                        eitbench::program_version(),
                        eitbench::can_generate_disk_mesh() ? "yes" : "no (EITBENCH_MESH_DIR)",
                        eitbench::can_draw_figures() ? "yes" : "no", shape ? "yes" : "no",
-                       eitbench::torch_runtime());
+                       eitbench::cli::built_with_mpi() ? "yes" : "no", eitbench::torch_runtime());
   });
   app.require_subcommand(1);
   std::map<CLI::App*, std::function<void()>> actions;

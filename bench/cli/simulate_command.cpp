@@ -1,18 +1,88 @@
 // eitbench simulate: the simulated tactile data set (docs/conventions.md) as an HDF5 file.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
+#include <exception>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 
 #include "commands.h"
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/data/dataset_shards.h"
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/support/progress.h"
+#include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/msh_io.h"
 #include "options.h"
+#include "world.h"
 
 namespace eitbench::cli {
+namespace {
+
+// Simulates the set, or the options' shard of it, into `out`; `summary`: the closing line even
+// when quiet.
+void simulate_to(const SimulationOptions& o, const std::string& mesh_label, const std::string& out,
+                 bool quiet, bool summary = true) {
+  const auto counts = preset_counts(o.preset);
+  int total = 0;
+  for (int c : counts.circles) total += c;
+  if (!quiet)
+    fmt::print(
+        "simulating {} samples ({} / {} / {} / {} with 1 / 2 / 3 / 4 circles), seed {}, {} "
+        "protocol ({} channels{}), {} mesh\n",
+        total, counts.circles[0], counts.circles[1], counts.circles[2], counts.circles[3], o.seed,
+        o.protocol->name(), o.protocol->size(), o.protocol->magnitude() ? ", magnitudes" : "",
+        mesh_label);
+  const int K = o.shard_index, N = o.shard_count;
+  const int rows = static_cast<int>(static_cast<long long>(total) * (K + 1) / N -
+                                    static_cast<long long>(total) * K / N);
+  if (N > 1 && !quiet) fmt::print("shard {} of {}: {} of those samples\n", K, N, rows);
+  Progress progress("simulate", std::max(rows, 1), quiet);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Dataset data = simulate_dataset(o, [&](int done, int) { progress.update(done); });
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!data.sensor_mesh.empty() && !quiet)
+    fmt::print("sensor {}: symmetry group {}\n", o.sensor_source, data.sensor_group);
+  write_dataset(out, data);
+  if (summary)
+    fmt::print(
+        "wrote {}: {} samples (train {}, validation {}, test {}) in {:.1f} s, {:.0f} samples/s\n",
+        out, data.size(), data.indices(Split::train).size(), data.indices(Split::validation).size(),
+        data.indices(Split::test).size(), seconds, data.size() / seconds);
+}
+
+// Under mpirun (docs/scaling.md): rank K of N simulates shard K into OUT's shard file, then rank 0
+// joins the shards into OUT and removes them. Every rank reaches the collective whatever happened
+// to it, so one rank's failure ends every rank, its own with its message; the shard files that
+// were finished stay.
+void simulate_by_rank(SimulationOptions o, const std::string& mesh_label, const std::string& out,
+                      bool quiet, World w) {
+  o.shard_index = w.rank, o.shard_count = w.size;
+  std::vector<std::string> files;
+  for (int k = 0; k < w.size; ++k) files.push_back(shard_file_name(out, k, w.size));
+  std::exception_ptr failure;
+  try {
+    simulate_to(o, mesh_label, files[w.rank], quiet || w.rank != 0, false);
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  const bool every_rank = all_ranks(!failure);
+  if (failure) std::rethrow_exception(failure);
+  if (!every_rank)
+    throw std::runtime_error(fmt::format(
+        "rank {}: another rank failed (its message is printed beside this one); {} is kept", w.rank,
+        files[w.rank]));
+  if (w.rank != 0) return;
+  const ShardMerge merged = merge_dataset_shards(files, out);
+  for (const std::string& f : files) std::filesystem::remove(f);
+  fmt::print("wrote {}: {} samples, simulated as {} shards by {} MPI ranks\n", out, merged.samples,
+             merged.shards, w.size);
+}
+
+}  // namespace
 
 std::function<void()> add_simulate_command(CLI::App& app) {
   struct Args {
@@ -67,35 +137,14 @@ std::function<void()> add_simulate_command(CLI::App& app) {
     args->options.protocol = load_protocol(
         args->protocol, args->options.sensor_mesh ? args->options.sensor_mesh->num_electrodes()
                                                   : args->options.electrodes);
-    const auto counts = preset_counts(args->options.preset);
-    int total = 0;
-    for (int c : counts.circles) total += c;
-    if (!args->quiet)
-      fmt::print(
-          "simulating {} samples ({} / {} / {} / {} with 1 / 2 / 3 / 4 circles), seed {}, {} "
-          "protocol ({} channels{}), {} mesh\n",
-          total, counts.circles[0], counts.circles[1], counts.circles[2], counts.circles[3],
-          args->options.seed, args->options.protocol->name(), args->options.protocol->size(),
-          args->options.protocol->magnitude() ? ", magnitudes" : "",
-          args->mesh.empty() ? args->density : args->mesh + " refined once");
-    const int K = args->options.shard_index, N = args->options.shard_count;
-    const int rows = static_cast<int>(static_cast<long long>(total) * (K + 1) / N -
-                                      static_cast<long long>(total) * K / N);
-    if (N > 1 && !args->quiet) fmt::print("shard {} of {}: {} of those samples\n", K, N, rows);
-    Progress progress("simulate", std::max(rows, 1), args->quiet);
-    const auto t0 = std::chrono::steady_clock::now();
-    const Dataset data =
-        simulate_dataset(args->options, [&](int done, int) { progress.update(done); });
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!data.sensor_mesh.empty() && !args->quiet)
-      fmt::print("sensor {}: symmetry group {}\n", args->options.sensor_source, data.sensor_group);
-    write_dataset(args->out, data);
-    fmt::print(
-        "wrote {}: {} samples (train {}, validation {}, test {}) in {:.1f} s, {:.0f} samples/s\n",
-        args->out, data.size(), data.indices(Split::train).size(),
-        data.indices(Split::validation).size(), data.indices(Split::test).size(), seconds,
-        data.size() / seconds);
+    const std::string mesh_label =
+        args->mesh.empty() ? args->density : args->mesh + " refined once";
+    if (world().parallel()) {
+      if (args->options.shard_count != 1)
+        throw InputError("--shard", "", "under mpirun the ranks are the shards: leave it out");
+      return simulate_by_rank(args->options, mesh_label, args->out, args->quiet, world());
+    }
+    simulate_to(args->options, mesh_label, args->out, args->quiet);
   };
 }
 

@@ -121,4 +121,10 @@ ShardMerge merge_dataset_shards(const std::vector<std::string>& shards, const st
   return {first.shard.count, first.shard.total};
 }
 
+std::string shard_file_name(const std::string& out, int index, int count) {
+  const bool h5 = out.size() > 3 && out.compare(out.size() - 3, 3, ".h5") == 0;
+  return fmt::format("{}.shard-{}-of-{}.h5", h5 ? out.substr(0, out.size() - 3) : out, index,
+                     count);
+}
+
 }  // namespace eitbench

@@ -19,4 +19,8 @@ struct ShardMerge {
 // one shard at a time, so memory holds one shard, not the set.
 ShardMerge merge_dataset_shards(const std::vector<std::string>& shards, const std::string& out);
 
+// Where shard `index` of `count` of the set `out` is kept while the shards are made (MPI ranks):
+// "set.h5" -> "set.shard-2-of-4.h5".
+std::string shard_file_name(const std::string& out, int index, int count);
+
 }  // namespace eitbench

@@ -1,0 +1,23 @@
+#pragma once
+// The processes this one runs beside (docs/scaling.md). Under an MPI launcher (mpirun, srun) the
+// tool joins the MPI world and a command shards its work by rank; started on its own, it is rank 0
+// of a world of one and never touches MPI. A build without MPI is always a world of one.
+namespace eitbench::cli {
+
+struct World {
+  int rank = 0, size = 1;
+  bool parallel() const { return size > 1; }
+};
+
+// Joins the MPI world when a launcher started this process (its environment says so), finalised
+// at exit; else a world of one. Call once, from main, before parsing.
+World join_world(int& argc, char**& argv);
+// The world join_world found (a world of one before it).
+World world();
+// True on every rank when `ok` is true on every rank: a collective, so every rank must reach it,
+// whatever happened to it before.
+bool all_ranks(bool ok);
+// Whether this build can join an MPI world.
+bool built_with_mpi();
+
+}  // namespace eitbench::cli

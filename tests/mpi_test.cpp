@@ -1,0 +1,84 @@
+// The tool under mpirun (docs/scaling.md): ranks shard the work, rank 0 joins it, and the result is
+// one process's, byte for byte. Skipped in a build without MPI (the tool is then one process).
+#include <gtest/gtest.h>
+
+#include "cli_fixture.h"
+#include "eitbench/bench/data/dataset_file.h"
+
+namespace eitbench {
+namespace {
+
+#ifdef EITBENCH_MPIEXEC
+// As root, as CI runs, Open MPI needs both permissions; more ranks than cores need
+// oversubscription; --bind-to none lets a rank's threads leave its core.
+std::string mpirun(int ranks) {
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+         "OMPI_MCA_rmaps_base_oversubscribe=1 " EITBENCH_MPIEXEC " -np " +
+         std::to_string(ranks) + " --bind-to none " EITBENCH_CLI " ";
+}
+#endif
+
+class Mpi : public Cli {
+ protected:
+  void SetUp() override {
+#ifndef EITBENCH_MPIEXEC
+    GTEST_SKIP() << "built without MPI";
+#endif
+    Cli::SetUp();
+  }
+
+  // `command` as a shell runs it: exit code and output.
+  Result shell(const std::string& command) const {
+    const std::string log = path("mpi.log");
+    const int status = std::system((command + " > " + log + " 2>&1").c_str());
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    return {WEXITSTATUS(status), text.str()};
+  }
+};
+
+const char* const kSimulate = "simulate --preset tiny --seed 5 --density coarse --threads 1 ";
+
+TEST_F(Mpi, RanksSimulateTheSetOneProcessSimulates) {
+#ifdef EITBENCH_MPIEXEC
+  ASSERT_EQ(run(std::string(kSimulate) + "--quiet --out " + path("one.h5")).exit_code, 0);
+  const Dataset one = read_dataset(path("one.h5"));
+  for (int ranks : {2, 3}) {
+    const std::string out = path("ranks" + std::to_string(ranks) + ".h5");
+    const Result r = shell(mpirun(ranks) + kSimulate + "--out " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(std::to_string(ranks) + " MPI ranks"), std::string::npos) << r.output;
+    const Dataset d = read_dataset(out);
+    EXPECT_EQ(d.frames, one.frames) << ranks << " ranks";
+    EXPECT_EQ(d.differences, one.differences);
+    EXPECT_EQ(d.labels, one.labels);
+    EXPECT_EQ(d.split, one.split);
+    EXPECT_EQ(d.reference, one.reference);
+  }
+  for (const auto& entry : fs::directory_iterator(path("")))  // the shard files are gone
+    EXPECT_EQ(entry.path().filename().string().find(".shard-"), std::string::npos) << entry.path();
+#endif
+}
+
+// One rank that cannot write its shard fails the run, with its message; the other rank's
+// finished shard stays, and no set is written. An explicit --shard is refused under mpirun.
+TEST_F(Mpi, AFailedRankFailsTheRunAndKeepsTheFinishedShards) {
+#ifdef EITBENCH_MPIEXEC
+  fs::create_directories(path("x.shard-1-of-2.h5"));  // rank 1's output is a folder
+  const Result r = shell(mpirun(2) + kSimulate + "--quiet --out " + path("x.h5"));
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("x.shard-1-of-2.h5"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("another rank failed"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("x.h5")));
+  EXPECT_TRUE(fs::is_regular_file(path("x.shard-0-of-2.h5")));
+
+  const Result shard = shell(mpirun(2) + kSimulate + "--shard 0/2 --out " + path("y.h5"));
+  EXPECT_EQ(shard.exit_code, 2) << shard.output;
+  EXPECT_NE(shard.output.find("the ranks are the shards"), std::string::npos) << shard.output;
+  EXPECT_FALSE(fs::exists(path("y.h5")));
+#endif
+}
+
+}  // namespace
+}  // namespace eitbench
