@@ -4,6 +4,7 @@
 
 #include "cli_fixture.h"
 #include "eitbench/bench/data/dataset_file.h"
+#include "results_json.h"
 
 namespace eitbench {
 namespace {
@@ -58,6 +59,20 @@ TEST_F(Mpi, RanksSimulateTheSetOneProcessSimulates) {
   }
   for (const auto& entry : fs::directory_iterator(path("")))  // the shard files are gone
     EXPECT_EQ(entry.path().filename().string().find(".shard-"), std::string::npos) << entry.path();
+#endif
+}
+
+// mpirun -np 2 eitbench run: the ranks make the shards and rank 0 joins them into the run one
+// process makes (timings and the machine apart).
+TEST_F(Mpi, RanksRunTheBenchmarkOneProcessRuns) {
+#ifdef EITBENCH_MPIEXEC
+  const std::string args = "run --preset tiny --methods tikhonov,noser --augment none,d16 --quiet ";
+  ASSERT_EQ(run(args + "--out " + path("one")).exit_code, 0);
+  const Result r = shell(mpirun(2) + args + "--out " + path("two"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(testing::results_without_timings(path("two") + "/results.json"),
+            testing::results_without_timings(path("one") + "/results.json"));
+  EXPECT_TRUE(fs::exists(path("two") + "/shards/1-of-2/shard.json"));
 #endif
 }
 

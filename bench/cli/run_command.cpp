@@ -7,15 +7,18 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 
 #include "commands.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/run/benchmark_run.h"
+#include "eitbench/bench/run/shards.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
 #include "options.h"
+#include "world.h"
 
 namespace eitbench::cli {
 
@@ -99,6 +102,55 @@ void check_press_sets(const RunConfig& c) {
     throw InputError("--measured", "", "is scored on the disk; not with --mesh");
 }
 
+// The flags given, as a shard records them for merge: every option but --shard, --out and
+// --resume, with its values as typed.
+std::vector<std::string> given_arguments(const CLI::App& cmd) {
+  std::vector<std::string> out;
+  for (const CLI::Option* o : cmd.get_options()) {
+    const std::string name = o->get_name();
+    if (o->count() == 0 || name == "--shard" || name == "--out" || name == "--resume") continue;
+    out.push_back(name);
+    if (o->get_expected_min() > 0)
+      for (const std::string& value : o->results()) out.push_back(value);
+  }
+  return out;
+}
+
+// The whole run, its summary and where it wrote.
+void run_and_report(const RunConfig& c) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const RunResults results = run_benchmark(c);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  fmt::print("\n{}\n{}\n\nwrote {}/report.md, results.json, results.csv{} in {:.0f} s\n",
+             summary_table(results), results.recommendation, c.out,
+             can_draw_figures() ? " and the figures" : " (no figures: this build draws none)",
+             seconds);
+}
+
+void run_one_shard(const RunConfig& c) {
+  const auto t0 = std::chrono::steady_clock::now();
+  run_benchmark(c);
+  fmt::print("shard {} of {} finished in {:.0f} s ({}); when every shard has: eitbench merge {}\n",
+             c.shard_index, c.shard_count,
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+             run_shard_folder(c.out, c.shard_index, c.shard_count).string(), c.out);
+}
+
+// Under mpirun (docs/scaling.md): rank K of N makes shard K, then rank 0 joins them (the whole
+// run, resumed from the shards' stages). Every rank reaches the collective whatever happened to
+// it, so one rank's failure ends every rank; each shard's folder stays, for --resume.
+void run_by_rank(RunConfig c, World w) {
+  c.shard_index = w.rank, c.shard_count = w.size;
+  const bool quiet = c.quiet;
+  c.quiet = quiet || w.rank != 0;
+  on_every_rank([&] { run_benchmark(c); }, "rerun with --resume to finish the run");
+  if (w.rank != 0) return;
+  gather_run_shards(c.out);
+  c.shard_index = 0, c.shard_count = 1, c.resume = true, c.quiet = quiet;
+  run_and_report(c);
+}
+
 }  // namespace
 
 std::function<void()> add_run_command(CLI::App& app) {
@@ -114,6 +166,7 @@ std::function<void()> add_run_command(CLI::App& app) {
     ProtocolChoice protocol;
     SimulationVariation variation;
     bool resume = false, quiet = false;
+    int shard_index = 0, shard_count = 1;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -200,7 +253,8 @@ std::function<void()> add_run_command(CLI::App& app) {
   cmd->add_flag("--quiet", args->quiet, "no progress output");
   add_protocol_options(*cmd, args->protocol);
   add_variation_options(*cmd, args->variation);
-  return [args] {
+  add_shard_option(*cmd, args->shard_index, args->shard_count);
+  return [args, cmd] {
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;
     c.reference = args->reference;
@@ -231,16 +285,17 @@ std::function<void()> add_run_command(CLI::App& app) {
     if (!args->device.empty()) c.device = args->device;
     if (!args->data.empty() && !args->reference.empty() && args->data == args->reference)
       throw InputError("--reference", "", "is the same file as --data");
+    c.shard_index = args->shard_index, c.shard_count = args->shard_count;
+    c.arguments = given_arguments(*cmd);
+    if (world().parallel()) {
+      if (c.shard_count != 1)
+        throw InputError("--shard", "", "under mpirun the ranks are the shards: leave it out");
+      return run_by_rank(c, world());
+    }
     if (!c.quiet)
       fmt::print("{} run --preset {}: output in {}/\n", program_version(), c.preset, c.out);
-    const auto t0 = std::chrono::steady_clock::now();
-    const RunResults results = run_benchmark(c);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    fmt::print("\n{}\n{}\n\nwrote {}/report.md, results.json, results.csv{} in {:.0f} s\n",
-               summary_table(results), results.recommendation, c.out,
-               can_draw_figures() ? " and the figures" : " (no figures: this build draws none)",
-               seconds);
+    if (c.shard_count > 1) return run_one_shard(c);
+    run_and_report(c);
   };
 }
 

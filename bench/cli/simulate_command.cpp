@@ -3,10 +3,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <exception>
 #include <filesystem>
 #include <memory>
-#include <stdexcept>
 
 #include "commands.h"
 #include "eitbench/bench/data/dataset_file.h"
@@ -63,18 +61,8 @@ void simulate_by_rank(SimulationOptions o, const std::string& mesh_label, const 
   o.shard_index = w.rank, o.shard_count = w.size;
   std::vector<std::string> files;
   for (int k = 0; k < w.size; ++k) files.push_back(shard_file_name(out, k, w.size));
-  std::exception_ptr failure;
-  try {
-    simulate_to(o, mesh_label, files[w.rank], quiet || w.rank != 0, false);
-  } catch (...) {
-    failure = std::current_exception();
-  }
-  const bool every_rank = all_ranks(!failure);
-  if (failure) std::rethrow_exception(failure);
-  if (!every_rank)
-    throw std::runtime_error(fmt::format(
-        "rank {}: another rank failed (its message is printed beside this one); {} is kept", w.rank,
-        files[w.rank]));
+  on_every_rank([&] { simulate_to(o, mesh_label, files[w.rank], quiet || w.rank != 0, false); },
+                files[w.rank] + " is kept");
   if (w.rank != 0) return;
   const ShardMerge merged = merge_dataset_shards(files, out);
   for (const std::string& f : files) std::filesystem::remove(f);

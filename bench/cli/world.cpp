@@ -1,7 +1,9 @@
 #include "world.h"
 
 #include <cstdlib>
+#include <exception>
 #include <initializer_list>
+#include <stdexcept>
 
 #ifdef EITBENCH_HAVE_MPI
 // The C API only: Open MPI's and MPICH's headers otherwise pull in their removed C++ bindings.
@@ -58,6 +60,21 @@ bool all_ranks(bool ok) {
   }
 #endif
   return ok;
+}
+
+void on_every_rank(const std::function<void()>& work, const std::string& after_failure) {
+  std::exception_ptr failure;
+  try {
+    work();
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  const bool every_rank = all_ranks(!failure);
+  if (failure) std::rethrow_exception(failure);
+  if (!every_rank)
+    throw std::runtime_error("rank " + std::to_string(joined.rank) +
+                             ": another rank failed (its message is printed beside this one); " +
+                             after_failure);
 }
 
 bool built_with_mpi() {

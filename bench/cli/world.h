@@ -2,6 +2,9 @@
 // The processes this one runs beside (docs/scaling.md). Under an MPI launcher (mpirun, srun) the
 // tool joins the MPI world and a command shards its work by rank; started on its own, it is rank 0
 // of a world of one and never touches MPI. A build without MPI is always a world of one.
+#include <functional>
+#include <string>
+
 namespace eitbench::cli {
 
 struct World {
@@ -17,6 +20,10 @@ World world();
 // True on every rank when `ok` is true on every rank: a collective, so every rank must reach it,
 // whatever happened to it before.
 bool all_ranks(bool ok);
+// Runs this rank's `work`, then meets every other rank (all_ranks): rethrows this rank's own
+// failure; throws "another rank failed" (with `after_failure`, what the user can do) when only
+// another's work failed; returns when every rank's work finished.
+void on_every_rank(const std::function<void()>& work, const std::string& after_failure);
 // Whether this build can join an MPI world.
 bool built_with_mpi();
 

@@ -4,6 +4,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -12,6 +13,7 @@
 #include "eitbench/bench/methods/touches.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/run_store.h"
+#include "eitbench/bench/run/shards.h"
 #include "eitbench/bench/support/machine.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
@@ -205,18 +207,105 @@ std::string run_fingerprint(const RunConfig& config, const RunData& data) {
   return fingerprint(p);
 }
 
+Context context_for(const RunConfig& config, const fs::path& out) {
+  return Context{config, out,
+                 StageCache(out / "stages", config.resume, [&config](const std::string& line) {
+                   if (!config.quiet) fmt::print("{}\n", line), std::fflush(stdout);
+                 })};
+}
+
+// A shard's share of the run (docs/scaling.md): the units of work dealt round-robin in the run's
+// order, each model-based method, each learned model and each sweep size below the whole training
+// set. The sweep's whole-set size takes none's and d16's converged points from their main
+// trainings and trains d16 for none's steps, so none, d16 and that size make one unit.
+struct ShardWork {
+  std::vector<std::string> methods, augments, units;
+  std::vector<int> sizes;
+};
+
+ShardWork shard_work(const RunConfig& c, const std::vector<std::string>& augments, int train_count,
+                     bool sweep) {
+  struct Unit {
+    std::string name;
+    std::vector<std::string> methods, augments;
+    std::vector<int> sizes;
+  };
+  std::vector<Unit> units;
+  for (const std::string& m : c.methods) units.push_back({m, {m}, {}, {}});
+  std::vector<int> sizes;
+  if (sweep)
+    for (int n : c.efficiency_sizes)
+      if (n <= train_count) sizes.push_back(n);
+  const bool whole = std::find(sizes.begin(), sizes.end(), train_count) != sizes.end();
+  Unit joint{
+      "dnn none and d16 with the sweep at n=" + std::to_string(train_count), {}, {}, {train_count}};
+  for (const std::string& a : augments)
+    if (whole && (a == "none" || a == "d16"))
+      joint.augments.push_back(a);
+    else
+      units.push_back({"dnn " + a, {}, {a}, {}});
+  if (whole) units.push_back(joint);
+  for (int n : sizes)
+    if (n != train_count) units.push_back({"sweep n=" + std::to_string(n), {}, {}, {n}});
+  ShardWork w;
+  for (std::size_t u = c.shard_index; u < units.size(); u += c.shard_count) {
+    const Unit& unit = units[u];
+    w.methods.insert(w.methods.end(), unit.methods.begin(), unit.methods.end());
+    w.augments.insert(w.augments.end(), unit.augments.begin(), unit.augments.end());
+    w.sizes.insert(w.sizes.end(), unit.sizes.begin(), unit.sizes.end());
+    w.units.push_back(unit.name);
+  }
+  return w;
+}
+
+// Shard K of N: its units' stages and models in <out>/shards/K-of-N/, then the record that it
+// finished (removed first, so that a shard cut off is never taken for finished).
+RunResults run_shard(const RunConfig& whole) {
+  RunConfig config = whole;
+  config.out = run_shard_folder(whole.out, whole.shard_index, whole.shard_count).string();
+  const fs::path out = output_folder(config);
+  const FolderLock lock(out.string());
+  fs::remove(out / "shard.json");
+  const Context context = context_for(config, out);
+  set_torch_threads(config.threads);
+  const RunData data = load_data(context);
+  const Reconstruction reconstruction = set_up_reconstruction(context, data);
+  const NoisyFrames noisy = noisy_copies(config, data);
+  const std::vector<std::string> augments = learned_augments(context, data);
+  const int train_count = static_cast<int>(data.source.indices(Split::train).size());
+  const ShardWork work = shard_work(config, augments, train_count, !has_sensor_mesh(data.sensor()));
+  std::string names;
+  for (const std::string& u : work.units) names += (names.empty() ? "" : "; ") + u;
+  context.say(fmt::format("shard {} of {}: {}", config.shard_index, config.shard_count,
+                          names.empty() ? "no units (more shards than units)" : names));
+  RunResults results;
+  for (const std::string& name : work.methods) {
+    const MethodResults m = run_model_based(context, name, data, reconstruction, noisy);
+    results.rows.insert(results.rows.end(), m.rows.begin(), m.rows.end());
+  }
+  const LearnedSetup learned = learned_setup(config, data.source);
+  for (const std::string& augment : work.augments) {
+    const LearnedResults l = run_learned(context, augment, learned, data, reconstruction, noisy);
+    results.rows.insert(results.rows.end(), l.method.rows.begin(), l.method.rows.end());
+    results.training.push_back(l.training);
+  }
+  if (!work.sizes.empty())
+    results.efficiency = run_sweep(context, learned, data, reconstruction, results, work.sizes);
+  write_run_shard_record(out, {config.shard_index, config.shard_count, config.arguments,
+                               run_fingerprint(config, data), work.units});
+  return results;
+}
+
 }  // namespace
 }  // namespace run
 
 RunResults run_benchmark(const RunConfig& config) {
   using namespace run;
+  if (config.shard_count > 1) return run_shard(config);
   const auto t_start = std::chrono::steady_clock::now();
   const fs::path out = output_folder(config);
   const FolderLock lock(out.string());  // one writer per output folder
-  const Context context{
-      config, out, StageCache(out / "stages", config.resume, [&config](const std::string& line) {
-        if (!config.quiet) fmt::print("{}\n", line), std::fflush(stdout);
-      })};
+  const Context context = context_for(config, out);
   set_torch_threads(config.threads);
   // The float32 GEMM peak that training throughput is compared with, measured first: after the
   // model-based stage (TBB and CHOLMOD's threads) the same product ran at half the speed.
@@ -254,7 +343,8 @@ RunResults run_benchmark(const RunConfig& config) {
   // The data-efficiency sweep compares none with d16 on the disk; a sensor of another shape has
   // its own group, whose sweep is not made yet.
   if (!has_sensor_mesh(data.sensor()))
-    results.efficiency = run_sweep(context, learned, data, reconstruction, results);
+    results.efficiency =
+        run_sweep(context, learned, data, reconstruction, results, config.efficiency_sizes);
   if (!config.measured.empty())
     results.measured = run_measured(context, data, reconstruction, learned, augments, results);
 

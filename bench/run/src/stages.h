@@ -116,10 +116,11 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
                            const LearnedSetup& setup, const RunData& data,
                            const Reconstruction& reconstruction, const NoisyFrames& noisy);
 
-// 5. Data efficiency (the paper's Fig. 8): test scores against the training-set size.
+// 5. Data efficiency (the paper's Fig. 8): test scores against the training-set size, at each
+// of `sizes` (the configuration's, or a shard's share of them).
 std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetup& setup,
                                        const RunData& data, const Reconstruction& reconstruction,
-                                       const RunResults& main_runs);
+                                       const RunResults& main_runs, const std::vector<int>& sizes);
 
 // 6. Real presses (measured_stage.cpp): with --measured and --calibration, every method scored on
 // where it puts each press of the measured set, tuned on the calibration set's presses or in

@@ -84,7 +84,7 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
 
 std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetup& setup,
                                        const RunData& data, const Reconstruction& reconstruction,
-                                       const RunResults& main_runs) {
+                                       const RunResults& main_runs, const std::vector<int>& sizes) {
   std::vector<EfficiencyPoint> points;
   if (!data.labelled) return points;
   const RunConfig& config = context.config;
@@ -109,7 +109,7 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
     }
     return p;
   };
-  for (int n : config.efficiency_sizes) {
+  for (int n : sizes) {
     if (n > train_count) continue;
     const EfficiencyPoint none = point("none", "converged", n, main_steps);
     points.push_back(none);

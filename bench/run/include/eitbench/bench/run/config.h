@@ -69,6 +69,13 @@ struct RunConfig {
   // GN take 50-90 ms a frame on 2 cores, so 40 frames x 4 SNRs add about 22 s to the quick run.
   int touch_validation_frames = 40;
   int figure_samples = 8;
+  // This process's part of the run (docs/scaling.md): shard `shard_index` of `shard_count` makes
+  // its share of the run's units of work (model-based methods, learned models, sweep sizes) in
+  // <out>/shards/K-of-N/, for `eitbench merge` to join. 1: the whole run.
+  int shard_index = 0, shard_count = 1;
+  // The run's flags as given, without --shard, --out and --resume: a shard records them so that
+  // merge makes the same run from the shards' stages.
+  std::vector<std::string> arguments;
 
   // The preset's data and budgets; InputError naming --preset for an unknown one.
   static RunConfig for_preset(const std::string& preset);
