@@ -17,7 +17,9 @@ namespace {
 
 // The run in `folder` made again from its shards' stages: the shards' arguments, resumed there.
 void merge_run(const std::string& folder) {
-  std::vector<std::string> arguments = gather_run_shards(folder);
+  const std::vector<RunShardRecord> shards = gather_run_shards(folder);
+  fmt::print("{}: {}\n", folder, describe_balance(shards));
+  std::vector<std::string> arguments = shards.front().arguments;
   arguments.insert(arguments.begin(), "run");
   arguments.insert(arguments.end(), {"--out", folder, "--resume"});
   CLI::App app;

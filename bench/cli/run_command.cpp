@@ -146,7 +146,8 @@ void run_by_rank(RunConfig c, World w) {
   c.quiet = quiet || w.rank != 0;
   on_every_rank([&] { run_benchmark(c); }, "rerun with --resume to finish the run");
   if (w.rank != 0) return;
-  gather_run_shards(c.out);
+  const std::vector<RunShardRecord> shards = gather_run_shards(c.out);
+  if (!quiet) fmt::print("{}: {}\n", c.out, describe_balance(shards));
   c.shard_index = 0, c.shard_count = 1, c.resume = true, c.quiet = quiet;
   run_and_report(c);
 }

@@ -218,26 +218,22 @@ Context context_for(const RunConfig& config, const fs::path& out) {
 // order, each model-based method, each learned model and each sweep size below the whole training
 // set. The sweep's whole-set size takes none's and d16's converged points from their main
 // trainings and trains d16 for none's steps, so none, d16 and that size make one unit.
-struct ShardWork {
-  std::vector<std::string> methods, augments, units;
+struct WorkUnit {
+  std::string name;
+  std::vector<std::string> methods, augments;
   std::vector<int> sizes;
 };
 
-ShardWork shard_work(const RunConfig& c, const std::vector<std::string>& augments, int train_count,
-                     bool sweep) {
-  struct Unit {
-    std::string name;
-    std::vector<std::string> methods, augments;
-    std::vector<int> sizes;
-  };
-  std::vector<Unit> units;
+std::vector<WorkUnit> shard_work(const RunConfig& c, const std::vector<std::string>& augments,
+                                 int train_count, bool sweep) {
+  std::vector<WorkUnit> units;
   for (const std::string& m : c.methods) units.push_back({m, {m}, {}, {}});
   std::vector<int> sizes;
   if (sweep)
     for (int n : c.efficiency_sizes)
       if (n <= train_count) sizes.push_back(n);
   const bool whole = std::find(sizes.begin(), sizes.end(), train_count) != sizes.end();
-  Unit joint{
+  WorkUnit joint{
       "dnn none and d16 with the sweep at n=" + std::to_string(train_count), {}, {}, {train_count}};
   for (const std::string& a : augments)
     if (whole && (a == "none" || a == "d16"))
@@ -247,20 +243,21 @@ ShardWork shard_work(const RunConfig& c, const std::vector<std::string>& augment
   if (whole) units.push_back(joint);
   for (int n : sizes)
     if (n != train_count) units.push_back({"sweep n=" + std::to_string(n), {}, {}, {n}});
-  ShardWork w;
-  for (std::size_t u = c.shard_index; u < units.size(); u += c.shard_count) {
-    const Unit& unit = units[u];
-    w.methods.insert(w.methods.end(), unit.methods.begin(), unit.methods.end());
-    w.augments.insert(w.augments.end(), unit.augments.begin(), unit.augments.end());
-    w.sizes.insert(w.sizes.end(), unit.sizes.begin(), unit.sizes.end());
-    w.units.push_back(unit.name);
-  }
-  return w;
+  std::vector<WorkUnit> mine;
+  for (std::size_t u = c.shard_index; u < units.size(); u += c.shard_count)
+    mine.push_back(units[u]);
+  return mine;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // Shard K of N: its units' stages and models in <out>/shards/K-of-N/, then the record that it
-// finished (removed first, so that a shard cut off is never taken for finished).
+// finished (removed first, so that a shard cut off is never taken for finished), with how long the
+// set-up and each unit took.
 RunResults run_shard(const RunConfig& whole) {
+  const auto t_start = std::chrono::steady_clock::now();
   RunConfig config = whole;
   config.out = run_shard_folder(whole.out, whole.shard_index, whole.shard_count).string();
   const fs::path out = output_folder(config);
@@ -272,27 +269,38 @@ RunResults run_shard(const RunConfig& whole) {
   const Reconstruction reconstruction = set_up_reconstruction(context, data);
   const NoisyFrames noisy = noisy_copies(config, data);
   const std::vector<std::string> augments = learned_augments(context, data);
+  const LearnedSetup learned = learned_setup(config, data.source);
   const int train_count = static_cast<int>(data.source.indices(Split::train).size());
-  const ShardWork work = shard_work(config, augments, train_count, !has_sensor_mesh(data.sensor()));
+  const std::vector<WorkUnit> work =
+      shard_work(config, augments, train_count, !has_sensor_mesh(data.sensor()));
+  RunShardRecord record;
+  record.index = config.shard_index, record.count = config.shard_count;
+  record.arguments = config.arguments, record.fingerprint = run_fingerprint(config, data);
+  record.setup_seconds = seconds_since(t_start);
   std::string names;
-  for (const std::string& u : work.units) names += (names.empty() ? "" : "; ") + u;
+  for (const WorkUnit& u : work) names += (names.empty() ? "" : "; ") + u.name;
   context.say(fmt::format("shard {} of {}: {}", config.shard_index, config.shard_count,
                           names.empty() ? "no units (more shards than units)" : names));
   RunResults results;
-  for (const std::string& name : work.methods) {
-    const MethodResults m = run_model_based(context, name, data, reconstruction, noisy);
-    results.rows.insert(results.rows.end(), m.rows.begin(), m.rows.end());
+  for (const WorkUnit& unit : work) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const std::string& name : unit.methods) {
+      const MethodResults m = run_model_based(context, name, data, reconstruction, noisy);
+      results.rows.insert(results.rows.end(), m.rows.begin(), m.rows.end());
+    }
+    for (const std::string& augment : unit.augments) {
+      const LearnedResults l = run_learned(context, augment, learned, data, reconstruction, noisy);
+      results.rows.insert(results.rows.end(), l.method.rows.begin(), l.method.rows.end());
+      results.training.push_back(l.training);
+    }
+    if (!unit.sizes.empty()) {
+      const auto points = run_sweep(context, learned, data, reconstruction, results, unit.sizes);
+      results.efficiency.insert(results.efficiency.end(), points.begin(), points.end());
+    }
+    record.units.push_back({unit.name, seconds_since(t0)});
   }
-  const LearnedSetup learned = learned_setup(config, data.source);
-  for (const std::string& augment : work.augments) {
-    const LearnedResults l = run_learned(context, augment, learned, data, reconstruction, noisy);
-    results.rows.insert(results.rows.end(), l.method.rows.begin(), l.method.rows.end());
-    results.training.push_back(l.training);
-  }
-  if (!work.sizes.empty())
-    results.efficiency = run_sweep(context, learned, data, reconstruction, results, work.sizes);
-  write_run_shard_record(out, {config.shard_index, config.shard_count, config.arguments,
-                               run_fingerprint(config, data), work.units});
+  record.seconds = seconds_since(t_start);
+  write_run_shard_record(out, record);
   return results;
 }
 

@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -27,7 +29,10 @@ RunShardRecord read_record(const fs::path& path) {
     r.index = j.at("index").get<int>(), r.count = j.at("count").get<int>();
     r.arguments = j.at("arguments").get<std::vector<std::string>>();
     r.fingerprint = j.at("fingerprint").get<std::string>();
-    r.units = j.at("units").get<std::vector<std::string>>();
+    for (const auto& u : j.at("units"))
+      r.units.push_back({u.at("unit").get<std::string>(), u.at("seconds").get<double>()});
+    r.setup_seconds = j.at("setup_seconds").get<double>();
+    r.seconds = j.at("seconds").get<double>();
     return r;
   } catch (const nlohmann::json::exception& e) {
     throw InputError(file, "", std::string("not a shard record: ") + e.what());
@@ -98,17 +103,21 @@ fs::path run_shard_folder(const std::string& out, int index, int count) {
 }
 
 void write_run_shard_record(const fs::path& folder, const RunShardRecord& r) {
+  nlohmann::json units = nlohmann::json::array();
+  for (const auto& u : r.units) units.push_back({{"unit", u.name}, {"seconds", u.seconds}});
   const nlohmann::json j = {{"format", kFormat},
                             {"index", r.index},
                             {"count", r.count},
                             {"arguments", r.arguments},
                             {"fingerprint", r.fingerprint},
-                            {"units", r.units}};
+                            {"units", units},
+                            {"setup_seconds", r.setup_seconds},
+                            {"seconds", r.seconds}};
   write_text_atomically((folder / "shard.json").string(),
                         [&](std::ostream& out) { out << j.dump(2) << '\n'; });
 }
 
-std::vector<std::string> gather_run_shards(const std::string& out) {
+std::vector<RunShardRecord> gather_run_shards(const std::string& out) {
   const std::map<int, RunShardRecord> shards = finished_shards(out);
   const int count = shards.begin()->second.count;
   for (const char* sub : {"stages", "models"}) fs::create_directories(fs::path(out) / sub);
@@ -123,7 +132,23 @@ std::vector<std::string> gather_run_shards(const std::string& out) {
   // Every shard simulated the same set (same preset, seed and program): shard 0's serves.
   const fs::path data = run_shard_folder(out, 0, count) / "data.h5";
   if (fs::exists(data)) bring(data, fs::path(out) / "data.h5");
-  return shards.begin()->second.arguments;
+  std::vector<RunShardRecord> records;
+  for (const auto& [k, r] : shards) records.push_back(r);
+  return records;
+}
+
+std::string describe_balance(const std::vector<RunShardRecord>& shards) {
+  if (shards.empty()) return "no shards";
+  double low = INFINITY, high = 0, sum = 0, setup_low = INFINITY, setup_high = 0;
+  for (const RunShardRecord& r : shards) {
+    low = std::min(low, r.seconds), high = std::max(high, r.seconds), sum += r.seconds;
+    setup_low = std::min(setup_low, r.setup_seconds);
+    setup_high = std::max(setup_high, r.setup_seconds);
+  }
+  const double mean = sum / static_cast<double>(shards.size());
+  return fmt::format(
+      "{} shards, {:.0f}-{:.0f} s each (slowest / mean {:.2f}); set-up {:.0f}-{:.0f} s of each",
+      shards.size(), low, high, mean > 0 ? high / mean : 1.0, setup_low, setup_high);
 }
 
 }  // namespace eitbench

@@ -13,19 +13,27 @@ namespace eitbench {
 std::filesystem::path run_shard_folder(const std::string& out, int index, int count);
 
 // What a finished shard records in its folder (shard.json): which shard, the run's arguments
-// (without --shard, --out and --resume), the run's fingerprint and the units it made.
+// (without --shard, --out and --resume), the run's fingerprint, and how long its set-up (data,
+// model), each unit it made and the whole shard took, in seconds.
 struct RunShardRecord {
+  struct Unit {
+    std::string name;
+    double seconds = 0;
+  };
   int index = 0, count = 1;
   std::vector<std::string> arguments;
   std::string fingerprint;
-  std::vector<std::string> units;
+  std::vector<Unit> units;
+  double setup_seconds = 0, seconds = 0;
 };
 void write_run_shard_record(const std::filesystem::path& folder, const RunShardRecord& record);
 
 // Checks the shards of the run in `out`: shards 0..N-1 all there and finished, with one count, one
 // set of arguments and one fingerprint; then brings each shard's stage files, model files and
-// simulated data into `out` (hard links where it can, else copies). Returns the arguments.
-// InputError naming the shard and what is wrong, before anything is brought in.
-std::vector<std::string> gather_run_shards(const std::string& out);
+// simulated data into `out` (hard links where it can, else copies). Returns the shards' records,
+// by index. InputError naming the shard and what is wrong, before anything is brought in.
+std::vector<RunShardRecord> gather_run_shards(const std::string& out);
+// "3 shards, 41-62 s each (slowest / mean 1.21); set-up 6-8 s of each": the shards' balance.
+std::string describe_balance(const std::vector<RunShardRecord>& shards);
 
 }  // namespace eitbench
