@@ -19,6 +19,7 @@ packages=(
   libcli11-dev libfmt-dev libtbb-dev
   gnuplot-nox            # the line plots (loss curves, data efficiency, touches); no X11
   libgtest-dev libbenchmark-dev
+  slurm-wlm              # the tests' single-node cluster: a run as an sbatch array (scaling.md)
   pybind11-dev python3-dev python3-numpy python3-pytest   # the Python package (python/)
 )
 
@@ -37,11 +38,12 @@ fi
 echo "install.sh: installing ${#missing[@]} packages: ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 apt-get update -q
-# libgmsh-dev and gnuplot-nox without their recommends (the Gmsh GUI, gnuplot's manuals);
+# libgmsh-dev, gnuplot-nox and slurm-wlm without their recommends (the Gmsh GUI, gnuplot's
+# manuals, Slurm's mail and munge daemons);
 # everything else as Debian recommends.
 others=() lean=()
 for p in "${missing[@]}"; do
-  case "$p" in libgmsh-dev | gnuplot-nox) lean+=("$p") ;; *) others+=("$p") ;; esac
+  case "$p" in libgmsh-dev | gnuplot-nox | slurm-wlm) lean+=("$p") ;; *) others+=("$p") ;; esac
 done
 if [ ${#others[@]} -gt 0 ]; then apt-get install -y -q "${others[@]}"; fi
 if [ ${#lean[@]} -gt 0 ]; then apt-get install -y -q --no-install-recommends "${lean[@]}"; fi

@@ -9,7 +9,8 @@
 namespace eitbench {
 namespace {
 
-const std::string kRun = "run --preset tiny --methods tikhonov,noser --augment none,d16 --quiet ";
+const std::string kArgs = "--preset tiny --methods tikhonov,noser --augment none,d16 --quiet ";
+const std::string kRun = "run " + kArgs;
 
 TEST_F(Cli, RunShardsMergeIntoTheRunOneProcessMakes) {
   ASSERT_EQ(run(kRun + "--out " + path("one")).exit_code, 0);
@@ -50,6 +51,24 @@ TEST_F(Cli, RunShardsMergeIntoTheRunOneProcessMakes) {
   EXPECT_TRUE(fs::exists(R + "/report.md"));
   EXPECT_EQ(run("merge " + R + " --out " + path("x.h5")).exit_code, 2);
   EXPECT_EQ(run("merge " + path("one")).exit_code, 2);  // no shards there
+}
+
+// The same run as a Slurm array of 3 shards and a merge job that depends on them, on a single-node
+// cluster that tests/slurm/array_run.sh starts and stops; skipped where Slurm is not installed or
+// will not start.
+TEST_F(Cli, SlurmArrayOfShardsAndAMergeJobMakeTheRunOneProcessMakes) {
+  ASSERT_EQ(run(kRun + "--threads 1 --out " + path("one")).exit_code, 0);
+  const std::string log = path("slurm.log");
+  const int status =
+      std::system((std::string(EITBENCH_SOURCE_DIR) + "/tests/slurm/array_run.sh " + EITBENCH_CLI +
+                   " " + path("slurm") + " 3 " + kArgs + "--threads 1 > " + log + " 2>&1")
+                      .c_str());
+  std::ifstream in(log);
+  const std::string output((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (WEXITSTATUS(status) == 77) GTEST_SKIP() << output;
+  ASSERT_EQ(WEXITSTATUS(status), 0) << output;
+  EXPECT_EQ(testing::results_without_timings(path("slurm") + "/run/results.json"),
+            testing::results_without_timings(path("one") + "/results.json"));
 }
 
 }  // namespace
