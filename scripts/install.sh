@@ -11,7 +11,7 @@ packages=(
   libgmsh-dev            # meshes the disk's fundamental sector
   libopencv-dev          # figures and bilinear image transforms
   libhdf5-dev            # data sets and Jacobians, readable by h5py and MATLAB
-  libopenmpi-dev openmpi-bin   # simulate sharded by rank under mpirun (optional to the build)
+  libopenmpi-dev openmpi-bin   # simulate and run sharded by rank under mpirun (optional)
   zlib1g-dev             # .npz and compressed .mat measurement files
   libtorch-dev           # the learned reconstructor (learned/)
   libopenblas0-openmp    # the fast BLAS: ATLAS is 1.5-3x slower, pthread OpenBLAS fights OpenMP

@@ -62,6 +62,13 @@ int main(int argc, char** argv) {
         if (!option->check_lname("out") && !option->check_lname("png"))
           files.insert(files.end(), option->results().begin(), option->results().end());
       eitbench::declare_inputs(files);
+      // Under mpirun only the commands that shard their work by rank; any other would run once a
+      // rank, each writing the same output (merge would even start a sharded run).
+      if (eitbench::cli::world().parallel() && sub->get_name() != "simulate" &&
+          sub->get_name() != "run")
+        throw eitbench::InputError(sub->get_name(), "",
+                                   "does not shard by rank: under mpirun only simulate and run "
+                                   "do; run it as one process");
       actions.at(sub)();
     }
   } catch (const eitbench::cli::RegressionFound&) {
@@ -71,12 +78,15 @@ int main(int argc, char** argv) {
     const auto chosen = app.get_subcommands();
     const std::string command = chosen.empty() ? "" : chosen.front()->get_name();
     fmt::print(stderr, "eitbench: error: {}\n", eitbench::cli::name_the_flag(e, command).what());
+    eitbench::cli::abort_world(2);
     return 2;
   } catch (const std::exception& e) {
     fmt::print(stderr, "eitbench: error: {}\n", e.what());
+    eitbench::cli::abort_world(1);
     return 1;
   } catch (...) {  // a library's own exception type (HDF5's is not a std::exception)
     fmt::print(stderr, "eitbench: error: an unexpected exception that is not a std::exception\n");
+    eitbench::cli::abort_world(1);
     return 1;
   }
   return 0;

@@ -15,13 +15,12 @@
 namespace eitbench::cli {
 namespace {
 
-// The run in `folder` made again from its shards' stages: the shards' arguments, resumed there.
+// The run in `folder` made from its shards' stages: the shards' arguments, resumed there, the
+// shards gathered under the folder's lock and checked against the run (run --merge-shards).
 void merge_run(const std::string& folder) {
-  const std::vector<RunShardRecord> shards = gather_run_shards(folder);
-  fmt::print("{}: {}\n", folder, describe_balance(shards));
-  std::vector<std::string> arguments = shards.front().arguments;
+  std::vector<std::string> arguments = run_shard_arguments(folder);
   arguments.insert(arguments.begin(), "run");
-  arguments.insert(arguments.end(), {"--out", folder, "--resume"});
+  arguments.insert(arguments.end(), {"--out", folder, "--resume", "--merge-shards"});
   CLI::App app;
   const auto run = add_run_command(app);
   std::reverse(arguments.begin(), arguments.end());  // CLI11 takes them last first
@@ -45,7 +44,7 @@ std::function<void()> add_merge_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "merge",
       "Join shards into what one process makes: a simulated set's shard files (simulate --shard "
-      "K/N) into the set, byte for byte, or a benchmark run's folder (run --shard K/N --out RUN) "
+      "K/N) into the set, array for array, or a benchmark run's folder (run --shard K/N --out RUN) "
       "into its results and report; every shard must be there, of one configuration");
   cmd->add_option("inputs", args->inputs,
                   "the shard files, in any order; or the run's folder (RUN)")

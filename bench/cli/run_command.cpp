@@ -103,12 +103,14 @@ void check_press_sets(const RunConfig& c) {
 }
 
 // The flags given, as a shard records them for merge: every option but --shard, --out and
-// --resume, with its values as typed.
+// --resume, with its values as parsed (lists split at their commas; a flag by its name).
 std::vector<std::string> given_arguments(const CLI::App& cmd) {
   std::vector<std::string> out;
   for (const CLI::Option* o : cmd.get_options()) {
     const std::string name = o->get_name();
-    if (o->count() == 0 || name == "--shard" || name == "--out" || name == "--resume") continue;
+    if (o->count() == 0 || name == "--shard" || name == "--out" || name == "--resume" ||
+        name == "--merge-shards")
+      continue;
     out.push_back(name);
     if (o->get_expected_min() > 0)
       for (const std::string& value : o->results()) out.push_back(value);
@@ -146,9 +148,7 @@ void run_by_rank(RunConfig c, World w) {
   c.quiet = quiet || w.rank != 0;
   on_every_rank([&] { run_benchmark(c); }, "rerun with --resume to finish the run");
   if (w.rank != 0) return;
-  const std::vector<RunShardRecord> shards = gather_run_shards(c.out);
-  if (!quiet) fmt::print("{}: {}\n", c.out, describe_balance(shards));
-  c.shard_index = 0, c.shard_count = 1, c.resume = true, c.quiet = quiet;
+  c.shard_index = 0, c.shard_count = 1, c.resume = true, c.quiet = quiet, c.merge_shards = true;
   run_and_report(c);
 }
 
@@ -166,7 +166,7 @@ std::function<void()> add_run_command(CLI::App& app) {
     std::vector<std::string> methods, augments;
     ProtocolChoice protocol;
     SimulationVariation variation;
-    bool resume = false, quiet = false;
+    bool resume = false, quiet = false, merge_shards = false;
     int shard_index = 0, shard_count = 1;
   };
   auto args = std::make_shared<Args>();
@@ -255,6 +255,8 @@ std::function<void()> add_run_command(CLI::App& app) {
   add_protocol_options(*cmd, args->protocol);
   add_variation_options(*cmd, args->variation);
   add_shard_option(*cmd, args->shard_index, args->shard_count);
+  // What `eitbench merge RUN` runs: the shards' own flags with this one (no help: merge's job).
+  cmd->add_flag("--merge-shards", args->merge_shards)->group("");
   return [args, cmd] {
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;
@@ -287,6 +289,9 @@ std::function<void()> add_run_command(CLI::App& app) {
     if (!args->data.empty() && !args->reference.empty() && args->data == args->reference)
       throw InputError("--reference", "", "is the same file as --data");
     c.shard_index = args->shard_index, c.shard_count = args->shard_count;
+    c.merge_shards = args->merge_shards;
+    if (c.merge_shards && c.shard_count != 1)
+      throw InputError("--shard", "", "a merge joins every shard: leave it out");
     c.arguments = given_arguments(*cmd);
     if (world().parallel()) {
       if (c.shard_count != 1)

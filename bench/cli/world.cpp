@@ -1,9 +1,12 @@
 #include "world.h"
 
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <initializer_list>
 #include <stdexcept>
+#include <thread>
 
 #ifdef EITBENCH_HAVE_MPI
 // The C API only: Open MPI's and MPICH's headers otherwise pull in their removed C++ bindings.
@@ -16,6 +19,7 @@ namespace eitbench::cli {
 namespace {
 
 World joined;
+bool met = false;  // every rank has been through on_every_rank's collective
 
 #ifdef EITBENCH_HAVE_MPI
 // Open MPI, MPICH and Slurm's PMI each say so in the environment of the processes they start.
@@ -38,7 +42,8 @@ void finalize() {
 World join_world([[maybe_unused]] int& argc, [[maybe_unused]] char**& argv) {
 #ifdef EITBENCH_HAVE_MPI
   if (under_launcher()) {
-    MPI_Init(&argc, &argv);
+    int provided = 0;  // TBB and LibTorch start threads; only this one calls MPI
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
     MPI_Comm_rank(MPI_COMM_WORLD, &joined.rank);
     MPI_Comm_size(MPI_COMM_WORLD, &joined.size);
     std::atexit(finalize);
@@ -54,8 +59,14 @@ World world() {
 bool all_ranks(bool ok) {
 #ifdef EITBENCH_HAVE_MPI
   if (joined.parallel()) {
-    int mine = ok ? 1 : 0, every = 0;
-    MPI_Allreduce(&mine, &every, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    // Non-blocking, polled gently: a rank that finished first would otherwise spin a core in a
+    // blocking reduction while the others still work on theirs.
+    int mine = ok ? 1 : 0, every = 0, done = 0;
+    MPI_Request request;
+    MPI_Iallreduce(&mine, &every, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD, &request);
+    for (MPI_Test(&request, &done, MPI_STATUS_IGNORE); !done;
+         MPI_Test(&request, &done, MPI_STATUS_IGNORE))
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
     return every == 1;
   }
 #endif
@@ -70,11 +81,21 @@ void on_every_rank(const std::function<void()>& work, const std::string& after_f
     failure = std::current_exception();
   }
   const bool every_rank = all_ranks(!failure);
+  met = true;  // no rank waits for another any more: errors from here end this rank alone
   if (failure) std::rethrow_exception(failure);
   if (!every_rank)
     throw std::runtime_error("rank " + std::to_string(joined.rank) +
                              ": another rank failed (its message is printed beside this one); " +
                              after_failure);
+}
+
+void abort_world([[maybe_unused]] int code) {
+#ifdef EITBENCH_HAVE_MPI
+  if (joined.parallel() && !met) {
+    std::fflush(stdout), std::fflush(stderr);
+    MPI_Abort(MPI_COMM_WORLD, code);
+  }
+#endif
 }
 
 bool built_with_mpi() {

@@ -24,6 +24,10 @@ bool all_ranks(bool ok);
 // failure; throws "another rank failed" (with `after_failure`, what the user can do) when only
 // another's work failed; returns when every rank's work finished.
 void on_every_rank(const std::function<void()>& work, const std::string& after_failure);
+// Ends every rank of a parallel world at once (MPI_Abort) after this one's error was printed, so
+// that a rank that failed before the collective of on_every_rank does not leave the others
+// waiting in it for ever; nothing in a world of one, or once every rank has been through it.
+void abort_world(int code);
 // Whether this build can join an MPI world.
 bool built_with_mpi();
 

@@ -12,7 +12,7 @@ for tool in slurmctld slurmd sbatch squeue sinfo scontrol; do
 done
 mkdir -p "$work/state" "$work/spool" "$work/logs"
 host=$(hostname -s)
-port=$((20000 + $$ % 20000))  # two ports a test run, away from a site's 6817
+port=$((10000 + $$ % 20000))  # two ports a test run, below the kernel's ephemeral range
 export SLURM_CONF=$work/slurm.conf
 cat > "$SLURM_CONF" <<CONF
 ClusterName=eitbench-test
@@ -38,6 +38,7 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 MpiDefault=none
 ReturnToService=2
+DependencyParameters=kill_invalid_depend
 NodeName=$host CPUs=$(nproc) State=UNKNOWN
 PartitionName=test Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF
@@ -69,9 +70,12 @@ array=$(sbatch --parsable --array=0-$((shards - 1)) --cpus-per-task=1 \
 merge=$(sbatch --parsable --dependency=afterok:"$array" -o "$work/logs/merge.out" \
   --wrap "'$eitbench' merge '$work/run'") || exit 1
 echo "array job $array, merge job $merge"
-for _ in $(seq 600); do
+# A failed shard cancels the merge (kill_invalid_depend); the wait stays far below ctest's limit,
+# so that this script, not ctest, stops the daemons.
+for _ in $(seq 240); do
   [ -z "$(squeue -h 2> /dev/null)" ] && break
   sleep 1
 done
+[ -z "$(squeue -h 2> /dev/null)" ] || { echo "array_run.sh: jobs still queued after 240 s"; squeue; }
 cat "$work"/logs/*.out
 [ -f "$work/run/results.json" ]

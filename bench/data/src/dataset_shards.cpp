@@ -116,7 +116,14 @@ ShardMerge merge_dataset_shards(const std::vector<std::string>& shards, const st
   // Second pass: the rows, in order.
   const ShardEntry& first = by_index.begin()->second;
   DatasetWriter writer(out, first.header, first.header.has_labels(), first.circles);
-  for (const auto& [k, e] : by_index) writer.append(read_dataset_or_shard(e.path));
+  for (const auto& [k, e] : by_index) {
+    const Dataset d = read_dataset_or_shard(e.path);
+    const ShardEntry again = entry_of(e.path, d);  // the file may have changed since the check
+    if (again.shard.index != k || again.shard.first != e.shard.first || again.rows != e.rows ||
+        !differing_field(first, again).empty())
+      throw InputError(e.path, "", "changed while the shards were being merged");
+    writer.append(d);
+  }
   writer.commit();
   return {first.shard.count, first.shard.total};
 }

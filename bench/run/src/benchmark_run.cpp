@@ -207,6 +207,33 @@ std::string run_fingerprint(const RunConfig& config, const RunData& data) {
   return fingerprint(p);
 }
 
+// The float32 GEMM peak that training throughput is compared with (0 off the CPU), measured
+// first: after the model-based stage (TBB and CHOLMOD's threads) the same product ran at half the
+// speed.
+double gemm_peak(const RunConfig& config) {
+  if (resolve_device(config.device, "--device") != "cpu") return 0;
+  const int n = 2048;
+  return 2.0 * n * n * n / time_matmul(n, 3);
+}
+
+// A merge (docs/scaling.md): the shards' stages, models and data brought into `out`, and the
+// fingerprint they were made for; InputError when a shard is missing, unfinished or foreign.
+std::string gather_shards(const RunConfig& config) {
+  const std::vector<RunShardRecord> shards = gather_run_shards(config.out);
+  if (!config.quiet) fmt::print("{}: {}\n", config.out, describe_balance(shards));
+  return shards.front().fingerprint;
+}
+
+// A merge makes the run the shards were made for, or none: another program, device or data set
+// would make every stage again, silently.
+void check_merge(const RunConfig& config, const RunData& data, const std::string& shards) {
+  if (shards.empty() || run_fingerprint(config, data) == shards) return;
+  throw InputError(config.out, "fingerprint",
+                   "the shards were made for another run than this merge would make (another "
+                   "program version, --device as resolved here, or data): merge where the shards "
+                   "ran, with the same build");
+}
+
 Context context_for(const RunConfig& config, const fs::path& out) {
   return Context{config, out,
                  StageCache(out / "stages", config.resume, [&config](const std::string& line) {
@@ -265,11 +292,13 @@ RunResults run_shard(const RunConfig& whole) {
   fs::remove(out / "shard.json");
   const Context context = context_for(config, out);
   set_torch_threads(config.threads);
+  const double gemm_flops = gemm_peak(config);
   const RunData data = load_data(context);
   const Reconstruction reconstruction = set_up_reconstruction(context, data);
   const NoisyFrames noisy = noisy_copies(config, data);
   const std::vector<std::string> augments = learned_augments(context, data);
-  const LearnedSetup learned = learned_setup(config, data.source);
+  LearnedSetup learned = learned_setup(config, data.source);
+  learned.gemm_flops = gemm_flops;
   const int train_count = static_cast<int>(data.source.indices(Split::train).size());
   const std::vector<WorkUnit> work =
       shard_work(config, augments, train_count, !has_sensor_mesh(data.sensor()));
@@ -313,17 +342,13 @@ RunResults run_benchmark(const RunConfig& config) {
   const auto t_start = std::chrono::steady_clock::now();
   const fs::path out = output_folder(config);
   const FolderLock lock(out.string());  // one writer per output folder
+  const std::string shards = config.merge_shards ? gather_shards(config) : "";
   const Context context = context_for(config, out);
   set_torch_threads(config.threads);
-  // The float32 GEMM peak that training throughput is compared with, measured first: after the
-  // model-based stage (TBB and CHOLMOD's threads) the same product ran at half the speed.
-  double gemm_flops = 0;
-  if (resolve_device(config.device, "--device") == "cpu") {
-    const int n = 2048;
-    gemm_flops = 2.0 * n * n * n / time_matmul(n, 3);
-  }
+  const double gemm_flops = gemm_peak(config);
 
   const RunData data = load_data(context);
+  check_merge(config, data, shards);
   const Reconstruction reconstruction = set_up_reconstruction(context, data);
   const NoisyFrames noisy = noisy_copies(config, data);
 

@@ -26,6 +26,8 @@ RunShardRecord read_record(const fs::path& path) {
     if (j.at("format").get<std::string>() != kFormat)
       throw InputError(file, "format", "is not " + std::string(kFormat));
     RunShardRecord r;
+    for (const char* key : {"index", "count"})
+      if (!j.at(key).is_number_integer()) throw InputError(file, key, "must be a whole number");
     r.index = j.at("index").get<int>(), r.count = j.at("count").get<int>();
     r.arguments = j.at("arguments").get<std::vector<std::string>>();
     r.fingerprint = j.at("fingerprint").get<std::string>();
@@ -50,8 +52,9 @@ std::map<int, RunShardRecord> finished_shards(const std::string& out) {
     int k = 0, n = 0;
     char tail = 0;
     if (!entry.is_directory() ||
-        std::sscanf(entry.path().filename().c_str(), "%d-of-%d%c", &k, &n, &tail) != 2)
-      continue;
+        std::sscanf(entry.path().filename().c_str(), "%d-of-%d%c", &k, &n, &tail) != 2 ||
+        !(n >= 1 && k >= 0 && k < n))
+      continue;  // not a shard's folder
     if (count != 0 && n != count)
       throw InputError(entry.path().string(), "",
                        fmt::format("is a shard of {}, another is of {}: shards of two runs with "
@@ -135,6 +138,10 @@ std::vector<RunShardRecord> gather_run_shards(const std::string& out) {
   std::vector<RunShardRecord> records;
   for (const auto& [k, r] : shards) records.push_back(r);
   return records;
+}
+
+std::vector<std::string> run_shard_arguments(const std::string& out) {
+  return finished_shards(out).begin()->second.arguments;
 }
 
 std::string describe_balance(const std::vector<RunShardRecord>& shards) {

@@ -12,7 +12,8 @@ struct ShardMerge {
 };
 
 // Joins the shard files of one set, given in any order, into `out`: the arrays of the set one
-// process simulates, byte for byte, and its attributes without the shard's. Every shard 0 .. N-1
+// process simulates, value for value, and its attributes without the shard's (the file's chunks
+// may differ). Every shard 0 .. N-1
 // must be there once, each made with the same configuration (every attribute, the reference,
 // the program that made it), its rows following the one before. Checks every shard before
 // writing anything (InputError naming the file and what differs, or the missing shards); reads

@@ -76,6 +76,10 @@ struct RunConfig {
   // The run's flags as given, without --shard, --out and --resume: a shard records them so that
   // merge makes the same run from the shards' stages.
   std::vector<std::string> arguments;
+  // Make the run from the finished shards in <out>/shards/ (eitbench merge): gathered under the
+  // folder's lock, refused unless made for this very run (its fingerprint); then every stage is
+  // found made.
+  bool merge_shards = false;
 
   // The preset's data and budgets; InputError naming --preset for an unknown one.
   static RunConfig for_preset(const std::string& preset);

@@ -33,6 +33,9 @@ void write_run_shard_record(const std::filesystem::path& folder, const RunShardR
 // simulated data into `out` (hard links where it can, else copies). Returns the shards' records,
 // by index. InputError naming the shard and what is wrong, before anything is brought in.
 std::vector<RunShardRecord> gather_run_shards(const std::string& out);
+// The arguments the finished shards of the run in `out` were made with, after the same checks as
+// gather_run_shards, bringing nothing in.
+std::vector<std::string> run_shard_arguments(const std::string& out);
 // "3 shards, 41-62 s each (slowest / mean 1.21); set-up 6-8 s of each": the shards' balance.
 std::string describe_balance(const std::vector<RunShardRecord>& shards);
 
