@@ -2,6 +2,9 @@
 // one process's, byte for byte. Skipped in a build without MPI (the tool is then one process).
 #include <gtest/gtest.h>
 
+#include <map>
+#include <thread>
+
 #include "cli_fixture.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "results_json.h"
@@ -28,9 +31,10 @@ class Mpi : public Cli {
     Cli::SetUp();
   }
 
-  // `command` as a shell runs it: exit code and output.
-  Result shell(const std::string& command) const {
-    const std::string log = path("mpi.log");
+  // `command` as a shell runs it: exit code and output (`log` names the log, for a command run
+  // beside another).
+  Result shell(const std::string& command, const std::string& log_name = "mpi.log") const {
+    const std::string log = path(log_name);
     const int status = std::system((command + " > " + log + " 2>&1").c_str());
     std::ifstream in(log);
     std::stringstream text;
@@ -73,6 +77,64 @@ TEST_F(Mpi, RanksRunTheBenchmarkOneProcessRuns) {
   EXPECT_EQ(testing::results_without_timings(path("two") + "/results.json"),
             testing::results_without_timings(path("one") + "/results.json"));
   EXPECT_TRUE(fs::exists(path("two") + "/shards/1-of-2/shard.json"));
+#endif
+}
+
+// Polls ready() every 2 ms for at most 300 s (a sanitizer build is 5-10x slower).
+bool wait_for(const std::function<bool()>& ready) {
+  const auto start = std::chrono::steady_clock::now();
+  while (!ready()) {
+    if (std::chrono::steady_clock::now() - start > std::chrono::seconds(300)) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return true;
+}
+
+// Every file under `folder` with its last write, but the lock and the finished record (which a
+// resumed shard writes again).
+std::map<std::string, fs::file_time_type> stage_files(const std::string& folder) {
+  std::map<std::string, fs::file_time_type> files;
+  for (const auto& entry : fs::recursive_directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && name != ".eitbench.lock" && name != "shard.json")
+      files[entry.path().string()] = entry.last_write_time();
+  }
+  return files;
+}
+
+// Rank 1 killed mid-run (SIGKILL, after its first unit, while rank 0 has finished and waits):
+// mpirun fails, rank 0's shard and rank 1's finished stage stay as they were, and `--resume`
+// finishes the run from them, without making any of them again, into one process's run.
+TEST_F(Mpi, KillingOneRankKeepsTheOtherShardsAndResumeFinishesTheRun) {
+#ifdef EITBENCH_MPIEXEC
+  const std::string args = "run --preset tiny --methods tikhonov,noser --augment none,d16 --quiet ";
+  ASSERT_EQ(run(args + "--out " + path("one")).exit_code, 0);
+  const std::string R = path("R"), zero = R + "/shards/0-of-2", one = R + "/shards/1-of-2";
+  Result killed{};
+  std::thread mpi([&] { killed = shell(mpirun(2) + args + "--out " + R, "killed.log"); });
+  // Rank 1's units are noser and the sweep at n=15: stopped between the two, until rank 0 is done.
+  const bool noser_made = wait_for([&] { return fs::exists(one + "/stages/method_noser.json"); });
+  pid_t rank1 = 0;
+  std::ifstream(one + "/.eitbench.lock") >> rank1;
+  if (noser_made && rank1 > 0) ::kill(rank1, SIGSTOP);
+  const bool zero_done = wait_for([&] { return fs::exists(zero + "/shard.json"); });
+  if (rank1 > 0) ::kill(rank1, SIGKILL);
+  mpi.join();
+  ASSERT_TRUE(noser_made && rank1 > 0 && zero_done) << killed.output;
+  EXPECT_NE(killed.exit_code, 0) << killed.output;
+  EXPECT_FALSE(fs::exists(one + "/shard.json"));
+  EXPECT_FALSE(fs::exists(R + "/results.json"));
+  const auto zero_files = stage_files(zero);
+  EXPECT_EQ(zero_files.count(zero + "/stages/method_tikhonov.json"), 1u);
+  const auto noser = fs::last_write_time(one + "/stages/method_noser.json");
+
+  const Result resumed = shell(mpirun(2) + args + "--resume --out " + R);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(testing::results_without_timings(R + "/results.json"),
+            testing::results_without_timings(path("one") + "/results.json"));
+  EXPECT_EQ(stage_files(zero), zero_files);  // rank 0's shard was found made, file for file
+  EXPECT_EQ(fs::last_write_time(one + "/stages/method_noser.json"), noser);
+  EXPECT_TRUE(fs::exists(one + "/shard.json"));
 #endif
 }
 

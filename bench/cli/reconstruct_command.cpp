@@ -20,6 +20,7 @@
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/methods/touch_metrics.h"
 #include "eitbench/bench/report/figures.h"
+#include "eitbench/bench/support/timing.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian.h"
 #include "options.h"
@@ -485,8 +486,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
         throw InputError("--model", "", "only --method dnn takes a model file");
       method = model_based(args.get(), *cmd, s, mesh, grid, background);
     }
-    const double setup_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double setup_s = seconds_since(t0);
     // The same loop as the benchmark's: every frame timed one at a time, after a warm-up.
     EvaluationOptions timing;
     timing.timed_frames = -1;

@@ -15,6 +15,7 @@
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/run/benchmark_run.h"
 #include "eitbench/bench/run/shards.h"
+#include "eitbench/bench/support/timing.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
 #include "options.h"
@@ -122,8 +123,7 @@ std::vector<std::string> given_arguments(const CLI::App& cmd) {
 void run_and_report(const RunConfig& c) {
   const auto t0 = std::chrono::steady_clock::now();
   const RunResults results = run_benchmark(c);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds = seconds_since(t0);
   fmt::print("\n{}\n{}\n\nwrote {}/report.md, results.json, results.csv{} in {:.0f} s\n",
              summary_table(results), results.recommendation, c.out,
              can_draw_figures() ? " and the figures" : " (no figures: this build draws none)",
@@ -134,8 +134,7 @@ void run_one_shard(const RunConfig& c) {
   const auto t0 = std::chrono::steady_clock::now();
   run_benchmark(c);
   fmt::print("shard {} of {} finished in {:.0f} s ({}); when every shard has: eitbench merge {}\n",
-             c.shard_index, c.shard_count,
-             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+             c.shard_index, c.shard_count, seconds_since(t0),
              run_shard_folder(c.out, c.shard_index, c.shard_count).string(), c.out);
 }
 

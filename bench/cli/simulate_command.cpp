@@ -11,6 +11,7 @@
 #include "eitbench/bench/data/dataset_shards.h"
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/support/progress.h"
+#include "eitbench/bench/support/timing.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/msh_io.h"
 #include "options.h"
@@ -33,15 +34,14 @@ void simulate_to(const SimulationOptions& o, const std::string& mesh_label, cons
         total, counts.circles[0], counts.circles[1], counts.circles[2], counts.circles[3], o.seed,
         o.protocol->name(), o.protocol->size(), o.protocol->magnitude() ? ", magnitudes" : "",
         mesh_label);
-  const int K = o.shard_index, N = o.shard_count;
-  const int rows = static_cast<int>(static_cast<long long>(total) * (K + 1) / N -
-                                    static_cast<long long>(total) * K / N);
-  if (N > 1 && !quiet) fmt::print("shard {} of {}: {} of those samples\n", K, N, rows);
+  const auto [first, last] = shard_rows(o, total);
+  const int rows = last - first;
+  if (o.shard_count > 1 && !quiet)
+    fmt::print("shard {} of {}: {} of those samples\n", o.shard_index, o.shard_count, rows);
   Progress progress("simulate", std::max(rows, 1), quiet);
   const auto t0 = std::chrono::steady_clock::now();
   const Dataset data = simulate_dataset(o, [&](int done, int) { progress.update(done); });
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds = seconds_since(t0);
   if (!data.sensor_mesh.empty() && !quiet)
     fmt::print("sensor {}: symmetry group {}\n", o.sensor_source, data.sensor_group);
   write_dataset(out, data);

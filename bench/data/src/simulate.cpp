@@ -232,7 +232,8 @@ void check_electrode_shift(const SimulationOptions& o, const Mesh& mesh) {
                                  d, limit));
 }
 
-// Shard K of N's rows [first, last) of a set of n.
+}  // namespace
+
 std::pair<int, int> shard_rows(const SimulationOptions& o, int n) {
   if (!(o.shard_count >= 1 && o.shard_index >= 0 && o.shard_index < o.shard_count))
     throw InputError("--shard", "", "needs K/N with 0 <= K < N");
@@ -246,8 +247,6 @@ std::pair<int, int> shard_rows(const SimulationOptions& o, int n) {
                                  o.shard_index, o.shard_count, n));
   return {bound(o.shard_index), bound(o.shard_index + 1)};
 }
-
-}  // namespace
 
 Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress) {
   const PresetCounts counts = preset_counts(o.preset);

@@ -9,6 +9,7 @@
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/report/loss_curves.h"
 #include "eitbench/bench/support/progress.h"
+#include "eitbench/bench/support/timing.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
@@ -70,16 +71,12 @@ TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptio
     progress.note(fmt::format("{}: stopped early, no improvement in {} rounds; best round {}",
                               run.label, trainer->options().patience, trainer->best_round()));
   TrainingResult result{
-      trainer->best_model(),
-      trainer->history(),
-      trainer->best_round(),
-      trainer->best_epoch(),
-      trainer->converged(),
-      trainer->total_steps(),
-      trainer->steps_per_epoch(),
-      trainer->samples_per_epoch(),
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-      resumed};
+      trainer->best_model(),      trainer->history(),
+      trainer->best_round(),      trainer->best_epoch(),
+      trainer->converged(),       trainer->total_steps(),
+      trainer->steps_per_epoch(), trainer->samples_per_epoch(),
+      seconds_since(t0),          resumed,
+  };
   write_model_file(run.out, result.model);
   if (run.curves)
     write_loss_curves(loss_curve_path(run.out, "csv"), loss_curve_path(run.out, "png"),

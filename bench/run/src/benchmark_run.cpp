@@ -15,6 +15,7 @@
 #include "eitbench/bench/report/run_store.h"
 #include "eitbench/bench/run/shards.h"
 #include "eitbench/bench/support/machine.h"
+#include "eitbench/bench/support/timing.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
 #include "stages.h"
@@ -276,10 +277,6 @@ std::vector<WorkUnit> shard_work(const RunConfig& c, const std::vector<std::stri
   return mine;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 // Shard K of N: its units' stages and models in <out>/shards/K-of-N/, then the record that it
 // finished (removed first, so that a shard cut off is never taken for finished), with how long the
 // set-up and each unit took.
@@ -381,8 +378,7 @@ RunResults run_benchmark(const RunConfig& config) {
   if (!config.measured.empty())
     results.measured = run_measured(context, data, reconstruction, learned, augments, results);
 
-  const double total_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  const double total_s = seconds_since(t_start);
   results.machine = describe_machine();
   results.configuration = describe_run(config, data, reconstruction, learned, parameters, total_s);
   results.configuration["fingerprint"] = run_fingerprint(config, data);

@@ -137,7 +137,7 @@ void time_device_inference(const LearnedModel& trained, const SampleMatrix& fram
   const int repeats = 10;
   const auto t0 = clock::now();
   for (int k = 0; k < repeats; ++k) (void)model.reconstruct(batch, 1000);
-  const double seconds = std::chrono::duration<double>(clock::now() - t0).count();
+  const double seconds = seconds_since(t0);
   summary.inference_device = model.device();
   summary.device_latency_ms = percentile(one, 0.5);
   summary.device_frames_per_second = repeats * double(n) / seconds;

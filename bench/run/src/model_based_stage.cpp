@@ -11,18 +11,11 @@
 #include "eitbench/bench/methods/evaluate.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/methods/touch_signal.h"
+#include "eitbench/bench/support/timing.h"
 #include "eitbench/jacobian.h"
 #include "stages.h"
 
 namespace eitbench::run {
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
-
 std::string quality(const ResultRow& row) {
   if (row.frames == 0) return "no labels";
   std::string text = fmt::format("CC {:.3f}, RE {:.3f}", row.cc, row.re);

@@ -4,6 +4,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "eitbench/bench/data/dataset.h"
 #include "eitbench/jacobian/disk_mesh.h"
@@ -80,6 +81,10 @@ struct PresetCounts {
   int validation;  // of the 4-circle samples; the rest are test
 };
 PresetCounts preset_counts(const std::string& preset);  // throws InputError naming --preset
+
+// Shard K of N's rows [first, last) of a set of n samples (SimulationOptions' shard); throws
+// InputError naming --shard unless 0 <= K < N.
+std::pair<int, int> shard_rows(const SimulationOptions& options, int n);
 
 // Called now and then with (samples done, total).
 using ProgressFn = std::function<void(int, int)>;
