@@ -284,7 +284,10 @@ TEST(Shards, JoinedShardsAreTheWholeSet) {
     EXPECT_EQ(m.seed, whole.seed);
     EXPECT_EQ(m.simulation_mesh, whole.simulation_mesh);
     fs::remove(out);
-    if (N == 3) three = paths;
+    if (N == 3)
+      three = paths;
+    else
+      for (const auto& p : paths) fs::remove(p);
   }
   // A shard is part of a set: refused wherever a set is used.
   try {
