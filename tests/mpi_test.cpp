@@ -80,6 +80,7 @@ TEST_F(Mpi, RanksRunTheBenchmarkOneProcessRuns) {
 #endif
 }
 
+#ifdef EITBENCH_MPIEXEC
 // Polls ready() every 2 ms for at most 300 s (a sanitizer build is 5-10x slower).
 bool wait_for(const std::function<bool()>& ready) {
   const auto start = std::chrono::steady_clock::now();
@@ -101,6 +102,7 @@ std::map<std::string, fs::file_time_type> stage_files(const std::string& folder)
   }
   return files;
 }
+#endif
 
 // Rank 1 killed mid-run (SIGKILL, after its first unit, while rank 0 has finished and waits):
 // mpirun fails, rank 0's shard and rank 1's finished stage stay as they were, and `--resume`
