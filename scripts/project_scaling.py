@@ -55,10 +55,18 @@ def sizes(results, path):
     return train + val + test, val + test, test
 
 
-def learned_units(results):
+def learned_units(results, path):
     """Each learned unit's name, as `eitbench run` names it, and its trainings' samples."""
+    train_count = field(results, path, "training_samples")
+    try:
+        return units_of(results, train_count)
+    except (KeyError, TypeError, ValueError) as e:
+        fail(f"{path}: training or data_efficiency entries without augment, train_size, budget or "
+             f"samples_seen ({e!r})")
+
+
+def units_of(results, train_count):
     trained = {t["augment"]: t["samples_seen"] for t in results.get("training", [])}
-    train_count = int(float(results["configuration"]["training_samples"]))
     sweep = {}
     for p in results.get("data_efficiency", []):
         n = p["train_size"]
@@ -115,7 +123,7 @@ def project(run, larger_path, model_cost=1.0, measured_at_size=None):
     small_set, small_frames, small_test = sizes(small, run)
     large_set, large_frames, large_test = sizes(large, larger_path)
 
-    learned = learned_units(small)
+    learned = learned_units(small, run)
     missing = [name for name, _ in learned if name not in seconds]
     if missing:
         fail(f"{run}: no shard recorded the unit(s) {', '.join(missing)}")
@@ -128,7 +136,7 @@ def project(run, larger_path, model_cost=1.0, measured_at_size=None):
         elif m in seconds:
             units.append((m, seconds[m] * large_frames / small_frames, "scaled by frames"))
     units += [(name, per_sample * model_cost * samples, "scaled by samples")
-              for name, samples in learned_units(large)]
+              for name, samples in learned_units(large, larger_path)]
     merge_s = float(small["configuration"]["total_seconds"])
     setup_s = max(r["setup_seconds"] for r in shards)
     return {

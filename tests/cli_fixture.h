@@ -47,9 +47,19 @@ class Cli : public ::testing::Test {
     return {WEXITSTATUS(status), text.str()};
   }
 
-  // Starts `eitbench args` in the background, waits until ready() (polled every 2 ms, at most
-  // 300 s: a sanitizer build is 5-10x slower), then kills it with SIGKILL. False when ready()
-  // never held.
+  // Polls ready() every 2 ms until it holds (true) or 300 s have passed (false): a sanitizer
+  // build is 5-10x slower.
+  static bool wait_for(const std::function<bool()>& ready) {
+    const auto start = std::chrono::steady_clock::now();
+    while (!ready()) {
+      if (std::chrono::steady_clock::now() - start > std::chrono::seconds(300)) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return true;
+  }
+
+  // Starts `eitbench args` in the background, waits until ready() (wait_for), then kills it with
+  // SIGKILL. False when ready() never held.
   bool kill_when(const std::string& args, const std::function<bool()>& ready) const {
     const std::string pid_file = path("pid");
     fs::remove(pid_file);
@@ -64,10 +74,7 @@ class Cli : public ::testing::Test {
       if (pid == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     if (pid <= 0) return false;
-    const auto start = std::chrono::steady_clock::now();
-    bool ok = false;
-    while (!(ok = ready()) && std::chrono::steady_clock::now() - start < std::chrono::seconds(300))
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    const bool ok = wait_for(ready);
     ::kill(pid, SIGKILL);
     std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let the kernel reap it
     return ok;

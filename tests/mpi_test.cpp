@@ -81,16 +81,6 @@ TEST_F(Mpi, RanksRunTheBenchmarkOneProcessRuns) {
 }
 
 #ifdef EITBENCH_MPIEXEC
-// Polls ready() every 2 ms for at most 300 s (a sanitizer build is 5-10x slower).
-bool wait_for(const std::function<bool()>& ready) {
-  const auto start = std::chrono::steady_clock::now();
-  while (!ready()) {
-    if (std::chrono::steady_clock::now() - start > std::chrono::seconds(300)) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return true;
-}
-
 // Every file under `folder` with its last write, but the lock and the finished record (which a
 // resumed shard writes again).
 std::map<std::string, fs::file_time_type> stage_files(const std::string& folder) {

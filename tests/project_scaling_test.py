@@ -31,7 +31,7 @@ class ProjectScaling(unittest.TestCase):
     def test_one_rate_a_sample_explains_each_learned_unit(self):
         seconds = ps.unit_seconds(self.shards)
         rate = self.itself["per_sample"]
-        for name, samples in ps.learned_units(ps.load(os.path.join(RUN, "results.json"))):
+        for name, samples in ps.learned_units(ps.load(os.path.join(RUN, "results.json")), RUN):
             self.assertAlmostEqual(seconds[name] / (rate * samples), 1.0, delta=0.03, msg=name)
 
     def test_more_ranks_never_take_longer_than_the_largest_unit_allows(self):
@@ -59,6 +59,18 @@ class ProjectScaling(unittest.TestCase):
                                capture_output=True, text=True)
         self.assertNotEqual(r.returncode, 0)
         self.assertIn(record, r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
+    def test_a_larger_run_without_its_samples_is_refused_naming_it(self):
+        with tempfile.TemporaryDirectory() as folder:
+            larger = os.path.join(folder, "results.json")
+            with open(larger, "w") as f:
+                f.write('{"configuration": {"training_samples": "5", "validation_frames": "1", '
+                        '"test_frames": "1"}, "training": [{"augment": "none"}]}')
+            r = subprocess.run([sys.executable, SCRIPT, RUN, larger], capture_output=True,
+                               text=True)
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn(larger, r.stderr)
         self.assertNotIn("Traceback", r.stderr)
 
 
