@@ -86,5 +86,27 @@ TEST(Jacobian, ChosenRowsEqualTheFullJacobiansRows) {
   EXPECT_EQ(ascending, p.select_rows(model.jacobian(s), MeasurementOrder::ascending, false));
 }
 
+// The columns of chosen elements (the shape fit's circles reach few of them) are the full
+// Jacobian's columns bit for bit, in the order asked, for a signed and a magnitude protocol; an
+// element the mesh lacks is refused.
+TEST(Jacobian, ChosenElementsEqualTheFullJacobiansColumns) {
+  const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
+  const std::vector<int> elements = {mesh.num_triangles() - 1, 0, 7, 3, 3};
+  for (bool magnitude : {false, true}) {
+    ForwardOptions o;
+    o.protocol =
+        std::make_shared<MeasurementProtocol>(opposite_protocol(16).with_magnitude(magnitude));
+    const ForwardModel model(mesh, o);
+    const ForwardSolution s = model.solve(testing::random_conductivity(mesh.num_triangles(), 4));
+    const Eigen::MatrixXd all = model.input_jacobian(s);
+    const Eigen::MatrixXd chosen = model.input_jacobian(s, elements);
+    ASSERT_EQ(chosen.cols(), static_cast<Eigen::Index>(elements.size()));
+    for (std::size_t k = 0; k < elements.size(); ++k)
+      EXPECT_EQ(chosen.col(static_cast<Eigen::Index>(k)), all.col(elements[k]))
+          << "element " << elements[k] << ", magnitude " << magnitude;
+    EXPECT_THROW(model.input_jacobian(s, {mesh.num_triangles()}), std::invalid_argument);
+  }
+}
+
 }  // namespace
 }  // namespace eitbench

@@ -500,30 +500,36 @@ Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
 }
 
 Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
-                                       const std::vector<Channel>& channels) const {
+                                       const std::vector<Channel>& channels,
+                                       const std::vector<int>& elements) const {
   const Impl& m = *impl_;
   const int T = m.mesh.num_triangles(), L = m.mesh.num_electrodes();
-  // Field gradients per element, all adjacent drives side by side: gx(t, d), gy(t, d).
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> gx(T, L), gy(T, L);
-  for (int t = 0; t < T; ++t) {
+  const bool all = elements.empty();
+  const int n = all ? T : static_cast<int>(elements.size());
+  for (int t : elements)
+    if (t < 0 || t >= T) throw std::invalid_argument("ForwardModel::jacobian: no such element");
+  // Field gradients per element, all adjacent drives side by side: gx(k, d), gy(k, d).
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> gx(n, L), gy(n, L);
+  for (int k = 0; k < n; ++k) {
+    const int t = all ? k : elements[static_cast<std::size_t>(k)];
     const auto u0 = s.node_potentials.row(m.mesh.triangles(t, 0));
     const auto u1 = s.node_potentials.row(m.mesh.triangles(t, 1));
     const auto u2 = s.node_potentials.row(m.mesh.triangles(t, 2));
-    gx.row(t) = m.grad(t, 0) * u0 + m.grad(t, 1) * u1 + m.grad(t, 2) * u2;
-    gy.row(t) = m.grad(t, 3) * u0 + m.grad(t, 4) * u1 + m.grad(t, 5) * u2;
+    gx.row(k) = m.grad(t, 0) * u0 + m.grad(t, 1) * u1 + m.grad(t, 2) * u2;
+    gy.row(k) = m.grad(t, 3) * u0 + m.grad(t, 4) * u1 + m.grad(t, 5) * u2;
   }
   // The same gradients per drive pattern (an adjacent pattern's column is copied unchanged).
   const detail::DrivePatterns patterns = detail::drive_patterns(channels, L);
   const auto px = patterns.combine(gx), py = patterns.combine(gy);
   const int rows = static_cast<int>(channels.size());
   const std::vector<int>&drive = patterns.drive, &measure = patterns.measure;
-  Eigen::MatrixXd J(rows, T);
+  Eigen::MatrixXd J(rows, n);
   const double inv_current = 1.0 / m.options.current;
-  for (int t = 0; t < T; ++t) {
-    const double* x = px.row(t).data();
-    const double* y = py.row(t).data();
-    const double scale = -m.area[t] * inv_current;
-    double* column = J.col(t).data();
+  for (int k = 0; k < n; ++k) {
+    const double* x = px.row(k).data();
+    const double* y = py.row(k).data();
+    const double scale = -m.area[all ? k : elements[static_cast<std::size_t>(k)]] * inv_current;
+    double* column = J.col(k).data();
     for (int r = 0; r < rows; ++r)
       column[r] = scale * (x[drive[r]] * x[measure[r]] + y[drive[r]] * y[measure[r]]);
   }
@@ -531,8 +537,9 @@ Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
 }
 
 Eigen::MatrixXd ForwardModel::measured_jacobian(const ForwardSolution& s,
-                                                const std::vector<Channel>& channels) const {
-  Eigen::MatrixXd J = jacobian(s, channels);
+                                                const std::vector<Channel>& channels,
+                                                const std::vector<int>& elements) const {
+  Eigen::MatrixXd J = jacobian(s, channels, elements);
   if (impl_->measurement.magnitude()) {  // d|v| = sign(v) dv
     const Eigen::VectorXd v = voltages(s, channels);
     for (Eigen::Index r = 0; r < J.rows(); ++r)
@@ -541,8 +548,9 @@ Eigen::MatrixXd ForwardModel::measured_jacobian(const ForwardSolution& s,
   return J;
 }
 
-Eigen::MatrixXd ForwardModel::input_jacobian(const ForwardSolution& s) const {
-  return measured_jacobian(s, impl_->measurement.input_channels());
+Eigen::MatrixXd ForwardModel::input_jacobian(const ForwardSolution& s,
+                                             const std::vector<int>& elements) const {
+  return measured_jacobian(s, impl_->measurement.input_channels(), elements);
 }
 
 Eigen::VectorXd ForwardModel::voltages(const ForwardSolution& s,

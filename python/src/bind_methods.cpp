@@ -8,6 +8,7 @@
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/jacobian.h"
+#include "eitbench/solvers/shape.h"
 
 namespace eitbench::python {
 namespace {
@@ -112,6 +113,38 @@ void bind_methods(py::module_& m) {
             return out;
           },
           py::arg("frame"), "shape, shape-linear: the circles found, [x, y, r, sigma] each")
+      .def(
+          "fits_by_count",
+          [](const Method& r, const Eigen::Ref<const Eigen::VectorXd>& frame) {
+            const auto* shape = dynamic_cast<const ShapeReconstructor*>(r.method.get());
+            if (!shape) throw InputError("method", "", r.method->name() + " is not a shape fit");
+            std::vector<std::pair<double, std::vector<std::array<double, 4>>>> out;
+            for (const ShapeFit& f : shape->fits_by_count(frame)) {
+              out.push_back({f.rss, {}});
+              for (const Circle& c : f.circles)
+                out.back().second.push_back({c.x, c.y, c.r, c.conductivity});
+            }
+            return out;
+          },
+          py::arg("frame"),
+          "shape, shape-linear: the linear fit with each number of circles K = 0, 1, ..., as "
+          "(misfit, circles); the method chooses K among them by its BIC")
+      .def(
+          "fit_from",
+          [](const Method& r, const Eigen::Ref<const Eigen::VectorXd>& frame,
+             const std::vector<std::array<double, 4>>& start, const std::string& forward) {
+            const auto* shape = dynamic_cast<const ShapeReconstructor*>(r.method.get());
+            if (!shape) throw InputError("method", "", r.method->name() + " is not a shape fit");
+            std::vector<Circle> circles;
+            for (const auto& c : start) circles.push_back({c[0], c[1], c[2], c[3]});
+            const ShapeFit f = shape->fit_circles(frame, circles, parse_shape_forward(forward));
+            std::vector<std::array<double, 4>> out;
+            for (const Circle& c : f.circles) out.push_back({c.x, c.y, c.r, c.conductivity});
+            return std::make_pair(f.rss, out);
+          },
+          py::arg("frame"), py::arg("start"), py::arg("forward") = "full",
+          "shape, shape-linear: the fit of exactly len(start) circles from start ([x, y, r, sigma] "
+          "each) on the forward model (full or linear), as (misfit, circles)")
       .def_property_readonly(
           "pixel_jacobian",
           [](const Method& r) {

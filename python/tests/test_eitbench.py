@@ -126,6 +126,25 @@ def test_validation_choice_and_circles(tiny):
     assert r.pixel_jacobian.shape[0] == 104 and len(r.pixel_indices) == r.pixel_jacobian.shape[1]
 
 
+def test_shape_fits_by_count_are_what_the_method_chooses_from(tiny):
+    data = eitbench.read_dataset(str(tiny))
+    i = int(np.argmax(data["circle_count"] == 1))
+    frame = data["differences"][i]
+    shape = eitbench.Reconstructor("shape-linear", lambda_=1.0)
+    fits = shape.fits_by_count(frame)
+    assert fits[0] == (pytest.approx(frame @ frame), [])  # K = 0 explains nothing
+    assert [len(circles) for _, circles in fits] == list(range(len(fits)))
+    assert fits[1][0] < 1e-2 * frame @ frame  # one touch: one circle explains nearly all of it
+    chosen = shape.touches(frame)
+    assert any(circles == chosen for _, circles in fits)  # the linear method returns one of them
+    # Refitting a fit from its own circles on the same model moves nothing that matters.
+    rss, again = shape.fit_from(frame, fits[1][1], "linear")
+    assert rss == pytest.approx(fits[1][0], rel=1e-6)
+    np.testing.assert_allclose(again, fits[1][1], atol=1e-6)
+    with pytest.raises(eitbench.InputError, match="not a shape fit"):
+        eitbench.Reconstructor("noser").fits_by_count(frame)
+
+
 def test_dataset_round_trip(tiny, tmp_path):
     data = eitbench.read_dataset(str(tiny))
     eitbench.write_dataset(str(tmp_path / "copy.h5"), data)

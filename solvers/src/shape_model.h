@@ -29,13 +29,17 @@ class ShapeModel {
   // with d_j the element centroid's distance from centre j. The product keeps sigma positive
   // where touches overlap and equals the sum where they do not.
   Eigen::VectorXd relative_sigma(const std::vector<const double*>& circles) const;
-  // d s / d p: triangles x 4K, by the chain rule through H.
-  Eigen::MatrixXd relative_sigma_jacobian(const std::vector<const double*>& circles) const;
+  // d s / d p: triangles x 4K, by the chain rule through H; with `elements`, their rows only.
+  Eigen::MatrixXd relative_sigma_jacobian(const std::vector<const double*>& circles,
+                                          const std::vector<int>& elements = {}) const;
+  // The elements some circle reaches (below), in ascending order.
+  std::vector<int> reached_elements(const std::vector<const double*>& circles) const;
 
   // A circle reaches the elements whose centroid lies within r + kReach w of its centre. Beyond,
   // its H is below 1.3e-5 (1 - tanh(u) < 2 exp(-2u)): a thousandth of the model's own error (about
-  // 1 % of a frame), and the linear model sums over reached elements only. At 9.5 widths (1e-8)
-  // it summed over twice as many.
+  // 1 % of a frame). Both models take H as zero there, so that the full model's Jacobian needs
+  // the reached elements' columns only, and the linear model sums over them only. At 9.5 widths
+  // (1e-8) it summed over twice as many.
   static constexpr double kReach = 6;
 
   // The difference inputs v(sigma) - v(sigma_0) and its Jacobian d/dp (m x 4K, when given):

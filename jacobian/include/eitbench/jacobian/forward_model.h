@@ -87,15 +87,20 @@ class ForwardModel {
                            const std::vector<MeasurementPair>& pairs) const;
   Eigen::MatrixXd jacobian(const Eigen::VectorXd& sigma) const;
   // Rows for any channels (signed voltages): J = -area * grad u_drive . grad u_meas / I, with
-  // each field the sum of adjacent drives' fields.
-  Eigen::MatrixXd jacobian(const ForwardSolution& solution,
-                           const std::vector<Channel>& channels) const;
+  // each field the sum of adjacent drives' fields. With `elements`, only their columns, in that
+  // order (each column costs as much as any other: a model that moves few elements asks for
+  // those); empty: every triangle's.
+  Eigen::MatrixXd jacobian(const ForwardSolution& solution, const std::vector<Channel>& channels,
+                           const std::vector<int>& elements = {}) const;
   // Rows of `channels` as the protocol reports them: for a magnitude protocol d|v| = sign(v) dv,
   // the sign at this solution.
   Eigen::MatrixXd measured_jacobian(const ForwardSolution& solution,
-                                    const std::vector<Channel>& channels) const;
-  // The inputs' rows (measured_jacobian of the protocol's input channels).
-  Eigen::MatrixXd input_jacobian(const ForwardSolution& solution) const;
+                                    const std::vector<Channel>& channels,
+                                    const std::vector<int>& elements = {}) const;
+  // The inputs' rows (measured_jacobian of the protocol's input channels), of every triangle or
+  // of `elements` only.
+  Eigen::MatrixXd input_jacobian(const ForwardSolution& solution,
+                                 const std::vector<int>& elements = {}) const;
 
  private:
   struct Impl;

@@ -82,6 +82,9 @@ class ShapeReconstructor : public Reconstructor {
   // fit_circles does for each K.
   ShapeFit fit_circles(const Eigen::VectorXd& frame, std::vector<Circle> start,
                        ShapeForward forward) const;
+  // The linear fits fit_circles chooses among: entry K holds K circles (entry 0 none, its rss the
+  // frame's squared norm); fewer than max_touches + 1 entries when the residual image has no peak.
+  std::vector<ShapeFit> fits_by_count(const Eigen::VectorXd& frame) const;
   // Circles as images, on the label scale.
   Eigen::VectorXd draw(const std::vector<Circle>& circles) const;
   double penalty() const { return penalty_; }
