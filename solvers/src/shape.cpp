@@ -3,6 +3,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 
@@ -188,74 +189,81 @@ namespace {
 // of the full misfits, and otherwise drops the weakest circle (intensity times area) while that
 // lowers it. On 80 quick test frames this local walk found the K of the smallest BIC over all
 // full fits in all but a few, at two or three full fits a frame.
-detail::FitOutcome refine_full(const detail::ShapeModel& model, const Eigen::VectorXd& frame,
-                               const std::vector<detail::FitOutcome>& linear, std::size_t K_linear,
-                               const detail::FitSettings& full, double floor, double penalty,
-                               int& iterations) {
-  const int m = static_cast<int>(frame.size());
-  auto score = [&](const detail::FitOutcome& f) {
-    return bic(f.rss, floor, m, static_cast<int>(f.circles.size()), penalty);
-  };
-  auto fit = [&](std::vector<detail::CircleParameters> start) {
-    if (start.empty()) {
-      detail::FitOutcome none;
-      none.rss = frame.squaredNorm(), none.converged = true;
-      return none;
-    }
-    return detail::fit_shape(model, frame, std::move(start), full);
-  };
-  // Touches do not overlap (two fingers cannot press the same spot), so a step up whose circles
-  // overlap is the FEM correcting one touch's profile, not another touch: a small touch that the
-  // smoothed indicator misses by 1.5 % of its frame got a second circle inside it.
-  auto overlapping = [](const std::vector<detail::CircleParameters>& circles) {
-    for (std::size_t i = 0; i < circles.size(); ++i)
-      for (std::size_t j = i + 1; j < circles.size(); ++j)
-        if (std::hypot(circles[i][0] - circles[j][0], circles[i][1] - circles[j][1]) <
-            circles[i][2] + circles[j][2])
-          return true;
-    return false;
-  };
-  auto better = [&](const detail::FitOutcome& more, const detail::FitOutcome& than) {
-    return score(more) < score(than) && !overlapping(more.circles);
-  };
-  auto without_weakest = [](std::vector<detail::CircleParameters> circles) {
-    circles.erase(std::min_element(circles.begin(), circles.end(), [](auto& a, auto& b) {
-      return a[3] * a[2] * a[2] < b[3] * b[2] * b[2];
-    }));
-    return circles;
-  };
-  // The fit at the linear K and the first step up start from the linear fits, so they run side
-  // by side (a core each): both are always computed, and so the result is the same on any number
-  // of threads.
-  detail::FitOutcome best, more;
-  const bool can_grow = K_linear + 1 < linear.size();
-  tbb::parallel_invoke([&] { best = fit(linear[K_linear].circles); },
-                       [&] {
-                         if (can_grow) more = fit(linear[K_linear + 1].circles);
-                       });
-  iterations += best.iterations + more.iterations;
-  if (can_grow && better(more, best)) {
-    best = std::move(more);
-    for (std::size_t K = K_linear + 2; K < linear.size(); ++K) {
-      more = fit(linear[K].circles);
-      iterations += more.iterations;
+class FullRefinement {
+ public:
+  FullRefinement(const detail::ShapeModel& model, const Eigen::VectorXd& frame,
+                 const detail::FitSettings& full, double floor, double penalty)
+      : model_(model), frame_(frame), full_(full), floor_(floor), penalty_(penalty) {}
+
+  detail::FitOutcome run(const std::vector<detail::FitOutcome>& linear, std::size_t K) {
+    // The fit at the linear K and the first step up start from the linear fits, so they run side
+    // by side (a core each): both are always computed, and so the result is the same on any
+    // number of threads.
+    detail::FitOutcome best, more;
+    const bool can_grow = K + 1 < linear.size();
+    tbb::parallel_invoke([&] { best = fit(linear[K].circles); },
+                         [&] {
+                           if (can_grow) more = fit(linear[K + 1].circles);
+                         });
+    if (can_grow && better(more, best)) return grow(linear, K + 2, std::move(more));
+    return prune(std::move(best));
+  }
+  int iterations() const { return iterations_; }
+
+ private:
+  // Up from `best` (K - 1 circles) while the next linear fit, refitted, is better.
+  detail::FitOutcome grow(const std::vector<detail::FitOutcome>& linear, std::size_t K,
+                          detail::FitOutcome best) {
+    for (; K < linear.size(); ++K) {
+      detail::FitOutcome more = fit(linear[K].circles);
       if (!better(more, best)) break;
       best = std::move(more);
     }
     return best;
   }
-  while (!best.circles.empty()) {
-    detail::FitOutcome fewer = fit(without_weakest(best.circles));
-    iterations += fewer.iterations;
-    if (score(fewer) > score(best)) break;
-    best = std::move(fewer);
+  // Down from `best`, the weakest circle (intensity times area) first, while the BIC says so.
+  detail::FitOutcome prune(detail::FitOutcome best) {
+    while (!best.circles.empty()) {
+      auto circles = best.circles;
+      circles.erase(std::min_element(circles.begin(), circles.end(), [](auto& a, auto& b) {
+        return a[3] * a[2] * a[2] < b[3] * b[2] * b[2];
+      }));
+      detail::FitOutcome fewer = fit(std::move(circles));
+      if (score(fewer) > score(best)) break;
+      best = std::move(fewer);
+    }
+    return best;
   }
-  return best;
-}
+  detail::FitOutcome fit(std::vector<detail::CircleParameters> start) {
+    detail::FitOutcome f;
+    if (start.empty())
+      f.rss = frame_.squaredNorm(), f.converged = true;
+    else
+      f = detail::fit_shape(model_, frame_, std::move(start), full_);
+    iterations_ += f.iterations;  // atomic: the first two fits run side by side
+    return f;
+  }
+  double score(const detail::FitOutcome& f) const {
+    return bic(f.rss, floor_, static_cast<int>(frame_.size()), static_cast<int>(f.circles.size()),
+               penalty_);
+  }
+  // Touches do not overlap (two fingers cannot press the same spot), so a step up whose circles
+  // overlap is the FEM correcting one touch's profile, not another touch: a small touch that the
+  // smoothed indicator misses by 1.5 % of its frame got a second circle inside it.
+  bool better(const detail::FitOutcome& more, const detail::FitOutcome& than) const {
+    const auto& c = more.circles;
+    for (std::size_t i = 0; i < c.size(); ++i)
+      for (std::size_t j = i + 1; j < c.size(); ++j)
+        if (std::hypot(c[i][0] - c[j][0], c[i][1] - c[j][1]) < c[i][2] + c[j][2]) return false;
+    return score(more) < score(than);
+  }
 
-}  // namespace
-
-namespace {
+  const detail::ShapeModel& model_;
+  const Eigen::VectorXd& frame_;
+  const detail::FitSettings& full_;
+  double floor_, penalty_;
+  std::atomic<int> iterations_{0};
+};
 
 // Greedy in K, as matching pursuit is: each K starts from the fit with K - 1 circles plus one at
 // the strongest peak of the NOSER image of what that fit leaves unexplained, so a larger K never
@@ -308,10 +316,12 @@ ShapeFit ShapeReconstructor::fit_circles(const Eigen::VectorXd& frame) const {
   const int m = static_cast<int>(frame.size());
   const std::size_t K = smallest_bic(rss, floor, m, penalty_);
   detail::FitOutcome best = fits[K];
-  if (options_.forward == ShapeForward::full && K > 0)
-    best = refine_full(impl_->model, frame, fits, K,
-                       fit_settings(options_, problem_->grid.radius(), ShapeForward::full), floor,
-                       penalty_, iterations);
+  if (options_.forward == ShapeForward::full && K > 0) {
+    const auto full = fit_settings(options_, problem_->grid.radius(), ShapeForward::full);
+    FullRefinement refinement(impl_->model, frame, full, floor, penalty_);
+    best = refinement.run(fits, K);
+    iterations += refinement.iterations();
+  }
   return {to_circles(best.circles, problem_->background), best.rss, iterations, best.converged};
 }
 

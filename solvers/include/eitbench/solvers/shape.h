@@ -7,7 +7,8 @@
 // the element Jacobian. Two forward models: `linear` (the Jacobian at the background: fast) and
 // `full` (the FEM re-solved at every step, starting from the linear fit). The start is the
 // peaks of a one-step NOSER image; K is chosen in 1..max_touches by the Bayesian information
-// criterion, whose penalty weight can be chosen on validation frames. The output is the circles,
+// criterion, whose penalty weight can be chosen on validation frames: on the linear fits, and for
+// `full` then on the FEM's own fits, up or down from the linear K. The output is the circles,
 // and the image they draw, so every image metric applies.
 #include <memory>
 #include <string>
