@@ -18,6 +18,12 @@ Eigen::VectorXd SignedPermutation::apply(const Eigen::VectorXd& frame) const {
 
 SignedPermutation channel_action(const MeasurementProtocol& protocol, const GroupElement& g,
                                  bool over_channels) {
+  // Current patterns move by a linear map, not a permutation of channels: not handled here.
+  if (protocol.has_patterns())
+    throw InputError("protocol", "patterns",
+                     "the " + protocol.name() +
+                         " protocol is given by current patterns; its symmetry acts on them "
+                         "linearly, which the channel action does not cover");
   const int L = protocol.electrodes();
   // P undoes g's move of the electrodes: v'(c) = v(P(c)), as FrameSymmetry's p(d) = d + s.
   std::vector<int> P(L);

@@ -32,4 +32,35 @@ DrivePatterns drive_patterns(const std::vector<Channel>& channels, int L) {
   return out;
 }
 
+namespace {
+
+// The adjacent drives whose sum, each scaled by its weight, carries current vector c.
+std::vector<std::pair<int, double>> adjacent_terms(const Eigen::VectorXd& c, double scale) {
+  std::vector<std::pair<int, double>> t;
+  double a = 0;
+  for (Eigen::Index k = 0; k + 1 < c.size(); ++k) {
+    a += c[k];
+    if (a != 0) t.emplace_back(static_cast<int>(k), a * scale);
+  }
+  return t;
+}
+
+}  // namespace
+
+DrivePatterns pattern_drives(const CurrentPatterns& patterns, double current) {
+  DrivePatterns out;
+  const int P = patterns.patterns(), M = patterns.differences();
+  for (int p = 0; p < P; ++p)
+    out.terms.push_back(adjacent_terms(patterns.injection.col(p), 1 / current));
+  for (int m = 0; m < M; ++m) out.terms.push_back(adjacent_terms(patterns.measurement.col(m), 1.0));
+  out.drive.reserve(static_cast<std::size_t>(P) * M);
+  out.measure.reserve(static_cast<std::size_t>(P) * M);
+  for (int p = 0; p < P; ++p)
+    for (int m = 0; m < M; ++m) {
+      out.drive.push_back(p);
+      out.measure.push_back(P + m);
+    }
+  return out;
+}
+
 }  // namespace eitbench::detail

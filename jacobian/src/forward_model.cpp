@@ -100,6 +100,10 @@ struct ForwardModel::Impl {
   // Assembles and factorises for sigma and solves every drive, in a workspace from the pool: the
   // solution is its X (dofs x L). Give it back when done.
   std::unique_ptr<Workspace> solve(const Eigen::VectorXd& sigma) const;
+  // d v / d sigma for the values `patterns` describe (drive_patterns.h), of every triangle or of
+  // `elements` only.
+  Eigen::MatrixXd jacobian(const ForwardSolution& s, const detail::DrivePatterns& patterns,
+                           const std::vector<int>& elements) const;
   void give_back(std::unique_ptr<Workspace> w) const {
     std::lock_guard<std::mutex> lock(pool_mutex);
     pool.push_back(std::move(w));
@@ -376,6 +380,18 @@ Eigen::VectorXd channel_voltages(const std::vector<Channel>& channels, const Pot
   return v;
 }
 
+// A current-pattern protocol's values from the adjacent drives' electrode potentials U: each
+// pattern's potentials summed from them, then every difference under it, pattern-major.
+template <typename Potentials>
+Eigen::VectorXd pattern_voltages(const CurrentPatterns& patterns, double current,
+                                 const Potentials& U) {
+  detail::DrivePatterns drives = detail::pattern_drives(patterns, current);
+  drives.terms.resize(static_cast<std::size_t>(patterns.patterns()));  // the injections only
+  const Eigen::MatrixXd W = drives.combine(U);                         // electrode x pattern
+  const Eigen::MatrixXd V = patterns.measurement.transpose() * W;      // difference x pattern
+  return Eigen::Map<const Eigen::VectorXd>(V.data(), V.size());        // column-major: p-major
+}
+
 }  // namespace
 
 std::unique_ptr<Workspace> ForwardModel::Impl::solve(const Eigen::VectorXd& sigma) const {
@@ -502,7 +518,14 @@ Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
 Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
                                        const std::vector<Channel>& channels,
                                        const std::vector<int>& elements) const {
-  const Impl& m = *impl_;
+  return impl_->jacobian(s, detail::drive_patterns(channels, impl_->mesh.num_electrodes()),
+                         elements);
+}
+
+Eigen::MatrixXd ForwardModel::Impl::jacobian(const ForwardSolution& s,
+                                             const detail::DrivePatterns& patterns,
+                                             const std::vector<int>& elements) const {
+  const Impl& m = *this;
   const int T = m.mesh.num_triangles(), L = m.mesh.num_electrodes();
   const bool all = elements.empty();
   const int n = all ? T : static_cast<int>(elements.size());
@@ -519,9 +542,8 @@ Eigen::MatrixXd ForwardModel::jacobian(const ForwardSolution& s,
     gy.row(k) = m.grad(t, 3) * u0 + m.grad(t, 4) * u1 + m.grad(t, 5) * u2;
   }
   // The same gradients per drive pattern (an adjacent pattern's column is copied unchanged).
-  const detail::DrivePatterns patterns = detail::drive_patterns(channels, L);
   const auto px = patterns.combine(gx), py = patterns.combine(gy);
-  const int rows = static_cast<int>(channels.size());
+  const int rows = static_cast<int>(patterns.drive.size());
   const std::vector<int>&drive = patterns.drive, &measure = patterns.measure;
   Eigen::MatrixXd J(rows, n);
   const double inv_current = 1.0 / m.options.current;
@@ -550,7 +572,11 @@ Eigen::MatrixXd ForwardModel::measured_jacobian(const ForwardSolution& s,
 
 Eigen::MatrixXd ForwardModel::input_jacobian(const ForwardSolution& s,
                                              const std::vector<int>& elements) const {
-  return measured_jacobian(s, impl_->measurement.input_channels(), elements);
+  const MeasurementProtocol& p = impl_->measurement;
+  if (p.has_patterns())
+    return impl_->jacobian(s, detail::pattern_drives(p.patterns(), impl_->options.current),
+                           elements);
+  return measured_jacobian(s, p.input_channels(), elements);
 }
 
 Eigen::VectorXd ForwardModel::voltages(const ForwardSolution& s,
@@ -560,19 +586,24 @@ Eigen::VectorXd ForwardModel::voltages(const ForwardSolution& s,
 
 Eigen::VectorXd ForwardModel::measured(const ForwardSolution& s) const {
   const MeasurementProtocol& p = impl_->measurement;
+  if (p.has_patterns())
+    return pattern_voltages(p.patterns(), impl_->options.current, s.electrode_potentials);
   const Eigen::VectorXd v = voltages(s, p.channels());
   return p.magnitude() ? Eigen::VectorXd(v.cwiseAbs()) : v;
 }
 
 Eigen::VectorXd ForwardModel::measured(const Eigen::VectorXd& sigma) const {
   const MeasurementProtocol& p = impl_->measurement;
-  const Eigen::VectorXd v = impl_->from_electrodes(
-      sigma, [&](const auto& U) { return channel_voltages(p.channels(), U); });
+  const Eigen::VectorXd v = impl_->from_electrodes(sigma, [&](const auto& U) {
+    return p.has_patterns() ? pattern_voltages(p.patterns(), impl_->options.current, U)
+                            : channel_voltages(p.channels(), U);
+  });
   return p.magnitude() ? Eigen::VectorXd(v.cwiseAbs()) : v;
 }
 
 Eigen::VectorXd ForwardModel::inputs(const ForwardSolution& s) const {
   const MeasurementProtocol& p = impl_->measurement;
+  if (p.has_patterns()) return measured(s);  // every value is an input
   const Eigen::VectorXd v = voltages(s, p.input_channels());
   return p.magnitude() ? Eigen::VectorXd(v.cwiseAbs()) : v;
 }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 
 #include "eitbench/jacobian/error.h"
@@ -80,7 +81,31 @@ MeasurementProtocol::MeasurementProtocol(std::string name, int electrodes,
     if (!reciprocal_ || partner[i] >= static_cast<int>(i)) inputs_.push_back(static_cast<int>(i));
 }
 
+MeasurementProtocol::MeasurementProtocol(std::string name, CurrentPatterns patterns,
+                                         const std::string& source)
+    : name_(std::move(name)), electrodes_(0) {
+  patterns.validate(source);
+  electrodes_ = patterns.electrodes();
+  inputs_.resize(static_cast<std::size_t>(patterns.size()));
+  for (int i = 0; i < patterns.size(); ++i) inputs_[static_cast<std::size_t>(i)] = i;
+  patterns_.push_back(std::move(patterns));
+}
+
+int MeasurementProtocol::size() const {
+  return has_patterns() ? patterns_.front().size() : static_cast<int>(channels_.size());
+}
+
+const CurrentPatterns& MeasurementProtocol::patterns() const {
+  if (!has_patterns())
+    throw std::logic_error("MeasurementProtocol::patterns: '" + name_ +
+                           "' is a protocol of channels");
+  return patterns_.front();
+}
+
 MeasurementProtocol MeasurementProtocol::with_magnitude(bool magnitude) const {
+  if (magnitude && has_patterns())
+    throw InputError("protocol", "magnitude",
+                     "'" + name_ + "' is given by current patterns, whose values are signed");
   MeasurementProtocol out = *this;
   out.magnitude_ = magnitude;
   return out;
@@ -121,10 +146,14 @@ int MeasurementProtocol::find(const Channel& c, int* sign) const {
 }
 
 bool MeasurementProtocol::same_channels(const MeasurementProtocol& o) const {
-  return electrodes_ == o.electrodes_ && channels_ == o.channels_ && magnitude_ == o.magnitude_;
+  return electrodes_ == o.electrodes_ && channels_ == o.channels_ && patterns_ == o.patterns_ &&
+         magnitude_ == o.magnitude_;
 }
 
 std::string MeasurementProtocol::csv() const {
+  if (has_patterns())
+    throw std::logic_error("MeasurementProtocol::csv: '" + name_ +
+                           "' is given by current patterns, which have no CSV form");
   std::ostringstream out;
   out << "drive+,drive-,meas+,meas-\n";
   for (const Channel& c : channels_)

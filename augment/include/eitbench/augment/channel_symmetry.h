@@ -24,7 +24,8 @@ struct SignedPermutation {
 // The action of g on a frame of `protocol`'s inputs: the frame of the touch g moves, as
 // FrameSymmetry::apply (v'(c) = v(P(c)) with P the electrode map that undoes g's). Throws
 // InputError("protocol", "channel N") naming the first input channel whose image the protocol
-// lacks: such a protocol is not mapped onto itself by g, and g cannot augment it.
+// lacks: such a protocol is not mapped onto itself by g, and g cannot augment it; and
+// InputError("protocol", "patterns") for a protocol of current patterns (no channels to permute).
 // With `over_channels`, the action on whole frames (every channel, in protocol order) instead.
 SignedPermutation channel_action(const MeasurementProtocol& protocol, const GroupElement& g,
                                  bool over_channels = false);

@@ -61,7 +61,9 @@ class ForwardModel {
   // The signed voltages of `channels`.
   Eigen::VectorXd voltages(const ForwardSolution& solution,
                            const std::vector<Channel>& channels) const;
-  // What a board on measurement_protocol() reports: every channel, |v| for a magnitude protocol.
+  // What a board on measurement_protocol() reports: every channel, |v| for a magnitude protocol;
+  // for current patterns every difference under every pattern, pattern-major (the patterns'
+  // currents in the unit of ForwardOptions::current, which then only sets the drives solved).
   Eigen::VectorXd measured(const ForwardSolution& solution) const;
   Eigen::VectorXd measured(const Eigen::VectorXd& sigma) const;  // reads electrode rows only
   // The protocol's inputs (the values reconstructors take), |v| for a magnitude protocol.
@@ -97,8 +99,8 @@ class ForwardModel {
   Eigen::MatrixXd measured_jacobian(const ForwardSolution& solution,
                                     const std::vector<Channel>& channels,
                                     const std::vector<int>& elements = {}) const;
-  // The inputs' rows (measured_jacobian of the protocol's input channels), of every triangle or
-  // of `elements` only.
+  // The inputs' rows (measured_jacobian of the protocol's input channels, or every value of a
+  // protocol of current patterns), of every triangle or of `elements` only.
   Eigen::MatrixXd input_jacobian(const ForwardSolution& solution,
                                  const std::vector<int>& elements = {}) const;
 

@@ -1,14 +1,17 @@
 #pragma once
 // A measurement protocol as data: the list of channels a board reads, each a current drive and a
-// voltage measurement between two pairs of electrodes (docs/protocols.md). Protocol (protocol.h)
-// is the adjacent one's index arithmetic; this is any protocol, the adjacent one included, and what
-// the forward model, the Jacobian, the augmentation, data sets and model files follow.
+// voltage measurement between two pairs of electrodes (docs/protocols.md), or current patterns
+// (current_patterns.h: any currents through any electrodes, as KTC2023 drives its tank). Protocol
+// (protocol.h) is the adjacent one's index arithmetic; this is any protocol, the adjacent one
+// included, and what the forward model, the Jacobian, the augmentation, data sets and model files
+// follow.
 #include <Eigen/Core>
 #include <array>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "eitbench/jacobian/current_patterns.h"
 #include "eitbench/jacobian/protocol.h"
 
 namespace eitbench {
@@ -30,14 +33,23 @@ class MeasurementProtocol {
   // reports, data sets and model files print: adjacent, opposite, skip-K or the CSV's file name.
   MeasurementProtocol(std::string name, int electrodes, std::vector<Channel> channels,
                       const std::string& source = "protocol");
+  // A protocol of current patterns (patterns.validate(source) first): patterns.size() values,
+  // every one an input; no channels, not reciprocal, never magnitudes.
+  MeasurementProtocol(std::string name, CurrentPatterns patterns,
+                      const std::string& source = "protocol");
 
   const std::string& name() const { return name_; }
   int electrodes() const { return electrodes_; }
-  int size() const { return static_cast<int>(channels_.size()); }
+  int size() const;
+  // The four-electrode channels; empty for a protocol of current patterns.
   const std::vector<Channel>& channels() const { return channels_; }
+  // Whether the protocol is given by current patterns, and those patterns (std::logic_error for a
+  // protocol of channels).
+  bool has_patterns() const { return !patterns_.empty(); }
+  const CurrentPatterns& patterns() const;
 
   // Boards such as OpenEIT report |v|: frames are magnitudes, and the model's frames and
-  // Jacobian are those of |v| (ForwardModel). False by default.
+  // Jacobian are those of |v| (ForwardModel). False by default; InputError for current patterns.
   bool magnitude() const { return magnitude_; }
   MeasurementProtocol with_magnitude(bool magnitude) const;
 
@@ -58,15 +70,18 @@ class MeasurementProtocol {
   // -1 when the protocol has none.
   int find(const Channel& c, int* sign = nullptr) const;
 
-  // Same channels in the same order, same magnitude flag (the name is a label).
+  // Same channels (or current patterns) in the same order, same magnitude flag (the name is a
+  // label).
   bool same_channels(const MeasurementProtocol& o) const;
   // The CSV form (header, then drive+,drive-,meas+,meas- a line) that read_protocol_csv reads.
+  // Channels only: std::logic_error for current patterns, which have no such form.
   std::string csv() const;
 
  private:
   std::string name_;
   int electrodes_;
   std::vector<Channel> channels_;
+  std::vector<CurrentPatterns> patterns_;  // one, or none for a protocol of channels
   bool magnitude_ = false;
   bool reciprocal_ = false;
   std::vector<int> inputs_;
