@@ -22,7 +22,7 @@ State forward(const LinearProblem& p, Eigen::VectorXd x) {
   State s;
   const Eigen::VectorXd sigma_pix = p.background * (1.0 + x.array()).matrix();
   s.solution = p.model->solve(p.element_from_pixels * sigma_pix);
-  s.v = p.model->inputs(s.solution);
+  s.v = p.model_inputs(s.solution);
   s.x = std::move(x);
   return s;
 }
@@ -30,7 +30,7 @@ State forward(const LinearProblem& p, Eigen::VectorXd x) {
 // The Jacobian at a state, from the fields its forward solve already holds (the line search
 // solved the accepted step; solving it again only to linearise would double that cost).
 void linearise(const LinearProblem& p, State& s) {
-  s.J = (p.model->input_jacobian(s.solution) * p.element_from_pixels) * p.background;
+  s.J = (p.model_jacobian(s.solution) * p.element_from_pixels) * p.background;
 }
 
 // One frame's objective: data misfit plus the weighted prior, over the box on x.
@@ -197,6 +197,11 @@ void GaussNewton::fit(const SampleMatrix& frames, const SampleMatrix& labels,
   const double best = best_by_score(
       options_.candidates, [&](double l) { lambda_ = l; }, frames, labels, score, 20);
   set_lambda(best, "validation");
+}
+
+bool GaussNewton::set_regularisation(double relative, const std::string& how) {
+  set_lambda(relative, how);
+  return true;
 }
 
 }  // namespace eitbench

@@ -118,4 +118,9 @@ SampleMatrix Greit::reconstruct_all(const SampleMatrix& frames) const {
   return problem_->to_images((frames.cast<float>() * R_.transpose()).cast<double>());
 }
 
+bool Greit::set_regularisation(double relative, const std::string& how) {
+  set_lambda(relative, how);
+  return true;
+}
+
 }  // namespace eitbench

@@ -30,6 +30,35 @@ SampleMatrix LinearProblem::to_images(const Eigen::MatrixXd& rows) const {
   return images;
 }
 
+Eigen::VectorXd LinearProblem::data_of(const Eigen::VectorXd& inputs) const {
+  const int all = model ? model->measurement_protocol().input_size() : measurements();
+  if (inputs.size() != all)
+    throw InputError("frame", "",
+                     "has " + std::to_string(inputs.size()) + " values; the protocol has " +
+                         std::to_string(all) + " inputs");
+  if (rows.empty()) return weights.size() ? Eigen::VectorXd(inputs.cwiseProduct(weights)) : inputs;
+  Eigen::VectorXd out(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t i = 0; i < rows.size(); ++i) out[static_cast<Eigen::Index>(i)] = inputs[rows[i]];
+  return weights.size() ? Eigen::VectorXd(out.cwiseProduct(weights)) : out;
+}
+
+Eigen::VectorXd LinearProblem::model_inputs(const ForwardSolution& solution) const {
+  return data_of(model->inputs(solution));
+}
+
+Eigen::MatrixXd LinearProblem::model_jacobian(const ForwardSolution& solution,
+                                              const std::vector<int>& elements) const {
+  Eigen::MatrixXd J = model->input_jacobian(solution, elements);
+  if (!rows.empty()) {
+    Eigen::MatrixXd picked(static_cast<Eigen::Index>(rows.size()), J.cols());
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      picked.row(static_cast<Eigen::Index>(i)) = J.row(rows[i]);
+    J = std::move(picked);
+  }
+  if (weights.size()) J = weights.asDiagonal() * J;
+  return J;
+}
+
 void LinearProblem::check_frame_size(Eigen::Index values) const {
   if (values != measurements())
     throw InputError("frame", "",
@@ -110,6 +139,35 @@ LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, dou
   const Eigen::MatrixXd J = model->input_jacobian(
       model->solve(Eigen::VectorXd::Constant(mesh.num_triangles(), background)));
   p.A = -background * (J * p.element_from_pixels);
+  return p;
+}
+
+LinearProblem restrict_problem(const LinearProblem& full, std::vector<int> rows,
+                               Eigen::VectorXd weights) {
+  if (!full.rows.empty() || full.weights.size())
+    throw std::invalid_argument("restrict_problem: the problem is already restricted");
+  if (weights.size() && weights.size() != static_cast<Eigen::Index>(rows.size()))
+    throw std::invalid_argument("restrict_problem: one weight a row");
+  if (weights.size() && (!weights.allFinite() || !(weights.minCoeff() > 0)))
+    throw std::invalid_argument("restrict_problem: weights must be positive and finite");
+  std::vector<bool> seen(static_cast<std::size_t>(full.measurements()), false);
+  for (int r : rows) {
+    if (r < 0 || r >= full.measurements() || seen[static_cast<std::size_t>(r)])
+      throw std::invalid_argument("restrict_problem: a row out of range or repeated");
+    seen[static_cast<std::size_t>(r)] = true;
+  }
+  LinearProblem p;
+  p.pixels = full.pixels;
+  p.grid = full.grid;
+  p.background = full.background;
+  p.model = full.model;
+  p.element_from_pixels = full.element_from_pixels;
+  p.A.resize(static_cast<Eigen::Index>(rows.size()), full.A.cols());
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    p.A.row(static_cast<Eigen::Index>(i)) = full.A.row(rows[i]);
+  if (weights.size()) p.A = weights.asDiagonal() * p.A;
+  p.rows = std::move(rows);
+  p.weights = std::move(weights);
   return p;
 }
 

@@ -47,6 +47,10 @@ void check_fixed_or_validation(const char* options, Criterion choice,
 
 void Reconstructor::fit(const SampleMatrix&, const SampleMatrix&, const ScoreFn&) {}
 
+bool Reconstructor::set_regularisation(double, const std::string&) {
+  return false;
+}
+
 SampleMatrix Reconstructor::reconstruct_all(const SampleMatrix& frames) const {
   if (frames.rows() == 0) return {};
   // Frames are independent: in parallel, with results identical for any thread count.

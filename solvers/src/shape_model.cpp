@@ -32,8 +32,8 @@ ShapeModel::ShapeModel(const LinearProblem& problem, double width)
   width_ = width > 0 ? width : 0.5 * mean_size;
   const auto background = Eigen::VectorXd::Constant(mesh.num_triangles(), problem.background);
   const ForwardSolution s0 = problem.model->solve(background);
-  J0_ = problem.model->input_jacobian(s0);
-  v0_ = problem.model->inputs(s0);
+  J0_ = problem.model_jacobian(s0);
+  v0_ = problem.model_inputs(s0);
 }
 
 Eigen::VectorXd ShapeModel::relative_sigma(const std::vector<const double*>& circles) const {
@@ -178,10 +178,10 @@ Eigen::VectorXd ShapeModel::difference(const std::vector<const double*>& circles
     // zero rows of ds/dp (below 1.3e-5 of them), and computing them and their product took two
     // fifths of a full fit.
     const std::vector<int> reached = reached_elements(circles);
-    *jacobian = sigma0 * (model.input_jacobian(solution, reached) *
+    *jacobian = sigma0 * (problem_.model_jacobian(solution, reached) *
                           relative_sigma_jacobian(circles, reached));
   }
-  return model.inputs(solution) - v0_;
+  return problem_.model_inputs(solution) - v0_;
 }
 
 }  // namespace eitbench::detail

@@ -11,6 +11,10 @@
 namespace eitbench {
 namespace {
 
+// n m^2 floating-point operations: below this the reconstruction matrix is formed for each lambda
+// (set_lambda), above it the factors are applied to each frame (factored_ in the header).
+constexpr double kFormLimit = 2e9;
+
 // The 4-neighbour graph Laplacian of the in-disk pixels.
 Eigen::SparseMatrix<double> pixel_laplacian(const LinearProblem& p) {
   const int n = p.grid.size();
@@ -110,11 +114,12 @@ Tikhonov::Tikhonov(std::shared_ptr<const LinearProblem> shared, const TikhonovOp
   g_ = eig.eigenvalues().cwiseMax(0.0);
   U_ = eig.eigenvectors();
   C_ = B * U_;
+  factored_ = static_cast<double>(C_.rows()) * C_.cols() * C_.cols() > kFormLimit;
   const double scale = g_.sum() / static_cast<double>(g_.size());
   for (int k = 0; k < options.grid; ++k)
     grid_.push_back(scale * std::pow(10.0, -8.0 + 10.0 * k / std::max(1, options.grid - 1)));
   if (options.choice == Criterion::fixed) {
-    set_lambda(*options.lambda, "fixed");
+    set_lambda(options.relative ? *options.lambda * scale : *options.lambda, "fixed");
   } else {
     set_lambda(grid_[grid_.size() / 2], "default");  // until a choice is made
   }
@@ -142,6 +147,8 @@ void Tikhonov::set_lambda(double lambda, const std::string& how) {
   lambda_ = lambda;
   how_ = how;
   const Eigen::VectorXd f = (g_.array() + lambda).inverse();
+  f_ = f;
+  if (factored_) return;
   if (options_.single_precision)
     M_ = (C_ * f.asDiagonal() * U_.transpose()).cast<float>();
   else
@@ -253,6 +260,7 @@ double Tikhonov::choose_validation(const SampleMatrix& frames, const SampleMatri
 
 Eigen::VectorXd Tikhonov::reconstruct(const Eigen::VectorXd& frame) const {
   problem_->check_frame_size(frame.size());
+  if (factored_) return problem_->to_image(C_ * f_.cwiseProduct(U_.transpose() * frame));
   if (!options_.single_precision) return problem_->to_image(Md_ * frame);
   const Eigen::VectorXf x = M_ * frame.cast<float>();
   return problem_->to_image(x.cast<double>());
@@ -260,8 +268,14 @@ Eigen::VectorXd Tikhonov::reconstruct(const Eigen::VectorXd& frame) const {
 
 SampleMatrix Tikhonov::reconstruct_all(const SampleMatrix& frames) const {
   problem_->check_frame_size(frames.cols());
+  if (factored_) return problem_->to_images(((frames * U_) * f_.asDiagonal()) * C_.transpose());
   if (!options_.single_precision) return problem_->to_images(frames * Md_.transpose());
   return problem_->to_images((frames.cast<float>() * M_.transpose()).cast<double>());
+}
+
+bool Tikhonov::set_regularisation(double relative, const std::string& how) {
+  set_lambda(relative * scale(), how);
+  return true;
 }
 
 }  // namespace eitbench

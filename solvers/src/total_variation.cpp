@@ -205,4 +205,9 @@ void TotalVariation::fit(const SampleMatrix& frames, const SampleMatrix& labels,
   set_alpha(best, "validation");
 }
 
+bool TotalVariation::set_regularisation(double relative, const std::string& how) {
+  set_alpha(relative, how);
+  return true;
+}
+
 }  // namespace eitbench

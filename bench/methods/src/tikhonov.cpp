@@ -19,6 +19,7 @@ MethodSpec tikhonov_with(const std::string& prior) {
     t.prior = parse_prior(prior);
     t.choice = parse_criterion(o.choose);
     if (t.choice == Criterion::fixed) t.lambda = o.lambda;
+    t.relative = o.relative_lambda;
     t.neighbours = parse_neighbours(o.neighbours);
     return std::unique_ptr<Reconstructor>(std::make_unique<Tikhonov>(std::move(problem), t));
   };

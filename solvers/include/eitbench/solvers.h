@@ -5,6 +5,7 @@
 #include "eitbench/solvers/gauss_newton.h"
 #include "eitbench/solvers/greit.h"
 #include "eitbench/solvers/linear_problem.h"
+#include "eitbench/solvers/missing_values.h"
 #include "eitbench/solvers/press_frame.h"
 #include "eitbench/solvers/press_sensor.h"  // with Ceres
 #include "eitbench/solvers/reconstructor.h"

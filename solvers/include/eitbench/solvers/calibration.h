@@ -39,4 +39,13 @@ Calibration calibrate(const Mesh& mesh, const ForwardOptions& forward, double ba
                       const CalibrationOptions& options = {},
                       const std::string& source = "reference");
 
+// The same fit to every value the protocol reads (ForwardModel::measured on forward.protocol; the
+// adjacent one when null): for any protocol, current patterns included, whose values on driven
+// electrodes pin the contact impedances down. NaN values are missing and left out. InputError
+// naming `source` for a frame of another length or with no finite value.
+Calibration calibrate_measured(const Mesh& mesh, const ForwardOptions& forward, double background,
+                               const Eigen::VectorXd& reference,
+                               const CalibrationOptions& options = {},
+                               const std::string& source = "reference");
+
 }  // namespace eitbench

@@ -68,6 +68,7 @@ class GaussNewton : public Reconstructor {
   Eigen::VectorXd solve(const Eigen::VectorXd& frame, Report* report) const;
   double lambda() const { return lambda_; }
   void set_lambda(double relative, const std::string& how);
+  bool set_regularisation(double relative, const std::string& how) override;
 
  private:
   std::shared_ptr<const LinearProblem> problem_;  // never null

@@ -45,6 +45,7 @@ class Greit : public Reconstructor {
   Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const override;
   SampleMatrix reconstruct_all(const SampleMatrix& frames) const override;
   void set_lambda(double relative, const std::string& how);
+  bool set_regularisation(double relative, const std::string& how) override;
 
  private:
   std::shared_ptr<const LinearProblem> problem_;  // never null

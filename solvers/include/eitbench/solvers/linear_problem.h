@@ -25,6 +25,22 @@ struct LinearProblem {
   Eigen::SparseMatrix<double, Eigen::RowMajor>
       element_from_pixels;  // triangles x n (in-disk columns)
 
+  // The data term (docs/reconstructors.md#missing-values): A's rows are the protocol's inputs
+  // `rows`, in that order (every input when empty), each weighted by `weights` (one over its
+  // noise's standard deviation; every weight 1 when empty). Frames given to a reconstructor are
+  // already so selected and weighted (data_of); MissingValues (missing_values.h) makes them.
+  std::vector<int> rows;
+  Eigen::VectorXd weights;
+
+  // The protocol's inputs of a frame, selected and weighted as A's rows (InputError when the
+  // frame does not have the protocol's inputs).
+  Eigen::VectorXd data_of(const Eigen::VectorXd& inputs) const;
+  // What the iterative methods re-linearise with: the model's inputs of a forward solution, and
+  // their Jacobian on the elements (or on `elements` only), selected and weighted as A's rows.
+  Eigen::VectorXd model_inputs(const ForwardSolution& solution) const;
+  Eigen::MatrixXd model_jacobian(const ForwardSolution& solution,
+                                 const std::vector<int>& elements = {}) const;
+
   int measurements() const { return static_cast<int>(A.rows()); }
   int unknowns() const { return static_cast<int>(A.cols()); }
   // An n-vector of pixel values as an image of grid.num_pixels() values (masked pixels 0), and
@@ -41,8 +57,14 @@ struct LinearProblem {
 std::shared_ptr<const LinearProblem> require_problem(std::shared_ptr<const LinearProblem> problem,
                                                      const char* who);
 
-// Builds A for a mesh, a background conductivity and a pixel grid.
+// Builds A for a mesh, a background conductivity and a pixel grid: every input, weight 1.
 LinearProblem make_linear_problem(std::shared_ptr<const ForwardModel> model, double background,
                                   const PixelGrid& grid);
+
+// `full` (every input, weight 1) on the inputs `rows` only, each weighted by `weights` (one per
+// row, positive and finite; empty: 1): A's rows picked and scaled, nothing recomputed.
+// std::invalid_argument for a row out of range, a repeated row or a bad weight.
+LinearProblem restrict_problem(const LinearProblem& full, std::vector<int> rows,
+                               Eigen::VectorXd weights = {});
 
 }  // namespace eitbench

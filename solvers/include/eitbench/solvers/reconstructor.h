@@ -45,6 +45,13 @@ class Reconstructor {
   // Chooses hyperparameters on labelled frames (one a row) by `score`. Does nothing by default.
   virtual void fit(const SampleMatrix& frames, const SampleMatrix& labels, const ScoreFn& score);
 
+  // Sets the method's regularisation weight on its own relative scale (the value its options'
+  // fixed choice takes: Tikhonov's lambda in units of its scale(), TV's alpha, Gauss-Newton's and
+  // GREIT's lambda), keeping what the method precomputed, so that a sweep over it costs only the
+  // reconstructions; `how` is what settings() reports. False, nothing changed, for a method
+  // without one (the default).
+  virtual bool set_regularisation(double relative, const std::string& how);
+
   virtual Eigen::VectorXd reconstruct(const Eigen::VectorXd& frame) const = 0;
   // Many frames at once: in parallel over frames by default (reconstruct() must be thread-safe,
   // as every const method here is); linear methods use one matrix product.

@@ -74,6 +74,7 @@ class TotalVariation : public Reconstructor {
   Eigen::VectorXd solve(const Eigen::VectorXd& frame, Report* report) const;
   double alpha() const { return alpha_; }
   void set_alpha(double alpha, const std::string& how);
+  bool set_regularisation(double relative, const std::string& how) override;  // alpha
 
   // The objective above for an image (label scale) and a frame.
   double objective(const Eigen::VectorXd& image, const Eigen::VectorXd& frame) const;

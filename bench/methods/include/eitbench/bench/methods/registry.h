@@ -18,7 +18,10 @@ struct MethodOptions {
   // fixed | validation | gcv | lcurve, or empty for the method's default_choice. A method refuses
   // a criterion it cannot use (InputError naming its options' "choice").
   std::string choose;
-  double lambda = 0;                  // with choose == fixed; 0: the method's default value
+  double lambda = 0;  // with choose == fixed; 0: the method's default value
+  // The Tikhonov family's fixed lambda as a multiple of its scale (TikhonovOptions::relative);
+  // the other methods' lambdas are relative already.
+  bool relative_lambda = false;
   bool absolute = false;              // gn: absolute frames instead of differences
   std::string neighbours = "pixels";  // laplace: pixels | elements
   double tolerance = 0;               // tv, gn: stopping tolerance (0: the method's default)
