@@ -5,7 +5,7 @@ include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set(eitbench_libraries eitbench_jacobian eitbench_augment eitbench_solvers eitbench_learned)
-foreach(part support io data report methods run)
+foreach(part support io data report methods run ktc)
   list(APPEND eitbench_libraries eitbench_bench_${part})
 endforeach()
 # The wrappers of the dependencies without a CMake package of their own travel with them.
@@ -25,7 +25,7 @@ install(TARGETS eitbench RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 foreach(dir jacobian augment solvers learned)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()
-foreach(part support io data report methods run)
+foreach(part support io data report methods run ktc)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/bench/${part}/include/
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()

@@ -21,6 +21,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   slurm-wlm              # the tests' single-node cluster: a run as an sbatch array (scaling.md)
   pybind11-dev python3-dev python3-numpy python3-pytest   # the Python package (python/)
+  python3-scipy          # its tests: KTC2023's own scoring function on eitbench's files
 )
 
 missing=()

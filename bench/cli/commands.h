@@ -20,6 +20,7 @@ std::function<void()> add_compare_command(CLI::App& app);
 std::function<void()> add_calibrate_command(CLI::App& app);
 std::function<void()> add_history_command(CLI::App& app);
 std::function<void()> add_merge_command(CLI::App& app);
+std::function<void()> add_ktc_command(CLI::App& app);
 
 // Thrown by compare when it found a regression: exit status 1, the table already printed.
 struct RegressionFound {};

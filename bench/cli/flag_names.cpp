@@ -84,7 +84,20 @@ const std::map<std::string, Table>& tables() {
                                   {"PressFrameOptions", "touch_radius", "--touch-radius"},
                                   {"PressSensorOptions", "huber", "--huber"}}},
       {"train", kBudget + kTraining},
-      {"run", kBudget},
+      {"run", kBudget + Table{{"KtcTankOptions", "electrode_coverage", "--electrode-coverage"},
+                              {"MeshDensity", "name", "--density"},
+                              {"KtcNoise", "relative", "--noise-relative"},
+                              {"KtcNoise", "floor", "--noise-floor"},
+                              {"KtcSetup", "grid", "--pixels"}}},
+      {"ktc",
+       {{"KtcTankOptions", "electrode_coverage", "--electrode-coverage"},
+        {"MeshDensity", "name", "--density"},
+        {"KtcNoise", "relative", "--noise-relative"},
+        {"KtcNoise", "floor", "--noise-floor"},
+        {"KtcSetup", "grid", "--pixels"},
+        {"SegmentationKind", "name", "--segmentation"},
+        {"SegmentationRule", "resistive", "--resistive"},
+        {"SegmentationRule", "conductive", "--conductive"}}},
   };
   return by_command;
 }

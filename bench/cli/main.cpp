@@ -42,7 +42,8 @@ int main(int argc, char** argv) {
                    eitbench::cli::add_train_command, eitbench::cli::add_reconstruct_command,
                    eitbench::cli::add_run_command, eitbench::cli::add_report_command,
                    eitbench::cli::add_compare_command, eitbench::cli::add_calibrate_command,
-                   eitbench::cli::add_history_command, eitbench::cli::add_merge_command}) {
+                   eitbench::cli::add_history_command, eitbench::cli::add_merge_command,
+                   eitbench::cli::add_ktc_command}) {
     auto action = add(app);
     actions[app.get_subcommands({}).back()] = action;
   }

@@ -2,6 +2,7 @@
 // augmentation, all scored at every SNR, the data-efficiency sweep, and the report.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +11,8 @@
 #include <stdexcept>
 
 #include "commands.h"
+#include "eitbench/bench/io/folder_lock.h"
+#include "eitbench/bench/ktc/ktc_report.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/report/report.h"
@@ -151,6 +154,87 @@ void run_by_rank(RunConfig c, World w) {
   run_and_report(c);
 }
 
+// KTC2023 (--ktc): every model-based method on the challenge's training samples and levels.
+struct KtcArgs {
+  std::string folder, density = "medium";
+  std::vector<int> levels;
+  int pixels = 64;
+  double coverage = KtcTankOptions().electrode_coverage;
+  KtcNoise noise;
+};
+
+void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
+  const char* group = "KTC2023 (--ktc)";
+  cmd.add_option("--ktc", k.folder,
+                 "rank the model-based methods on KTC2023's training samples instead: a folder of "
+                 "ref.mat, dataN.mat and trueN.mat (docs/ktc.md)")
+      ->group(group);
+  cmd.add_option("--levels", k.levels, "with --ktc: the difficulty levels (default 1 ... 7)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 7))
+      ->group(group);
+  cmd.add_option("--electrode-coverage", k.coverage, "with --ktc: the rim's share under electrodes")
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--density", k.density, "with --ktc: the tank's mesh, coarse | medium | fine")
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--pixels", k.pixels, "with --ktc: the reconstructions' grid, pixels a side")
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--noise-relative", k.noise.relative,
+                 "with --ktc: the data term's noise, this share of each reference value ...")
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--noise-floor", k.noise.floor, "... and this share of the largest")
+      ->capture_default_str()
+      ->group(group);
+}
+
+void run_ktc_benchmark(const KtcArgs& k, const std::vector<std::string>& methods,
+                       const std::string& out, bool quiet, const CLI::App& cmd) {
+  for (const char* other : {"--data", "--reference", "--measured", "--mesh", "--preset", "--sensor",
+                            "--augment", "--shard", "--protocol", "--magnitude"})
+    if (cmd.count(other) > 0)
+      throw InputError("--ktc", "",
+                       std::string("ranks the model-based methods on KTC's data: "
+                                   "leave out ") +
+                           other);
+  KtcRunOptions o;
+  o.data = k.folder;
+  o.out = out.empty() ? "out/ktc" : out;
+  if (!methods.empty()) o.methods = methods;
+  if (!k.levels.empty()) o.levels = k.levels;
+  o.tank.electrode_coverage = k.coverage;
+  o.tank.density = parse_density(k.density);
+  o.noise = k.noise;
+  o.grid = k.pixels;
+  o.quiet = quiet;
+  for (const std::string& m : o.methods)
+    if (std::find(ktc_method_names().begin(), ktc_method_names().end(), m) ==
+        ktc_method_names().end())
+      throw InputError("--methods", "", "'" + m + "' is not a method the KTC run ranks");
+  o.validate();
+  std::filesystem::create_directories(o.out);
+  const FolderLock lock(o.out);
+  if (!quiet) fmt::print("{} run --ktc {}: output in {}/\n", program_version(), o.data, o.out);
+  const auto t0 = std::chrono::steady_clock::now();
+  const KtcRunResults results = run_ktc(o);
+  write_ktc_run(results);
+  if (quiet) return;
+  fmt::print("\n| method | total of 21, held out | Otsu only | setting | ms a frame |\n");
+  for (const auto& m : results.methods) {
+    double held = 0, otsu = 0;
+    for (std::size_t l = 0; l < m.held_out.size(); ++l)
+      for (std::size_t s = 0; s < m.held_out[l].size(); ++s)
+        held += 3.0 * m.held_out[l][s] / static_cast<double>(m.held_out[l].size()),
+            otsu += 3.0 * m.held_out_otsu[l][s] / static_cast<double>(m.held_out[l].size());
+    fmt::print("| {} | {:.2f} | {:.2f} | lambda {:.3g}, {} | {:.1f} |\n", m.method, held, otsu,
+               m.best.lambda, m.best.rule.to_string(), m.median_ms);
+  }
+  fmt::print("\nwrote {}/report.md and results.json in {:.0f} s\n", o.out, seconds_since(t0));
+}
+
 }  // namespace
 
 std::function<void()> add_run_command(CLI::App& app) {
@@ -254,9 +338,16 @@ std::function<void()> add_run_command(CLI::App& app) {
   add_protocol_options(*cmd, args->protocol);
   add_variation_options(*cmd, args->variation);
   add_shard_option(*cmd, args->shard_index, args->shard_count);
+  auto ktc = std::make_shared<KtcArgs>();
+  add_ktc_options(*cmd, *ktc);
   // What `eitbench merge RUN` runs: the shards' own flags with this one (no help: merge's job).
   cmd->add_flag("--merge-shards", args->merge_shards)->group("");
-  return [args, cmd] {
+  return [args, cmd, ktc] {
+    if (!ktc->folder.empty())
+      return run_ktc_benchmark(*ktc, args->methods, args->out, args->quiet, *cmd);
+    for (const char* flag : {"--levels", "--electrode-coverage", "--density", "--pixels",
+                             "--noise-relative", "--noise-floor"})
+      if (cmd->count(flag) > 0) throw InputError(flag, "", "goes with --ktc");
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;
     c.reference = args->reference;

@@ -4,7 +4,10 @@
 #include <H5Cpp.h>
 #include <fmt/core.h>
 
+#include <cctype>
+#include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "eitbench/bench/io/child_read.h"
 #include "eitbench/bench/io/matlab.h"
@@ -237,6 +240,70 @@ std::vector<NamedArray> read_mat_v5(const std::string& b, const std::string& sou
   read_elements(b, 128, source, out, budget, false);
   if (out.empty()) throw InputError(source, "variables", "the file holds no variables");
   return out;
+}
+
+namespace {
+
+void append_u32(std::string& b, std::uint32_t v) {
+  b.append(reinterpret_cast<const char*>(&v), 4);  // little-endian ("IM")
+}
+
+// A data element: its tag, its bytes, padding to 8 bytes.
+void append_element(std::string& b, std::uint32_t type, const std::string& data) {
+  append_u32(b, type);
+  append_u32(b, static_cast<std::uint32_t>(data.size()));
+  b += data;
+  b.append((8 - data.size() % 8) % 8, '\0');
+}
+
+bool matlab_name(const std::string& n) {
+  if (n.empty() || n.size() > 63 || !std::isalpha(static_cast<unsigned char>(n[0]))) return false;
+  for (char c : n)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') return false;
+  return true;
+}
+
+}  // namespace
+
+std::string mat_v5_bytes(const std::vector<MatMatrix>& matrices) {
+  std::string b = "MATLAB 5.0 MAT-file, written by eitbench";
+  b.resize(116, ' ');
+  b.append(8, '\0');  // no subsystem data
+  b += std::string("\x00\x01", 2) + "IM";
+  for (const MatMatrix& m : matrices) {
+    if (!matlab_name(m.name))
+      throw std::invalid_argument("mat_v5_bytes: bad name '" + m.name + "'");
+    if (m.values.size() != m.rows * m.cols)
+      throw std::invalid_argument("mat_v5_bytes: " + m.name + " has the wrong number of values");
+    if (m.rows > 0x7fffffff || m.cols > 0x7fffffff || m.values.size() > 0x0fffffff)
+      throw std::invalid_argument("mat_v5_bytes: " + m.name + " is too large");
+    std::string matrix, word;
+    append_u32(word, m.uint8 ? 9 : 6);  // mxUINT8_CLASS or mxDOUBLE_CLASS, no flags
+    append_u32(word, 0);
+    append_element(matrix, miUINT32, word);
+    word.clear();
+    append_u32(word, static_cast<std::uint32_t>(m.rows));
+    append_u32(word, static_cast<std::uint32_t>(m.cols));
+    append_element(matrix, miINT32, word);
+    append_element(matrix, miINT8, m.name);
+    std::string data(m.values.size() * (m.uint8 ? 1 : 8), '\0');
+    for (std::size_t i = 0; i < m.rows; ++i)
+      for (std::size_t j = 0; j < m.cols; ++j) {
+        const double v = m.values[i * m.cols + j];
+        const std::size_t at = j * m.rows + i;  // MATLAB stores column-major
+        if (!m.uint8) {
+          std::memcpy(&data[8 * at], &v, 8);
+          continue;
+        }
+        if (!(v >= 0 && v <= 255 && v == std::floor(v)))
+          throw std::invalid_argument("mat_v5_bytes: " + m.name +
+                                      " holds a value that is no uint8");
+        data[at] = static_cast<char>(static_cast<std::uint8_t>(v));
+      }
+    append_element(matrix, m.uint8 ? miUINT8 : miDOUBLE, data);
+    append_element(b, miMATRIX, matrix);
+  }
+  return b;
 }
 
 namespace {

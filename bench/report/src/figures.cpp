@@ -268,7 +268,9 @@ void draw_image_grid_png(const std::vector<ImageRow>& rows,
       const Eigen::VectorXd& image = rows[r].images[c];
       const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(image.size()))));
       if (n * n != image.size() || n == 0) continue;
-      const double lo = std::min(0.0, image.minCoeff()), hi = image.maxCoeff();
+      const bool fixed = rows[r].low < rows[r].high;
+      const double lo = fixed ? rows[r].low : std::min(0.0, image.minCoeff());
+      const double hi = fixed ? rows[r].high : image.maxCoeff();
       const double span = hi > lo ? hi - lo : 1.0;
       cv::Mat grey(n, n, CV_8U), colour, big;
       for (int i = 0; i < n; ++i)

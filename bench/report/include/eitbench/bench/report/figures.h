@@ -62,6 +62,9 @@ void draw_plot_png(const LinePlot& plot, const std::string& path, int width = 90
 struct ImageRow {
   std::string label;
   std::vector<Eigen::VectorXd> images;  // n^2 values each
+  // When low < high, every image of the row on that one scale (classes 0 ... 2, a signed range)
+  // instead of its own.
+  double low = 0, high = 0;
 };
 void draw_image_grid_png(const std::vector<ImageRow>& rows,
                          const Eigen::Array<bool, Eigen::Dynamic, 1>& mask,

@@ -1,0 +1,183 @@
+// eitbench ktc: KTC2023's calling convention. Reads every dataN.mat and ref.mat of a folder and
+// writes N.mat holding `reconstruction` (256 x 256 uint8: 0 water, 1 resistive, 2 conductive) for
+// each, as a submission to the challenge did; scores each against trueN.mat where the folder has
+// one.
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "commands.h"
+#include "eitbench/bench/io/content_hash.h"
+#include "eitbench/bench/ktc/ktc_method.h"
+#include "eitbench/bench/ktc/ktc_report.h"
+#include "eitbench/bench/support/timing.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench::cli {
+namespace {
+
+struct Args {
+  std::string input, output, method = "noser", from, segmentation, density = "medium";
+  int level = 1, pixels = 64;
+  double lambda = 0, resistive = 0, conductive = 0, coverage = KtcTankOptions().electrode_coverage;
+  KtcNoise noise;
+  bool quiet = false;
+};
+
+// OUTPUT may not be INPUT (nor a file): KTC's folders hold the inputs.
+void check_folders(const Args& a) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(a.output, ec) && !fs::is_directory(a.output, ec))
+    throw InputError(a.output, "", "OUTPUT_FOLDER is a file, not a folder");
+  if (fs::exists(a.output, ec) && fs::equivalent(a.input, a.output, ec))
+    throw InputError(a.output, "",
+                     "OUTPUT_FOLDER is INPUT_FOLDER: the reconstructions would go among the "
+                     "measurements; choose another folder");
+}
+
+// The run's tank where it calibrated this very ref.mat, else a fresh calibration.
+KtcTank tank_for(const KtcMeasurement& reference, const std::string& ref_path,
+                 const std::optional<KtcRunSettings>& run, const KtcTankOptions& options,
+                 bool quiet) {
+  if (run && run->reference_hash == file_hash(ref_path)) {
+    if (!quiet) fmt::print(stderr, "the tank as {} calibrated it\n", run->path);
+    return ktc_tank_at(reference, run->tank, run->background, run->contact_impedances);
+  }
+  if (!quiet)
+    fmt::print(stderr, "calibrating the tank to {}{} ...\n", ref_path,
+               run ? " (not the reference the run calibrated to)" : "");
+  return calibrate_ktc_tank(reference, run ? run->tank : options);
+}
+
+void run(const Args& a, const CLI::App& cmd) {
+  ktc_removed_electrodes(a.level);  // 1 ... 7, before anything is read
+  ktc_candidates(a.method);         // a method KTC's frames can be reconstructed by
+  check_folders(a);
+  std::optional<KtcRunSettings> settings;
+  if (!a.from.empty()) settings = read_ktc_settings(a.from);
+  KtcTankOptions tank_options;
+  tank_options.electrode_coverage = a.coverage;
+  tank_options.density = parse_density(a.density);
+  KtcNoise noise = a.noise;
+  int pixels = a.pixels;
+  const KtcSetting preset = ktc_default_setting(a.method);
+  double lambda = a.lambda > 0 ? a.lambda : preset.lambda;
+  SegmentationRule rule = preset.rule;
+  if (settings) {
+    const auto it = settings->methods.find(a.method);
+    if (it == settings->methods.end())
+      throw InputError("--from", "", settings->path + " has no setting of " + a.method);
+    if (cmd.count("--noise-relative") + cmd.count("--noise-floor") + cmd.count("--pixels") +
+            cmd.count("--electrode-coverage") + cmd.count("--density") >
+        0)
+      throw InputError("--from", "",
+                       "sets the tank, the noise and the grid as the run had them: leave out "
+                       "--electrode-coverage, --density, --noise-*, --pixels");
+    noise = settings->noise;
+    pixels = settings->grid;
+    if (a.lambda == 0) lambda = it->second.lambda;
+    rule = it->second.rule;
+  }
+  if (!a.segmentation.empty()) rule.kind = parse_segmentation(a.segmentation);
+  if (a.resistive > 0) rule.resistive = a.resistive;
+  if (a.conductive > 0) rule.conductive = a.conductive;
+  rule.validate();
+  // Every input read and checked before anything is written.
+  const KtcFolder folder = scan_ktc_folder(a.input);
+  const KtcMeasurement reference = read_ktc_measurement(folder.reference);
+  std::vector<KtcMeasurement> data;
+  std::vector<std::optional<ClassImage>> truths;
+  for (const auto& s : folder.samples) {
+    data.push_back(read_ktc_measurement(s.data));
+    truths.push_back(s.truth.empty() ? std::nullopt : std::optional(read_ktc_truth(s.truth)));
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const KtcSetup setup = make_ktc_setup(
+      tank_for(reference, folder.reference, settings, tank_options, a.quiet), pixels, noise);
+  for (const auto& d : data) check_same_patterns(d, setup.tank);
+  const std::unique_ptr<MissingValues> method = make_ktc_method(setup, a.method, lambda);
+  std::vector<Eigen::VectorXd> frames;
+  for (const auto& d : data) frames.push_back(ktc_difference(d, setup, a.level));
+  for (const auto& f : frames) method->method_for(method->present_values(f));  // built, untimed
+  const double setup_seconds = seconds_since(t0);
+  std::filesystem::create_directories(a.output);
+  double total = 0;
+  int scored = 0;
+  for (std::size_t k = 0; k < data.size(); ++k) {
+    const int number = folder.samples[k].number;
+    const auto start = std::chrono::steady_clock::now();
+    const ClassImage classes = segment(ktc_image(setup, method->reconstruct(frames[k])), rule);
+    const double ms = 1e3 * seconds_since(start);
+    const std::string path =
+        (std::filesystem::path(a.output) / (std::to_string(number) + ".mat")).string();
+    write_ktc_reconstruction(path, classes);
+    std::string line = fmt::format("{}: {} ({:.1f} ms)", number, path, ms);
+    if (truths[k]) {
+      const double score = ktc_score(*truths[k], classes).total();
+      total += score, ++scored;
+      line += fmt::format(", score {:.6f}", score);
+    }
+    if (!a.quiet) fmt::print("{}\n", line);
+  }
+  if (!a.quiet) {
+    fmt::print("{} at level {}: {}, {}; set-up {:.1f} s\n", a.method, a.level, method->settings(),
+               rule.to_string(), setup_seconds);
+    if (scored > 0)
+      fmt::print("score {:.3f} over {} samples (mean {:.3f}; the challenge sums 3 a level)\n",
+                 total, scored, total / scored);
+  }
+}
+
+}  // namespace
+
+std::function<void()> add_ktc_command(CLI::App& app) {
+  auto a = std::make_shared<Args>();
+  auto* cmd = app.add_subcommand(
+      "ktc",
+      "KTC2023's calling convention: reconstruct every dataN.mat of INPUT_FOLDER (with its "
+      "ref.mat) at a difficulty LEVEL and write OUTPUT_FOLDER/N.mat (reconstruction: 256 x 256 "
+      "uint8 classes); scores against trueN.mat where present");
+  cmd->add_option("INPUT_FOLDER", a->input, "ref.mat and dataN.mat (trueN.mat optional)")
+      ->required();
+  cmd->add_option("OUTPUT_FOLDER", a->output, "where N.mat go (made if missing; not INPUT_FOLDER)")
+      ->required();
+  cmd->add_option("LEVEL", a->level,
+                  "difficulty 1 ... 7: level k leaves out electrodes 1 ... 2(k-1)")
+      ->required();
+  cmd->add_option("--method", a->method, "tikhonov | noser | laplace | greit | tv | gn")
+      ->capture_default_str();
+  cmd->add_option("--from", a->from,
+                  "a KTC run's folder (eitbench run --ktc): its tank, and the method's "
+                  "regularisation and segmentation tuned on the training samples");
+  cmd->add_option("--lambda", a->lambda,
+                  "the regularisation on the method's relative scale (default: the run's, or what "
+                  "the KTC run tuned on the training samples, docs/ktc.md)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--segmentation", a->segmentation,
+                  "otsu (three-class Otsu, the challenge's baseline) | levels (--resistive and "
+                  "--conductive fractions of the image's largest value); default: as --lambda");
+  cmd->add_option("--resistive", a->resistive, "levels: the resistive class's fraction (0, 1]")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--conductive", a->conductive, "levels: the conductive class's fraction (0, 1]")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--electrode-coverage", a->coverage, "the rim's share under electrodes")
+      ->capture_default_str();
+  cmd->add_option("--density", a->density, "the tank's mesh: coarse | medium | fine")
+      ->capture_default_str();
+  cmd->add_option("--pixels", a->pixels, "the reconstruction's grid, pixels a side")
+      ->capture_default_str();
+  cmd->add_option("--noise-relative", a->noise.relative,
+                  "the data term's noise: this share of each reference value ...")
+      ->capture_default_str();
+  cmd->add_option("--noise-floor", a->noise.floor, "... and this share of the largest, combined")
+      ->capture_default_str();
+  cmd->add_flag("--quiet", a->quiet, "no progress or scores");
+  return [a, cmd] { run(*a, *cmd); };
+}
+
+}  // namespace eitbench::cli

@@ -1,0 +1,65 @@
+#pragma once
+// A reconstruction method on KTC's tank (docs/ktc.md#methods): every model-based method of the
+// registry built on the calibrated tank's linear problem, reading each frame's present values
+// (MissingValues: a level's removed electrodes leave their rows out), the data term weighted by
+// KTC's noise model, the image resampled onto KTC's grid and segmented.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "eitbench/bench/ktc/segmentation.h"
+#include "eitbench/bench/ktc/tank.h"
+#include "eitbench/solvers/missing_values.h"
+
+namespace eitbench {
+
+// The data term's noise: each value's standard deviation is
+// sqrt((relative |u_ref|)^2 + (floor max |u_ref|)^2) on the empty tank's frame u_ref, the model
+// the challenge's baseline used (0.05 % of the value and 0.01 % of the largest).
+struct KtcNoise {
+  double relative = 5e-4;
+  double floor = 1e-4;
+
+  // InputError("KtcNoise", field): both non-negative and finite, not both zero.
+  void validate() const;
+  Eigen::VectorXd of(const Eigen::VectorXd& reference) const;
+};
+
+struct KtcSetup {
+  KtcTank tank;
+  PixelGrid grid{64, 0.115};                     // the images' grid: the tank's disk
+  std::shared_ptr<const LinearProblem> problem;  // every value, weight 1, at the calibration
+  Eigen::VectorXd noise;                         // one standard deviation a value
+  KtcOrientation orientation;
+};
+
+// The linear problem on the calibrated tank. grid_size pixels a side (16 ... 256).
+KtcSetup make_ktc_setup(KtcTank tank, int grid_size = 64, const KtcNoise& noise = {},
+                        const KtcOrientation& orientation = {});
+
+// The methods a KTC run ranks (every model-based one but the shape fits), and each one's
+// candidate regularisation weights on its relative scale (Reconstructor::set_regularisation).
+const std::vector<std::string>& ktc_method_names();
+const std::vector<double>& ktc_candidates(const std::string& method);
+
+// The setting `eitbench ktc` applies without a run: what `eitbench run --ktc` tuned on the
+// challenge's four training samples with the default tank, grid and noise (docs/ktc.md).
+struct KtcSetting {
+  double lambda = 0;
+  SegmentationRule rule;
+};
+KtcSetting ktc_default_setting(const std::string& method);
+
+// `method` for KTC's frames: its regularisation fixed at `relative`, or (0) as the method chooses
+// by default (the Tikhonov family by GCV on each frame's values, the others their documented
+// value). InputError naming --method for a method that is not a KTC one.
+std::unique_ptr<MissingValues> make_ktc_method(const KtcSetup& setup, const std::string& method,
+                                               double relative = 0);
+
+// The difference frame of a measurement at `level`: Uel - Uelref, NaN where the level removes.
+Eigen::VectorXd ktc_difference(const KtcMeasurement& measurement, const KtcSetup& setup, int level);
+
+// A reconstruction on KTC's grid, and its classes.
+Eigen::MatrixXd ktc_image(const KtcSetup& setup, const Eigen::VectorXd& image);
+
+}  // namespace eitbench

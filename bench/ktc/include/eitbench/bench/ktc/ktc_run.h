@@ -1,0 +1,90 @@
+#pragma once
+// The KTC benchmark (docs/ktc.md#the-benchmark): every model-based method on KTC2023's four
+// training samples at each of the seven levels, its regularisation swept over its candidates and
+// its segmentation chosen among three-class Otsu and fixed levels, scored by the challenge's score.
+// Each sample is scored held out: with the setting tuned on the other three samples (all levels),
+// never on itself; the setting tuned on all four is what `eitbench ktc --from RUN` applies.
+#include <string>
+#include <vector>
+
+#include "eitbench/bench/ktc/ktc_method.h"
+
+namespace eitbench {
+
+// The levels rule's fractions tried, each for the resistive and the conductive class apart.
+const std::vector<double>& ktc_level_fractions();
+
+// One reconstruction's score under every segmentation rule tried.
+struct KtcFrameScores {
+  double otsu = 0;  // the whole score with three-class Otsu
+  // The SSIM of each class's mask at each of ktc_level_fractions(): the levels rule's score for
+  // fractions (r, c) is (resistive[r] + conductive[c]) / 2, each class apart.
+  std::vector<double> resistive, conductive;
+};
+
+// A method's setting: its regularisation and its segmentation.
+struct KtcChoice {
+  int candidate = 0;  // index into the candidates
+  double lambda = 0;
+  SegmentationRule rule;
+  double tuning_score = 0;  // the summed score on the samples it was tuned on
+};
+
+struct KtcMethodResult {
+  std::string method;
+  std::vector<double> candidates;
+  std::vector<int> levels, samples;  // the KTC levels and sample numbers, in the order below
+  // scores[candidate][level][sample]
+  std::vector<std::vector<std::vector<KtcFrameScores>>> scores;
+  std::vector<std::vector<std::vector<double>>> milliseconds;  // each reconstruction's time
+  std::vector<double> setup_seconds;                           // per level: building the method
+  KtcChoice best;                                              // tuned on every sample
+  std::vector<KtcChoice> held_out_choice;                      // per sample: tuned on the others
+  // [level][sample]: the score with `best` (in sample) and with the sample's held-out choice.
+  std::vector<std::vector<double>> in_sample, held_out;
+  // The same with Otsu only (the challenge's baseline segmentation), lambda tuned alike.
+  std::vector<std::vector<double>> held_out_otsu;
+  // Images (the method's grid) with `best`, [level][sample], for the figures.
+  std::vector<std::vector<Eigen::VectorXd>> images;
+  double median_ms = 0;  // per reconstruction at best's lambda
+};
+
+// The best setting on `samples` (indices into result.samples), every level summed; with
+// `otsu_only` among the Otsu rules only. Ties go to the earlier candidate and smaller fractions.
+KtcChoice tune_ktc(const KtcMethodResult& result, const std::vector<int>& samples, bool otsu_only);
+// The score of sample `s` at level index `l` with `choice`.
+double ktc_choice_score(const KtcMethodResult& result, const KtcChoice& choice, int l, int s);
+// Fills best, held_out_choice, in_sample, held_out and held_out_otsu from the scores.
+void tune_and_hold_out(KtcMethodResult& result);
+
+// The scores of one image (on KTC's grid) against one truth under every rule.
+KtcFrameScores score_every_rule(const Eigen::MatrixXd& ktc_image, const KtcScorer& truth);
+
+struct KtcRunOptions {
+  std::string data;  // a folder of ref.mat, dataN.mat and trueN.mat
+  std::string out;   // the run folder
+  std::vector<std::string> methods = ktc_method_names();
+  std::vector<int> levels{1, 2, 3, 4, 5, 6, 7};
+  KtcTankOptions tank;
+  KtcNoise noise;
+  int grid = 64;
+  bool quiet = false;
+
+  // InputError naming the field (the data folder, a level, a method).
+  void validate() const;
+};
+
+struct KtcRunResults {
+  KtcRunOptions options;
+  KtcTank tank;                // calibrated
+  std::string reference_hash;  // of ref.mat's bytes (content_hash.h)
+  double calibration_seconds = 0;
+  std::vector<KtcMethodResult> methods;
+  std::vector<ClassImage> truths;  // per sample
+  std::vector<int> samples;        // KTC's sample numbers
+};
+
+// The whole run: calibrate, sweep every method, tune, hold out. Writes nothing.
+KtcRunResults run_ktc(const KtcRunOptions& options);
+
+}  // namespace eitbench

@@ -1,0 +1,295 @@
+#include "eitbench/bench/ktc/ktc_report.h"
+
+#include <fmt/core.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/report/figures.h"
+#include "eitbench/bench/support/machine.h"
+#include "eitbench/bench/support/version.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+using nlohmann::json;
+
+// The challenge's published totals over levels 1-7 (three targets a level, at most 21), on its
+// evaluation set: what a KTC-equivalent total is set against.
+struct Anchor {
+  const char* who;
+  double total;
+};
+constexpr Anchor kAnchors[] = {
+    {"1st: learned post-processing of a linearised reconstruction", 15.24},
+    {"fully learned U-Net", 15.13},
+    {"conditional diffusion", 14.60},
+    {"2nd place", 12.75},
+    {"3rd place (model-based)", 12.45},
+    {"the organisers' one-step baseline (smoothness prior, Otsu), rerun", 10.29},
+};
+
+json rule_json(const SegmentationRule& r) {
+  return {{"kind", to_string(r.kind)}, {"resistive", r.resistive}, {"conductive", r.conductive}};
+}
+
+json choice_json(const KtcChoice& c) {
+  return {
+      {"lambda", c.lambda}, {"segmentation", rule_json(c.rule)}, {"tuning_score", c.tuning_score}};
+}
+
+// Sum over samples of a [level][sample] table, scaled to the challenge's three targets a level.
+double level_total(const std::vector<double>& samples) {
+  double sum = 0;
+  for (double v : samples) sum += v;
+  return samples.empty() ? 0 : sum * 3.0 / static_cast<double>(samples.size());
+}
+
+double total(const std::vector<std::vector<double>>& table) {
+  double sum = 0;
+  for (const auto& level : table) sum += level_total(level);
+  return sum;
+}
+
+// Whether the setting tuned on every sample lies on its candidates' first or last value: a wider
+// grid might do better, and the report says so.
+bool on_the_edge(const KtcMethodResult& m) {
+  return m.best.candidate == 0 || m.best.candidate + 1 == static_cast<int>(m.candidates.size());
+}
+
+// Per candidate, every sample and level: the total with Otsu and with the best levels rule.
+json sweep_json(const KtcMethodResult& m) {
+  std::vector<int> all;
+  for (std::size_t s = 0; s < m.samples.size(); ++s) all.push_back(static_cast<int>(s));
+  json out = json::array();
+  for (std::size_t c = 0; c < m.candidates.size(); ++c) {
+    KtcMethodResult one = m;  // the sweep restricted to candidate c
+    one.candidates = {m.candidates[c]};
+    one.scores = {m.scores[c]};
+    out.push_back({{"lambda", m.candidates[c]},
+                   {"otsu", tune_ktc(one, all, true).tuning_score},
+                   {"best_rule", tune_ktc(one, all, false).tuning_score}});
+  }
+  return out;
+}
+
+json method_json(const KtcMethodResult& m) {
+  json held = json::array();
+  for (const auto& c : m.held_out_choice) held.push_back(choice_json(c));
+  return {{"method", m.method},
+          {"candidates", m.candidates},
+          {"best", choice_json(m.best)},
+          {"held_out_choices", held},
+          {"in_sample", m.in_sample},
+          {"held_out", m.held_out},
+          {"held_out_otsu", m.held_out_otsu},
+          {"total_held_out", total(m.held_out)},
+          {"total_in_sample", total(m.in_sample)},
+          {"total_held_out_otsu", total(m.held_out_otsu)},
+          {"sweep", sweep_json(m)},
+          {"on_the_grids_edge", on_the_edge(m)},
+          {"median_ms", m.median_ms},
+          {"setup_seconds", m.setup_seconds}};
+}
+
+json results_json(const KtcRunResults& r) {
+  const KtcTankOptions& t = r.tank.options;
+  json methods = json::array();
+  for (const auto& m : r.methods) methods.push_back(method_json(m));
+  std::vector<double> z(r.tank.contact_impedances.data(),
+                        r.tank.contact_impedances.data() + r.tank.contact_impedances.size());
+  return {{"kind", "ktc"},
+          {"program", program_version()},
+          {"machine", describe_machine()},
+          {"data", r.options.data},
+          {"samples", r.samples},
+          {"levels", r.options.levels},
+          {"grid", r.options.grid},
+          {"noise", {{"relative", r.options.noise.relative}, {"floor", r.options.noise.floor}}},
+          {"tank",
+           {{"radius", t.radius},
+            {"electrode_coverage", t.electrode_coverage},
+            {"density", to_string(t.density)},
+            {"size_factor", t.size_factor},
+            {"background", r.tank.background},
+            {"contact_impedances", z},
+            {"relative_residual", r.tank.relative_residual},
+            {"reference_hash", r.reference_hash},
+            {"calibration_seconds", r.calibration_seconds}}},
+          {"methods", methods}};
+}
+
+std::string report_markdown(const KtcRunResults& r) {
+  std::ostringstream o;
+  const std::size_t S = r.samples.size();
+  o << "# KTC2023: model-based methods on the challenge's training samples\n\n";
+  o << fmt::format("{} on {} ({} samples, levels {}-{}); {} on this machine.\n\n",
+                   program_version(), r.options.data, S, r.options.levels.front(),
+                   r.options.levels.back(),
+                   describe_machine().count("cpu") ? describe_machine().at("cpu") : "");
+  o << fmt::format(
+      "The tank: radius {:.0f} mm, 32 electrodes covering {:.0f} % of the rim, calibrated to the "
+      "empty tank's frame: sigma_0 {:.4g}, contact impedances {:.3g} to {:.3g}, relative "
+      "residual {:.2f} % ({:.0f} s).\n\n",
+      1e3 * r.tank.options.radius, 100 * r.tank.options.electrode_coverage, r.tank.background,
+      r.tank.contact_impedances.minCoeff(), r.tank.contact_impedances.maxCoeff(),
+      100 * r.tank.relative_residual, r.calibration_seconds);
+  o << "Scores are the challenge's (mean SSIM of the resistive and conductive masks). Each "
+       "sample is scored **held out**: with the regularisation and segmentation tuned on the "
+       "other samples (every level), never on itself. A level's figure is the mean over the "
+       "samples times 3, the challenge's three targets a level; the total over seven levels is "
+       "at most 21.\n\n";
+  o << "| method | L" << r.options.levels.front();
+  for (std::size_t l = 1; l < r.options.levels.size(); ++l) o << " | L" << r.options.levels[l];
+  o << " | total (held out) | Otsu only (held out) | in sample | setting (all samples) | ms a "
+       "frame | set-up a level (s) |\n|---";
+  for (std::size_t l = 0; l < r.options.levels.size() + 6; ++l) o << "|---";
+  o << "|\n";
+  std::vector<const KtcMethodResult*> order;
+  for (const auto& m : r.methods) order.push_back(&m);
+  std::sort(order.begin(), order.end(),
+            [](auto* a, auto* b) { return total(a->held_out) > total(b->held_out); });
+  for (const KtcMethodResult* m : order) {
+    o << "| " << m->method;
+    for (const auto& level : m->held_out) o << fmt::format(" | {:.2f}", level_total(level));
+    double setup = 0;
+    for (double s : m->setup_seconds) setup += s;
+    o << fmt::format(
+        " | **{:.2f}** | {:.2f} | {:.2f} | lambda {:.3g}{}, {} | {:.1f} | {:.1f} |\n",
+        total(m->held_out), total(m->held_out_otsu), total(m->in_sample), m->best.lambda,
+        on_the_edge(*m) ? " (edge)" : "", m->best.rule.to_string(), m->median_ms,
+        setup / static_cast<double>(std::max<std::size_t>(1, m->setup_seconds.size())));
+  }
+  o << "\nThe challenge's published totals, on its evaluation set (other targets, scored blind; "
+       "these samples are its training set):\n\n| entry | total of 21 |\n|---|---|\n";
+  for (const Anchor& a : kAnchors) o << fmt::format("| {} | {:.2f} |\n", a.who, a.total);
+  if (S < 2) o << "\nWith one sample there is nothing to hold out: its figures are in sample.\n";
+  o << "\nTimes: one reconstruction from a frame's present values (milliseconds); the set-up "
+       "builds the method on a level's values once (seconds). \"(edge)\": the setting lies on "
+       "its candidates' first or last value, and a wider grid might do better.\n";
+  if (can_draw_figures()) {
+    o << "\n## Segmentations\n\nEach method with its setting tuned on every sample (water dark, "
+         "resistive green, conductive yellow), the truth on top.\n\n";
+    for (int level : r.options.levels)
+      o << fmt::format("![Level {}](ktc_level{}.png)\n", level, level);
+  }
+  return o.str();
+}
+
+// The truth, then each method's segmentation at one level, samples side by side.
+void draw_level(const KtcRunResults& r, std::size_t l, const KtcSetup& setup_like,
+                const std::string& path) {
+  const PixelGrid ktc(kKtcImageSize, r.tank.options.radius);
+  auto as_vector = [](const ClassImage& c) {
+    return Eigen::Map<const Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>>(c.data(), c.size())
+        .cast<double>()
+        .eval();
+  };
+  std::vector<ImageRow> rows;
+  ImageRow truth{"truth", {}, 0, 2};
+  for (const ClassImage& t : r.truths) truth.images.push_back(as_vector(t));
+  rows.push_back(truth);
+  for (const auto& m : r.methods) {
+    ImageRow row{m.method, {}, 0, 2};
+    for (const Eigen::VectorXd& image : m.images[l])
+      row.images.push_back(as_vector(segment(ktc_image(setup_like, image), m.best.rule)));
+    rows.push_back(row);
+  }
+  draw_image_grid_png(rows, ktc.mask(),
+                      fmt::format("KTC level {}: samples {} ... {}", r.options.levels[l],
+                                  r.samples.front(), r.samples.back()),
+                      path, 128);
+}
+
+}  // namespace
+
+void write_ktc_run(const KtcRunResults& r) {
+  namespace fs = std::filesystem;
+  fs::create_directories(r.options.out);
+  const fs::path out(r.options.out);
+  write_text_atomically((out / "results.json").string(),
+                        [&](std::ostream& s) { s << results_json(r).dump(1) << '\n'; });
+  write_text_atomically((out / "report.md").string(),
+                        [&](std::ostream& s) { s << report_markdown(r); });
+  if (!can_draw_figures() || r.methods.empty()) return;
+  KtcSetup grid_only;  // what ktc_image needs: the images' grid and the orientation
+  grid_only.grid = PixelGrid(r.options.grid, r.tank.options.radius);
+  for (std::size_t l = 0; l < r.options.levels.size(); ++l)
+    draw_level(r, l, grid_only,
+               (out / fmt::format("ktc_level{}.png", r.options.levels[l])).string());
+}
+
+KtcRunSettings read_ktc_settings(const std::string& run) {
+  const std::string path = (std::filesystem::path(run) / "results.json").string();
+  json j;
+  try {
+    j = json::parse(read_file_bytes(path));
+  } catch (const json::exception& e) {
+    throw InputError(path, "", std::string("is not JSON: ") + e.what());
+  }
+  auto need = [&](const json& parent, const char* key, const std::string& where) -> const json& {
+    if (!parent.is_object() || !parent.contains(key))
+      throw InputError(path, where + key, "missing: not a KTC run's results (eitbench run --ktc)");
+    return parent.at(key);
+  };
+  auto number = [&](const json& parent, const char* key, const std::string& where) {
+    const json& v = need(parent, key, where);
+    if (!v.is_number()) throw InputError(path, where + key, "must be a number");
+    return v.get<double>();
+  };
+  if (!j.is_object() || j.value("kind", "") != "ktc")
+    throw InputError(path, "kind", "is not a KTC run's results (eitbench run --ktc)");
+  KtcRunSettings s;
+  s.path = path;
+  const json& tank = need(j, "tank", "");
+  s.tank.radius = number(tank, "radius", "tank.");
+  s.tank.electrode_coverage = number(tank, "electrode_coverage", "tank.");
+  s.tank.size_factor = number(tank, "size_factor", "tank.");
+  const json& density = need(tank, "density", "tank.");
+  if (!density.is_string()) throw InputError(path, "tank.density", "must be a name");
+  s.tank.density = parse_density(density.get<std::string>());
+  s.background = number(tank, "background", "tank.");
+  const json& z = need(tank, "contact_impedances", "tank.");
+  if (!z.is_array() || z.size() != 32)
+    throw InputError(path, "tank.contact_impedances", "must hold 32 numbers");
+  s.contact_impedances.resize(32);
+  for (int e = 0; e < 32; ++e) {
+    if (!z[static_cast<std::size_t>(e)].is_number())
+      throw InputError(path, "tank.contact_impedances", "must hold 32 numbers");
+    s.contact_impedances[e] = z[static_cast<std::size_t>(e)].get<double>();
+  }
+  const json& hash = need(tank, "reference_hash", "tank.");
+  if (!hash.is_string()) throw InputError(path, "tank.reference_hash", "must be text");
+  s.reference_hash = hash.get<std::string>();
+  const json& noise = need(j, "noise", "");
+  s.noise.relative = number(noise, "relative", "noise.");
+  s.noise.floor = number(noise, "floor", "noise.");
+  s.grid = static_cast<int>(number(j, "grid", ""));
+  const json& methods = need(j, "methods", "");
+  if (!methods.is_array()) throw InputError(path, "methods", "must be a list");
+  for (const json& m : methods) {
+    const json& name = need(m, "method", "methods[].");
+    if (!name.is_string()) throw InputError(path, "methods[].method", "must be a name");
+    const json& best = need(m, "best", "methods[].");
+    const json& seg = need(best, "segmentation", "methods[].best.");
+    KtcRunSettings::Method method;
+    method.lambda = number(best, "lambda", "methods[].best.");
+    const json& kind = need(seg, "kind", "methods[].best.segmentation.");
+    if (!kind.is_string())
+      throw InputError(path, "methods[].best.segmentation.kind", "must be a name");
+    method.rule.kind = parse_segmentation(kind.get<std::string>());
+    method.rule.resistive = number(seg, "resistive", "methods[].best.segmentation.");
+    method.rule.conductive = number(seg, "conductive", "methods[].best.segmentation.");
+    method.rule.validate();
+    s.methods[name.get<std::string>()] = method;
+  }
+  s.tank.validate();
+  s.noise.validate();
+  return s;
+}
+
+}  // namespace eitbench

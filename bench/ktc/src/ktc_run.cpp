@@ -1,0 +1,235 @@
+#include "eitbench/bench/ktc/ktc_run.h"
+
+#include <fmt/core.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+
+#include "eitbench/bench/io/content_hash.h"
+#include "eitbench/bench/support/progress.h"
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+
+const std::vector<double>& ktc_level_fractions() {
+  static const std::vector<double> f = [] {
+    std::vector<double> v;
+    for (int k = 1; k <= 19; ++k) v.push_back(0.05 * k);
+    return v;
+  }();
+  return f;
+}
+
+KtcFrameScores score_every_rule(const Eigen::MatrixXd& x, const KtcScorer& truth) {
+  KtcFrameScores s;
+  s.otsu = truth(segment(x, {})).total();
+  double largest = 0;
+  for (Eigen::Index k = 0; k < x.size(); ++k)
+    if (std::isfinite(x.data()[k])) largest = std::max(largest, std::abs(x.data()[k]));
+  for (double f : ktc_level_fractions()) {
+    // NaN (outside the tank) compares false: water, as segment() has it.
+    const Eigen::MatrixXd resistive = (x.array() >= f * largest).cast<double>().matrix();
+    const Eigen::MatrixXd conductive = (x.array() <= -f * largest).cast<double>().matrix();
+    s.resistive.push_back(truth.ssim(1, resistive));
+    s.conductive.push_back(truth.ssim(2, conductive));
+  }
+  return s;
+}
+
+double ktc_choice_score(const KtcMethodResult& r, const KtcChoice& c, int l, int s) {
+  const KtcFrameScores& f = r.scores[static_cast<std::size_t>(c.candidate)]
+                                    [static_cast<std::size_t>(l)][static_cast<std::size_t>(s)];
+  if (c.rule.kind == SegmentationKind::otsu) return f.otsu;
+  const auto& fr = ktc_level_fractions();
+  auto index = [&](double v) {
+    return static_cast<std::size_t>(
+        std::min_element(fr.begin(), fr.end(),
+                         [v](double a, double b) { return std::abs(a - v) < std::abs(b - v); }) -
+        fr.begin());
+  };
+  return 0.5 * (f.resistive[index(c.rule.resistive)] + f.conductive[index(c.rule.conductive)]);
+}
+
+KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, bool otsu_only) {
+  KtcChoice best;
+  best.tuning_score = -INFINITY;
+  const auto& fr = ktc_level_fractions();
+  for (std::size_t c = 0; c < r.candidates.size(); ++c) {
+    double otsu = 0;
+    std::vector<double> res(fr.size(), 0.0), con(fr.size(), 0.0);
+    for (std::size_t l = 0; l < r.levels.size(); ++l)
+      for (int s : samples) {
+        const KtcFrameScores& f = r.scores[c][l][static_cast<std::size_t>(s)];
+        otsu += f.otsu;
+        for (std::size_t k = 0; k < fr.size(); ++k)
+          res[k] += f.resistive[k], con[k] += f.conductive[k];
+      }
+    auto take = [&](double score, SegmentationRule rule) {
+      if (score > best.tuning_score + 1e-12) {
+        best.candidate = static_cast<int>(c);
+        best.lambda = r.candidates[c];
+        best.rule = rule;
+        best.tuning_score = score;
+      }
+    };
+    take(otsu, {});
+    if (otsu_only) continue;
+    // The two classes' masks never overlap under the levels rule: each fraction apart.
+    const auto ir = std::max_element(res.begin(), res.end()) - res.begin();
+    const auto ic = std::max_element(con.begin(), con.end()) - con.begin();
+    take(0.5 * (res[static_cast<std::size_t>(ir)] + con[static_cast<std::size_t>(ic)]),
+         {SegmentationKind::levels, fr[static_cast<std::size_t>(ir)],
+          fr[static_cast<std::size_t>(ic)]});
+  }
+  return best;
+}
+
+void tune_and_hold_out(KtcMethodResult& r) {
+  const int S = static_cast<int>(r.samples.size()), L = static_cast<int>(r.levels.size());
+  std::vector<int> all(static_cast<std::size_t>(S));
+  for (int s = 0; s < S; ++s) all[static_cast<std::size_t>(s)] = s;
+  r.best = tune_ktc(r, all, false);
+  r.in_sample.assign(static_cast<std::size_t>(L), std::vector<double>(static_cast<std::size_t>(S)));
+  r.held_out = r.held_out_otsu = r.in_sample;
+  r.held_out_choice.clear();
+  for (int s = 0; s < S; ++s) {
+    std::vector<int> others;
+    for (int o = 0; o < S; ++o)
+      if (o != s) others.push_back(o);
+    // With a single sample there is nothing else to tune on: in sample, and the report says so.
+    if (others.empty()) others = all;
+    const KtcChoice held = tune_ktc(r, others, false), otsu = tune_ktc(r, others, true);
+    r.held_out_choice.push_back(held);
+    for (int l = 0; l < L; ++l) {
+      r.in_sample[static_cast<std::size_t>(l)][static_cast<std::size_t>(s)] =
+          ktc_choice_score(r, r.best, l, s);
+      r.held_out[static_cast<std::size_t>(l)][static_cast<std::size_t>(s)] =
+          ktc_choice_score(r, held, l, s);
+      r.held_out_otsu[static_cast<std::size_t>(l)][static_cast<std::size_t>(s)] =
+          ktc_choice_score(r, otsu, l, s);
+    }
+  }
+}
+
+void KtcRunOptions::validate() const {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(data, ec))
+    throw InputError("--ktc", "", "'" + data + "' is not a folder of KTC files");
+  for (const auto& s : scan_ktc_folder(data).samples)  // ref.mat and dataN.mat there ...
+    if (s.truth.empty())                               // ... each with its truth
+      throw InputError(s.data, "",
+                       "has no true" + std::to_string(s.number) +
+                           ".mat beside it: the benchmark scores against the truth");
+  if (levels.empty()) throw InputError("--levels", "", "needs at least one level");
+  for (int l : levels) ktc_removed_electrodes(l);  // InputError for a level outside 1 ... 7
+  if (methods.empty()) throw InputError("--methods", "", "needs at least one method");
+  for (const std::string& m : methods) ktc_candidates(m);
+  tank.validate();
+  noise.validate();
+}
+
+namespace {
+
+struct Sample {
+  int number;
+  KtcMeasurement measurement;
+  ClassImage truth;
+};
+
+// Every candidate's reconstructions of every sample at every level, scored.
+KtcMethodResult sweep(const KtcSetup& setup, const std::string& method,
+                      const std::vector<Sample>& samples, const std::vector<int>& levels,
+                      const std::vector<KtcScorer>& scorers, Progress& progress, int& done) {
+  std::mutex progress_mutex;  // done is counted from every level
+  KtcMethodResult r;
+  r.method = method;
+  r.candidates = ktc_candidates(method);
+  r.levels = levels;
+  for (const Sample& s : samples) r.samples.push_back(s.number);
+  const std::size_t C = r.candidates.size(), L = levels.size(), S = samples.size();
+  r.scores.assign(C, std::vector<std::vector<KtcFrameScores>>(L, std::vector<KtcFrameScores>(S)));
+  r.milliseconds.assign(C, std::vector<std::vector<double>>(L, std::vector<double>(S)));
+  std::vector<std::vector<std::vector<Eigen::VectorXd>>> images(
+      C, std::vector<std::vector<Eigen::VectorXd>>(L, std::vector<Eigen::VectorXd>(S)));
+  r.setup_seconds.assign(L, 0.0);
+  // Levels in parallel, each with a method of its own (one pattern of present values); the
+  // candidates of a level in turn, as set_regularisation keeps what the method precomputed.
+  tbb::parallel_for(std::size_t(0), L, [&](std::size_t l) {
+    const std::unique_ptr<MissingValues> m = make_ktc_method(setup, method, r.candidates.front());
+    std::vector<Eigen::VectorXd> frames;
+    for (const Sample& s : samples)
+      frames.push_back(ktc_difference(s.measurement, setup, levels[l]));
+    const auto t0 = std::chrono::steady_clock::now();
+    m->method_for(m->present_values(frames.front()));  // build the level's method once
+    r.setup_seconds[l] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (std::size_t c = 0; c < C; ++c) {
+      m->set_regularisation(r.candidates[c], "candidate");
+      for (std::size_t s = 0; s < S; ++s) {
+        const auto start = std::chrono::steady_clock::now();
+        images[c][l][s] = m->reconstruct(frames[s]);
+        r.milliseconds[c][l][s] =
+            1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        r.scores[c][l][s] = score_every_rule(ktc_image(setup, images[c][l][s]), scorers[s]);
+      }
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      progress.update(++done, method + " level " + std::to_string(levels[l]));
+    }
+  });
+  tune_and_hold_out(r);
+  r.images = images[static_cast<std::size_t>(r.best.candidate)];
+  std::vector<double> ms;
+  for (const auto& level : r.milliseconds[static_cast<std::size_t>(r.best.candidate)])
+    ms.insert(ms.end(), level.begin(), level.end());
+  std::nth_element(ms.begin(), ms.begin() + static_cast<std::ptrdiff_t>(ms.size() / 2), ms.end());
+  r.median_ms = ms[ms.size() / 2];
+  return r;
+}
+
+}  // namespace
+
+KtcRunResults run_ktc(const KtcRunOptions& options) {
+  options.validate();
+  KtcRunResults out;
+  out.options = options;
+  const KtcFolder folder = scan_ktc_folder(options.data);
+  std::vector<Sample> samples;
+  for (const auto& s : folder.samples) {
+    samples.push_back({s.number, read_ktc_measurement(s.data), read_ktc_truth(s.truth)});
+    out.samples.push_back(s.number);
+    out.truths.push_back(samples.back().truth);
+  }
+  const KtcMeasurement reference = read_ktc_measurement(folder.reference);
+  out.reference_hash = file_hash(folder.reference);
+  if (!options.quiet) fmt::print(stderr, "calibrating the tank to {} ...\n", folder.reference);
+  const auto t0 = std::chrono::steady_clock::now();
+  KtcSetup setup =
+      make_ktc_setup(calibrate_ktc_tank(reference, options.tank), options.grid, options.noise);
+  out.calibration_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!options.quiet)
+    fmt::print(stderr,
+               "tank: sigma_0 {:.4g}, contact impedances {:.3g} ... {:.3g}, residual {:.2f} % "
+               "({:.0f} s)\n",
+               setup.tank.background, setup.tank.contact_impedances.minCoeff(),
+               setup.tank.contact_impedances.maxCoeff(), 100 * setup.tank.relative_residual,
+               out.calibration_seconds);
+  for (const Sample& s : samples) check_same_patterns(s.measurement, setup.tank);
+  std::vector<KtcScorer> scorers;
+  for (const Sample& s : samples) scorers.emplace_back(s.truth);
+  int total = 0, done = 0;
+  for (const std::string& m : options.methods)
+    total += static_cast<int>(ktc_candidates(m).size() * options.levels.size());
+  Progress progress("KTC sweep", total, options.quiet);
+  for (const std::string& m : options.methods)
+    out.methods.push_back(sweep(setup, m, samples, options.levels, scorers, progress, done));
+  progress.finish();
+  out.tank = setup.tank;
+  return out;
+}
+
+}  // namespace eitbench

@@ -1,0 +1,116 @@
+#include "eitbench/bench/ktc/score.h"
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+namespace {
+
+constexpr double kSigma = 80, kC1 = 1e-4, kC2 = 9e-4;
+constexpr int kHalfWidth = 160;  // ceil(2 sigma)
+
+// The window as an n x n band matrix G (G(i, k) = g(i - k)): conv2(X, g g^T, 'same') = G X G^T,
+// zero outside the image. The kernel's constant factor cancels against the coverage.
+Eigen::MatrixXd window(Eigen::Index n) {
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const double d = static_cast<double>(i - k);
+      if (std::abs(d) <= kHalfWidth) G(i, k) = std::exp(-0.5 * d * d / (kSigma * kSigma));
+    }
+  return G;
+}
+
+// Windowed means of a family of images of one size: the window's products and its coverage,
+// computed once.
+class Window {
+ public:
+  Window(Eigen::Index rows, Eigen::Index cols) : Gr_(window(rows)), Gc_(window(cols)) {
+    coverage_ = Gr_ * Eigen::MatrixXd::Ones(rows, cols) * Gc_.transpose();
+  }
+  Eigen::MatrixXd mean(const Eigen::MatrixXd& x) const {
+    return (Gr_ * x * Gc_.transpose()).cwiseQuotient(coverage_);
+  }
+
+ private:
+  Eigen::MatrixXd Gr_, Gc_, coverage_;
+};
+
+const Window& window_for(Eigen::Index rows, Eigen::Index cols) {
+  if (rows == kKtcImageSize && cols == kKtcImageSize) {
+    static const Window ktc(kKtcImageSize, kKtcImageSize);
+    return ktc;
+  }
+  thread_local Eigen::Index r = -1, c = -1;
+  thread_local std::unique_ptr<Window> other;
+  if (r != rows || c != cols) other = std::make_unique<Window>(rows, cols), r = rows, c = cols;
+  return *other;
+}
+
+// SSIM averaged over the image, from both images' windowed moments and their cross moment.
+double ssim_from(const Eigen::MatrixXd& mt, const Eigen::MatrixXd& st2, const Eigen::MatrixXd& mr,
+                 const Eigen::MatrixXd& sr2, const Eigen::MatrixXd& mtr) {
+  const Eigen::ArrayXXd mu_t = mt.array(), mu_r = mr.array();
+  const Eigen::ArrayXXd var_t = st2.array() - mu_t.square();
+  const Eigen::ArrayXXd var_r = sr2.array() - mu_r.square();
+  const Eigen::ArrayXXd cov = mtr.array() - mu_t * mu_r;
+  const Eigen::ArrayXXd num = (2 * mu_t * mu_r + kC1) * (2 * cov + kC2);
+  const Eigen::ArrayXXd den = (mu_t.square() + mu_r.square() + kC1) * (var_t + var_r + kC2);
+  return (num / den).mean();
+}
+
+Eigen::MatrixXd mask(const ClassImage& image, int cls) {
+  return (image.array() == static_cast<std::uint8_t>(cls)).cast<double>().matrix();
+}
+
+}  // namespace
+
+double ktc_ssim(const Eigen::MatrixXd& truth, const Eigen::MatrixXd& reconstruction) {
+  if (truth.size() == 0 || truth.rows() != reconstruction.rows() ||
+      truth.cols() != reconstruction.cols())
+    throw std::invalid_argument("ktc_ssim: two images of one size");
+  const Window& w = window_for(truth.rows(), truth.cols());
+  return ssim_from(w.mean(truth), w.mean(truth.cwiseProduct(truth)), w.mean(reconstruction),
+                   w.mean(reconstruction.cwiseProduct(reconstruction)),
+                   w.mean(truth.cwiseProduct(reconstruction)));
+}
+
+KtcScorer::KtcScorer(const ClassImage& truth) {
+  if (truth.rows() != kKtcImageSize || truth.cols() != kKtcImageSize)
+    throw InputError("truth", "size",
+                     "is " + std::to_string(truth.rows()) + " x " + std::to_string(truth.cols()) +
+                         "; KTC's ground truths are 256 x 256");
+  const Window& w = window_for(kKtcImageSize, kKtcImageSize);
+  for (int k = 0; k < 2; ++k) {
+    truth_[k] = mask(truth, k == 0 ? 2 : 1);
+    moments_[k].mean = w.mean(truth_[k]);
+    moments_[k].second = moments_[k].mean;  // a mask is its own square
+  }
+}
+
+double KtcScorer::ssim(int cls, const Eigen::MatrixXd& r) const {
+  if ((cls != 1 && cls != 2) || r.rows() != kKtcImageSize || r.cols() != kKtcImageSize)
+    throw std::invalid_argument("KtcScorer::ssim: class 1 or 2, a 256 x 256 mask");
+  const int k = cls == 2 ? 0 : 1;
+  const Window& w = window_for(kKtcImageSize, kKtcImageSize);
+  const Eigen::MatrixXd mr = w.mean(r);  // a mask is its own square
+  return ssim_from(moments_[k].mean, moments_[k].second, mr, mr, w.mean(truth_[k].cwiseProduct(r)));
+}
+
+KtcScore KtcScorer::operator()(const ClassImage& reconstruction) const {
+  KtcScore s;
+  if (reconstruction.rows() != kKtcImageSize || reconstruction.cols() != kKtcImageSize) return s;
+  s.conductive = ssim(2, mask(reconstruction, 2));
+  s.resistive = ssim(1, mask(reconstruction, 1));
+  return s;
+}
+
+KtcScore ktc_score(const ClassImage& truth, const ClassImage& reconstruction) {
+  return KtcScorer(truth)(reconstruction);
+}
+
+}  // namespace eitbench

@@ -1,0 +1,155 @@
+// `eitbench ktc` and `eitbench run --ktc` on a synthetic KTC folder (the challenge's layout and
+// protocol, frames from the forward model): the challenge's files written and read back, the
+// targets found, and every bad input refused with exit 2 and nothing written.
+#include <filesystem>
+#include <fstream>
+
+#include "cli_fixture.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/matlab.h"
+#include "eitbench/bench/ktc/ktc_files.h"
+#include "ktc_synthetic.h"
+
+namespace eitbench {
+namespace {
+
+// The mean (row, column) of a class's pixels; NaN when it has none.
+Eigen::Vector2d centroid(const ClassImage& image, int cls) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  int count = 0;
+  for (int i = 0; i < image.rows(); ++i)
+    for (int j = 0; j < image.cols(); ++j)
+      if (image(i, j) == cls) sum += Eigen::Vector2d(i, j), ++count;
+  return sum / count;
+}
+
+class KtcCli : public Cli {
+ protected:
+  // Two samples: a resistive and a conductive disc; one resistive disc near electrode 1.
+  void make_folder() {
+    testing::write_synthetic_ktc(
+        path("in"), {{{-0.04, 0.03, 0.025, 1}, {0.045, -0.02, 0.02, 2}}, {{0.0, 0.07, 0.025, 1}}});
+  }
+  // The flags that keep a test short: the coarse tank, a small grid.
+  static std::string fast() { return " --density coarse --pixels 32"; }
+};
+
+TEST_F(KtcCli, WritesTheChallengesFilesAndFindsTheTargets) {
+  make_folder();
+  const Result r =
+      run("ktc " + path("in") + " " + path("out") + " 1 --method noser --lambda 0.1" + fast());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (int n : {1, 2}) {
+    const std::string file = path("out/" + std::to_string(n) + ".mat");
+    const auto arrays = detail::read_mat_v5(read_file_bytes(file), file);
+    ASSERT_EQ(arrays.size(), 1u);
+    EXPECT_EQ(arrays[0].name, "reconstruction");
+    EXPECT_EQ(arrays[0].kind, "uint8");
+    EXPECT_EQ(arrays[0].shape, (std::vector<std::size_t>{256, 256}));
+    // Against the truth the folder holds: each class found where its disc is (centroids within
+    // 12 pixels, 11 mm), and a score well above an empty image's.
+    const ClassImage truth = read_ktc_truth(path("in/true" + std::to_string(n) + ".mat"));
+    ClassImage reco(256, 256);
+    for (int i = 0; i < 256; ++i)
+      for (int j = 0; j < 256; ++j)
+        reco(i, j) = static_cast<std::uint8_t>(arrays[0].values[i * 256 + j]);
+    for (int cls : {1, 2}) {
+      const Eigen::Vector2d t = centroid(truth, cls), c = centroid(reco, cls);
+      if (!t.allFinite()) continue;  // no disc of this class in the sample
+      EXPECT_LT((t - c).norm(), 12.0)
+          << n << " class " << cls << ": " << t.transpose() << " vs " << c.transpose();
+    }
+    EXPECT_GT(ktc_score(truth, reco).total(),
+              ktc_score(truth, ClassImage::Zero(256, 256)).total() + 0.15)
+        << n;
+    EXPECT_NE(r.output.find("score"), std::string::npos);
+  }
+  // Level 7 leaves electrodes 1 ... 12 out: still a file a sample, reconstructed from the rest.
+  const Result r7 =
+      run("ktc " + path("in") + " " + path("out7") + " 7 --method tikhonov --lambda 0.1" + fast());
+  ASSERT_EQ(r7.exit_code, 0) << r7.output;
+  EXPECT_TRUE(fs::exists(path("out7/1.mat")));
+  EXPECT_NE(r7.output.find("values"), std::string::npos) << r7.output;
+}
+
+TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
+  make_folder();
+  auto refused = [&](const std::string& args, const std::string& says) {
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(says), std::string::npos) << args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(path("out"))) << args;
+  };
+  refused("ktc " + path("in") + " " + path("out") + " 0" + fast(), "level");
+  refused("ktc " + path("in") + " " + path("out") + " 8" + fast(), "level");
+  refused("ktc " + path("in") + " " + path("in") + " 1" + fast(), "INPUT_FOLDER");
+  refused("ktc " + path("in") + " " + path("out") + " 1 --method shape" + fast(), "--method");
+  refused("ktc " + path("nowhere") + " " + path("out") + " 1" + fast(), "nowhere");
+  // A sample whose values do not match its patterns, and one whose currents do not sum to zero.
+  const CurrentPatterns p = testing::ktc_patterns();
+  write_bytes_atomically(
+      path("in/data3.mat"),
+      detail::mat_v5_bytes({testing::mat("Inj", p.injection), testing::mat("Mpat", p.measurement),
+                            testing::mat("Uel", Eigen::VectorXd::Ones(2300))}));
+  refused("ktc " + path("in") + " " + path("out") + " 1" + fast(), "data3.mat: Uel");
+  CurrentPatterns q = p;
+  q.injection(0, 5) = 0.3;
+  write_bytes_atomically(
+      path("in/data3.mat"),
+      detail::mat_v5_bytes({testing::mat("Inj", q.injection), testing::mat("Mpat", q.measurement),
+                            testing::mat("Uel", Eigen::VectorXd::Ones(2356))}));
+  refused("ktc " + path("in") + " " + path("out") + " 1" + fast(), "data3.mat: Inj column 5");
+  fs::remove(path("in/data3.mat"));
+  fs::remove(path("in/ref.mat"));
+  refused("ktc " + path("in") + " " + path("out") + " 1" + fast(), "ref.mat");
+}
+
+TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
+  make_folder();
+  // Every method at level 7 (the fewest values: the quickest), then each applied by ktc --from.
+  const Result r = run("run --ktc " + path("in") + " --out " + path("run") +
+                       " --methods tikhonov,noser,laplace,greit,tv,gn --levels 7" + fast());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* file : {"results.json", "report.md"})
+    EXPECT_TRUE(fs::exists(path("run/") + file)) << file;
+  std::ifstream report(path("run/report.md"));
+  std::stringstream text;
+  text << report.rdbuf();
+  for (const char* method : {"tikhonov", "noser", "laplace", "greit", "tv", "gn"})
+    EXPECT_NE(text.str().find(std::string("| ") + method + " |"), std::string::npos) << method;
+  EXPECT_NE(text.str().find("held out"), std::string::npos);
+  // ktc --from takes the run's tank (the same ref.mat: no calibration) and each method's setting:
+  // every method writes the challenge's files, and one method every level's.
+  auto applied = [&](const std::string& method, int level) {
+    const std::string out = path("out_" + method + std::to_string(level));
+    const Result k = run("ktc " + path("in") + " " + out + " " + std::to_string(level) +
+                         " --method " + method + " --from " + path("run"));
+    EXPECT_EQ(k.exit_code, 0) << method << " " << level << "\n" << k.output;
+    EXPECT_NE(k.output.find("as " + path("run/results.json") + " calibrated it"), std::string::npos)
+        << k.output;
+    for (const char* file : {"/1.mat", "/2.mat"})
+      EXPECT_TRUE(fs::exists(out + file)) << method << level;
+  };
+  for (const char* method : {"tikhonov", "noser", "laplace", "greit", "tv", "gn"})
+    applied(method, 7);
+  for (int level = 1; level <= 6; ++level) applied("greit", level);
+  // Flags the run fixes, and a run of another kind, are refused; nothing is written.
+  const Result fixed = run("ktc " + path("in") + " " + path("out2") +
+                           " 1 --method noser --pixels 48 --from " + path("run"));
+  EXPECT_EQ(fixed.exit_code, 2) << fixed.output;
+  const Result other = run("ktc " + path("in") + " " + path("out2") + " 1 --from " + path("in"));
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_FALSE(fs::exists(path("out2")));
+  // run --ktc with flags of the simulated benchmark, or without a truth beside a sample.
+  const Result mixed = run("run --ktc " + path("in") + " --preset tiny --out " + path("run2"));
+  EXPECT_EQ(mixed.exit_code, 2) << mixed.output;
+  fs::remove(path("in/true2.mat"));
+  const Result no_truth = run("run --ktc " + path("in") + " --out " + path("run3") +
+                              " --methods noser --levels 1" + fast());
+  EXPECT_EQ(no_truth.exit_code, 2) << no_truth.output;
+  EXPECT_NE(no_truth.output.find("true2.mat"), std::string::npos) << no_truth.output;
+  EXPECT_FALSE(fs::exists(path("run3")));
+}
+
+}  // namespace
+}  // namespace eitbench
