@@ -85,6 +85,20 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
   refused("ktc " + path("in") + " " + path("in") + " 1" + fast(), "INPUT_FOLDER");
   refused("ktc " + path("in") + " " + path("out") + " 1 --method shape" + fast(), "--method");
   refused("ktc " + path("nowhere") + " " + path("out") + " 1" + fast(), "nowhere");
+  refused(
+      "ktc " + path("in") + " " + path("out") + " 1 --segmentation otsu --resistive 0.3" + fast(),
+      "--resistive");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --pixels 8", "--pixels");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --levels 1,1", "--levels");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --methods noser,shape",
+          "--methods");
+  // A run's results whose setting is not one: the file and the field named.
+  fs::create_directories(path("run"));
+  std::ofstream(path("run/results.json"))
+      << R"({"kind": "ktc", "tank": {"radius": 0.115, "electrode_coverage": 0.5, "size_factor": 1,
+         "density": "coarse", "background": 0.8, "contact_impedances": [0.1, 0.2]}})";
+  refused("ktc " + path("in") + " " + path("out") + " 1 --from " + path("run"),
+          "results.json: tank.contact_impedances");
   // A sample whose values do not match its patterns, and one whose currents do not sum to zero.
   const CurrentPatterns p = testing::ktc_patterns();
   write_bytes_atomically(

@@ -84,9 +84,14 @@ void run(const Args& a, const CLI::App& cmd) {
     rule = it->second.rule;
   }
   if (!a.segmentation.empty()) rule.kind = parse_segmentation(a.segmentation);
+  if ((a.resistive > 0 || a.conductive > 0) && rule.kind != SegmentationKind::levels)
+    throw InputError(a.resistive > 0 ? "--resistive" : "--conductive", "",
+                     "sets the levels rule: add --segmentation levels");
   if (a.resistive > 0) rule.resistive = a.resistive;
   if (a.conductive > 0) rule.conductive = a.conductive;
   rule.validate();
+  noise.validate();
+  check_ktc_grid(pixels);
   // Every input read and checked before anything is written.
   const KtcFolder folder = scan_ktc_folder(a.input);
   const KtcMeasurement reference = read_ktc_measurement(folder.reference);
@@ -94,18 +99,24 @@ void run(const Args& a, const CLI::App& cmd) {
   std::vector<std::optional<ClassImage>> truths;
   for (const auto& s : folder.samples) {
     data.push_back(read_ktc_measurement(s.data));
+    check_same_patterns(data.back(), reference.patterns);
     truths.push_back(s.truth.empty() ? std::nullopt : std::optional(read_ktc_truth(s.truth)));
+    const Eigen::VectorXd level =
+        ktc_level_frame(data.back().voltages, reference.patterns, a.level);
+    if (!level.array().isFinite().any())
+      throw InputError(s.data, "Uel", "has no value level " + std::to_string(a.level) + " keeps");
   }
   const auto t0 = std::chrono::steady_clock::now();
   const KtcSetup setup = make_ktc_setup(
       tank_for(reference, folder.reference, settings, tank_options, a.quiet), pixels, noise);
-  for (const auto& d : data) check_same_patterns(d, setup.tank);
   const std::unique_ptr<MissingValues> method = make_ktc_method(setup, a.method, lambda);
   std::vector<Eigen::VectorXd> frames;
   for (const auto& d : data) frames.push_back(ktc_difference(d, setup, a.level));
   for (const auto& f : frames) method->method_for(method->present_values(f));  // built, untimed
   const double setup_seconds = seconds_since(t0);
-  std::filesystem::create_directories(a.output);
+  std::error_code error;
+  std::filesystem::create_directories(a.output, error);
+  if (error) throw InputError(a.output, "", "cannot create the folder: " + error.message());
   double total = 0;
   int scored = 0;
   for (std::size_t k = 0; k < data.size(); ++k) {

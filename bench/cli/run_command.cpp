@@ -200,6 +200,7 @@ void run_ktc_benchmark(const KtcArgs& k, const std::vector<std::string>& methods
                        std::string("ranks the model-based methods on KTC's data: "
                                    "leave out ") +
                            other);
+  if (world().parallel()) throw InputError("--ktc", "", "runs as one process: leave out mpirun");
   KtcRunOptions o;
   o.data = k.folder;
   o.out = out.empty() ? "out/ktc" : out;
@@ -210,28 +211,23 @@ void run_ktc_benchmark(const KtcArgs& k, const std::vector<std::string>& methods
   o.noise = k.noise;
   o.grid = k.pixels;
   o.quiet = quiet;
-  for (const std::string& m : o.methods)
-    if (std::find(ktc_method_names().begin(), ktc_method_names().end(), m) ==
-        ktc_method_names().end())
-      throw InputError("--methods", "", "'" + m + "' is not a method the KTC run ranks");
-  o.validate();
-  std::filesystem::create_directories(o.out);
+  const KtcInputs inputs = load_ktc_inputs(o);  // every file read and checked first
+  if (std::filesystem::exists(o.out) && !std::filesystem::is_directory(o.out))
+    throw InputError(o.out, "", "is a file; --out takes a folder");
+  std::error_code error;
+  std::filesystem::create_directories(o.out, error);
+  if (error) throw InputError(o.out, "", "cannot create the folder: " + error.message());
   const FolderLock lock(o.out);
   if (!quiet) fmt::print("{} run --ktc {}: output in {}/\n", program_version(), o.data, o.out);
   const auto t0 = std::chrono::steady_clock::now();
-  const KtcRunResults results = run_ktc(o);
+  const KtcRunResults results = run_ktc(o, inputs);
   write_ktc_run(results);
   if (quiet) return;
   fmt::print("\n| method | total of 21, held out | Otsu only | setting | ms a frame |\n");
-  for (const auto& m : results.methods) {
-    double held = 0, otsu = 0;
-    for (std::size_t l = 0; l < m.held_out.size(); ++l)
-      for (std::size_t s = 0; s < m.held_out[l].size(); ++s)
-        held += 3.0 * m.held_out[l][s] / static_cast<double>(m.held_out[l].size()),
-            otsu += 3.0 * m.held_out_otsu[l][s] / static_cast<double>(m.held_out[l].size());
-    fmt::print("| {} | {:.2f} | {:.2f} | lambda {:.3g}, {} | {:.1f} |\n", m.method, held, otsu,
-               m.best.lambda, m.best.rule.to_string(), m.median_ms);
-  }
+  for (const auto& m : results.methods)
+    fmt::print("| {} | {:.2f} | {:.2f} | lambda {:.3g}, {} | {:.1f} |\n", m.method,
+               ktc_total(m.held_out), ktc_total(m.held_out_otsu), m.best.lambda,
+               m.best.rule.to_string(), m.median_ms);
   fmt::print("\nwrote {}/report.md and results.json in {:.0f} s\n", o.out, seconds_since(t0));
 }
 
@@ -343,7 +339,7 @@ std::function<void()> add_run_command(CLI::App& app) {
   // What `eitbench merge RUN` runs: the shards' own flags with this one (no help: merge's job).
   cmd->add_flag("--merge-shards", args->merge_shards)->group("");
   return [args, cmd, ktc] {
-    if (!ktc->folder.empty())
+    if (cmd->count("--ktc") > 0)
       return run_ktc_benchmark(*ktc, args->methods, args->out, args->quiet, *cmd);
     for (const char* flag : {"--levels", "--electrode-coverage", "--density", "--pixels",
                              "--noise-relative", "--noise-floor"})

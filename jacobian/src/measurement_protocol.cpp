@@ -112,6 +112,9 @@ MeasurementProtocol MeasurementProtocol::with_magnitude(bool magnitude) const {
 }
 
 std::vector<Channel> MeasurementProtocol::input_channels() const {
+  if (has_patterns())
+    throw std::logic_error("MeasurementProtocol::input_channels: '" + name_ +
+                           "' is given by current patterns, not channels");
   std::vector<Channel> out;
   out.reserve(inputs_.size());
   for (int i : inputs_) out.push_back(channels_[i]);

@@ -32,10 +32,14 @@ Eigen::VectorXd KtcNoise::of(const Eigen::VectorXd& reference) const {
   return out;
 }
 
-KtcSetup make_ktc_setup(KtcTank tank, int grid_size, const KtcNoise& noise,
-                        const KtcOrientation& orientation) {
+void check_ktc_grid(int grid_size) {
   if (grid_size < 16 || grid_size > 256)
     throw InputError("KtcSetup", "grid", "must lie in 16 ... 256 pixels a side");
+}
+
+KtcSetup make_ktc_setup(KtcTank tank, int grid_size, const KtcNoise& noise,
+                        const KtcOrientation& orientation) {
+  check_ktc_grid(grid_size);
   KtcSetup s;
   s.grid = PixelGrid(grid_size, tank.options.radius);
   s.problem = std::make_shared<const LinearProblem>(
@@ -89,14 +93,12 @@ KtcSetting ktc_default_setting(const std::string& method) {
 std::unique_ptr<MissingValues> make_ktc_method(const KtcSetup& setup, const std::string& method,
                                                double relative) {
   ktc_candidates(method);  // a KTC method, or InputError
-  if (relative < 0 || !std::isfinite(relative))
-    throw InputError("--lambda", "", "must be positive and finite (or 0 for the default)");
+  if (!(relative > 0) || !std::isfinite(relative))
+    throw InputError("--lambda", "", "must be positive and finite");
   MethodOptions o;
-  if (relative > 0) {
-    o.choose = "fixed";
-    o.lambda = relative;
-    o.relative_lambda = true;
-  }
+  o.choose = "fixed";
+  o.lambda = relative;
+  o.relative_lambda = true;
   return std::make_unique<MissingValues>(
       setup.problem, method,
       [method, o](std::shared_ptr<const LinearProblem> p) {
@@ -107,7 +109,7 @@ std::unique_ptr<MissingValues> make_ktc_method(const KtcSetup& setup, const std:
 
 Eigen::VectorXd ktc_difference(const KtcMeasurement& measurement, const KtcSetup& setup,
                                int level) {
-  check_same_patterns(measurement, setup.tank);
+  check_same_patterns(measurement, setup.tank.protocol->patterns());
   return ktc_level_frame(measurement.voltages - setup.tank.reference,
                          setup.tank.protocol->patterns(), level);
 }

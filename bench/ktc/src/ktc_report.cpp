@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -42,19 +43,6 @@ json choice_json(const KtcChoice& c) {
       {"lambda", c.lambda}, {"segmentation", rule_json(c.rule)}, {"tuning_score", c.tuning_score}};
 }
 
-// Sum over samples of a [level][sample] table, scaled to the challenge's three targets a level.
-double level_total(const std::vector<double>& samples) {
-  double sum = 0;
-  for (double v : samples) sum += v;
-  return samples.empty() ? 0 : sum * 3.0 / static_cast<double>(samples.size());
-}
-
-double total(const std::vector<std::vector<double>>& table) {
-  double sum = 0;
-  for (const auto& level : table) sum += level_total(level);
-  return sum;
-}
-
 // Whether the setting tuned on every sample lies on its candidates' first or last value: a wider
 // grid might do better, and the report says so.
 bool on_the_edge(const KtcMethodResult& m) {
@@ -67,12 +55,10 @@ json sweep_json(const KtcMethodResult& m) {
   for (std::size_t s = 0; s < m.samples.size(); ++s) all.push_back(static_cast<int>(s));
   json out = json::array();
   for (std::size_t c = 0; c < m.candidates.size(); ++c) {
-    KtcMethodResult one = m;  // the sweep restricted to candidate c
-    one.candidates = {m.candidates[c]};
-    one.scores = {m.scores[c]};
+    const int only = static_cast<int>(c);
     out.push_back({{"lambda", m.candidates[c]},
-                   {"otsu", tune_ktc(one, all, true).tuning_score},
-                   {"best_rule", tune_ktc(one, all, false).tuning_score}});
+                   {"otsu", tune_ktc(m, all, true, only).tuning_score},
+                   {"best_rule", tune_ktc(m, all, false, only).tuning_score}});
   }
   return out;
 }
@@ -87,9 +73,9 @@ json method_json(const KtcMethodResult& m) {
           {"in_sample", m.in_sample},
           {"held_out", m.held_out},
           {"held_out_otsu", m.held_out_otsu},
-          {"total_held_out", total(m.held_out)},
-          {"total_in_sample", total(m.in_sample)},
-          {"total_held_out_otsu", total(m.held_out_otsu)},
+          {"total_held_out", ktc_total(m.held_out)},
+          {"total_in_sample", ktc_total(m.in_sample)},
+          {"total_held_out_otsu", ktc_total(m.held_out_otsu)},
           {"sweep", sweep_json(m)},
           {"on_the_grids_edge", on_the_edge(m)},
           {"median_ms", m.median_ms},
@@ -127,10 +113,11 @@ std::string report_markdown(const KtcRunResults& r) {
   std::ostringstream o;
   const std::size_t S = r.samples.size();
   o << "# KTC2023: model-based methods on the challenge's training samples\n\n";
-  o << fmt::format("{} on {} ({} samples, levels {}-{}); {} on this machine.\n\n",
-                   program_version(), r.options.data, S, r.options.levels.front(),
-                   r.options.levels.back(),
-                   describe_machine().count("cpu") ? describe_machine().at("cpu") : "");
+  std::string levels;
+  for (int l : r.options.levels) levels += (levels.empty() ? "" : ", ") + std::to_string(l);
+  const auto machine = describe_machine();
+  o << fmt::format("{} on {} ({} samples; levels {}); {}.\n\n", program_version(), r.options.data,
+                   S, levels, machine.count("cpu") ? machine.at("cpu") : "");
   o << fmt::format(
       "The tank: radius {:.0f} mm, 32 electrodes covering {:.0f} % of the rim, calibrated to the "
       "empty tank's frame: sigma_0 {:.4g}, contact impedances {:.3g} to {:.3g}, relative "
@@ -152,25 +139,26 @@ std::string report_markdown(const KtcRunResults& r) {
   std::vector<const KtcMethodResult*> order;
   for (const auto& m : r.methods) order.push_back(&m);
   std::sort(order.begin(), order.end(),
-            [](auto* a, auto* b) { return total(a->held_out) > total(b->held_out); });
+            [](auto* a, auto* b) { return ktc_total(a->held_out) > ktc_total(b->held_out); });
   for (const KtcMethodResult* m : order) {
     o << "| " << m->method;
-    for (const auto& level : m->held_out) o << fmt::format(" | {:.2f}", level_total(level));
+    for (const auto& level : m->held_out) o << fmt::format(" | {:.2f}", ktc_level_total(level));
     double setup = 0;
     for (double s : m->setup_seconds) setup += s;
     o << fmt::format(
         " | **{:.2f}** | {:.2f} | {:.2f} | lambda {:.3g}{}, {} | {:.1f} | {:.1f} |\n",
-        total(m->held_out), total(m->held_out_otsu), total(m->in_sample), m->best.lambda,
-        on_the_edge(*m) ? " (edge)" : "", m->best.rule.to_string(), m->median_ms,
+        ktc_total(m->held_out), ktc_total(m->held_out_otsu), ktc_total(m->in_sample),
+        m->best.lambda, on_the_edge(*m) ? " (edge)" : "", m->best.rule.to_string(), m->median_ms,
         setup / static_cast<double>(std::max<std::size_t>(1, m->setup_seconds.size())));
   }
   o << "\nThe challenge's published totals, on its evaluation set (other targets, scored blind; "
        "these samples are its training set):\n\n| entry | total of 21 |\n|---|---|\n";
   for (const Anchor& a : kAnchors) o << fmt::format("| {} | {:.2f} |\n", a.who, a.total);
   if (S < 2) o << "\nWith one sample there is nothing to hold out: its figures are in sample.\n";
-  o << "\nTimes: one reconstruction from a frame's present values (milliseconds); the set-up "
-       "builds the method on a level's values once (seconds). \"(edge)\": the setting lies on "
-       "its candidates' first or last value, and a wider grid might do better.\n";
+  o << "\nTimes: one reconstruction from a frame's present values (milliseconds, the median at "
+       "the setting), and building the method on a level's values once (seconds), each timed "
+       "while another level ran beside it, one a core. \"(edge)\": the setting lies on its "
+       "candidates' first or last value, and a wider grid might do better.\n";
   if (can_draw_figures()) {
     o << "\n## Segmentations\n\nEach method with its setting tuned on every sample (water dark, "
          "resistive green, conductive yellow), the truth on top.\n\n";
@@ -181,9 +169,9 @@ std::string report_markdown(const KtcRunResults& r) {
 }
 
 // The truth, then each method's segmentation at one level, samples side by side.
-void draw_level(const KtcRunResults& r, std::size_t l, const KtcSetup& setup_like,
-                const std::string& path) {
+void draw_level(const KtcRunResults& r, std::size_t l, const std::string& path) {
   const PixelGrid ktc(kKtcImageSize, r.tank.options.radius);
+  const PixelGrid grid(r.options.grid, r.tank.options.radius);  // the images'
   auto as_vector = [](const ClassImage& c) {
     return Eigen::Map<const Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>>(c.data(), c.size())
         .cast<double>()
@@ -196,7 +184,7 @@ void draw_level(const KtcRunResults& r, std::size_t l, const KtcSetup& setup_lik
   for (const auto& m : r.methods) {
     ImageRow row{m.method, {}, 0, 2};
     for (const Eigen::VectorXd& image : m.images[l])
-      row.images.push_back(as_vector(segment(ktc_image(setup_like, image), m.best.rule)));
+      row.images.push_back(as_vector(segment(to_ktc_grid(image, grid, {}), m.best.rule)));
     rows.push_back(row);
   }
   draw_image_grid_png(rows, ktc.mask(),
@@ -208,20 +196,87 @@ void draw_level(const KtcRunResults& r, std::size_t l, const KtcSetup& setup_lik
 }  // namespace
 
 void write_ktc_run(const KtcRunResults& r) {
-  namespace fs = std::filesystem;
-  fs::create_directories(r.options.out);
-  const fs::path out(r.options.out);
+  const std::filesystem::path out(r.options.out);  // the caller made it
   write_text_atomically((out / "results.json").string(),
                         [&](std::ostream& s) { s << results_json(r).dump(1) << '\n'; });
   write_text_atomically((out / "report.md").string(),
                         [&](std::ostream& s) { s << report_markdown(r); });
   if (!can_draw_figures() || r.methods.empty()) return;
-  KtcSetup grid_only;  // what ktc_image needs: the images' grid and the orientation
-  grid_only.grid = PixelGrid(r.options.grid, r.tank.options.radius);
   for (std::size_t l = 0; l < r.options.levels.size(); ++l)
-    draw_level(r, l, grid_only,
-               (out / fmt::format("ktc_level{}.png", r.options.levels[l])).string());
+    draw_level(r, l, (out / fmt::format("ktc_level{}.png", r.options.levels[l])).string());
 }
+
+namespace {
+
+// The settings of a KTC run's results.json, every field checked (InputError(path, field)).
+KtcRunSettings parse_settings(const json& j, const std::string& path) {
+  auto need = [&](const json& parent, const char* key, const std::string& where) -> const json& {
+    if (!parent.is_object() || !parent.contains(key))
+      throw InputError(path, where + key, "missing: not a KTC run's results (eitbench run --ktc)");
+    return parent.at(key);
+  };
+  auto number = [&](const json& parent, const char* key, const std::string& where) {
+    const json& v = need(parent, key, where);
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      throw InputError(path, where + key, "must be a finite number");
+    return v.get<double>();
+  };
+  auto text = [&](const json& parent, const char* key, const std::string& where) {
+    const json& v = need(parent, key, where);
+    if (!v.is_string()) throw InputError(path, where + key, "must be text");
+    return v.get<std::string>();
+  };
+  if (!j.is_object() || !j.contains("kind") || !j.at("kind").is_string() ||
+      j.at("kind").get<std::string>() != "ktc")
+    throw InputError(path, "kind", "is not a KTC run's results (eitbench run --ktc)");
+  KtcRunSettings s;
+  s.path = path;
+  const json& tank = need(j, "tank", "");
+  s.tank.radius = number(tank, "radius", "tank.");
+  s.tank.electrode_coverage = number(tank, "electrode_coverage", "tank.");
+  s.tank.size_factor = number(tank, "size_factor", "tank.");
+  s.tank.density = parse_density(text(tank, "density", "tank."));
+  s.background = number(tank, "background", "tank.");
+  const json& z = need(tank, "contact_impedances", "tank.");
+  if (!z.is_array() || z.size() != 32)
+    throw InputError(path, "tank.contact_impedances", "must hold 32 numbers");
+  s.contact_impedances.resize(32);
+  for (int e = 0; e < 32; ++e) {
+    const json& v = z[static_cast<std::size_t>(e)];
+    if (!v.is_number() || !(v.get<double>() > 0) || !std::isfinite(v.get<double>()))
+      throw InputError(path, "tank.contact_impedances", "must hold 32 positive, finite numbers");
+    s.contact_impedances[e] = v.get<double>();
+  }
+  s.reference_hash = text(tank, "reference_hash", "tank.");
+  const json& noise = need(j, "noise", "");
+  s.noise.relative = number(noise, "relative", "noise.");
+  s.noise.floor = number(noise, "floor", "noise.");
+  const double grid = number(j, "grid", "");
+  if (grid < 16 || grid > 256 || grid != std::floor(grid))
+    throw InputError(path, "grid", "must be a whole number of pixels in 16 ... 256");
+  s.grid = static_cast<int>(grid);
+  const json& methods = need(j, "methods", "");
+  if (!methods.is_array()) throw InputError(path, "methods", "must be a list");
+  for (const json& m : methods) {
+    const std::string name = text(m, "method", "methods[].");
+    const std::string where = "methods[" + name + "].best.";
+    const json& best = need(m, "best", "methods[" + name + "].");
+    KtcRunSettings::Method method;
+    method.lambda = number(best, "lambda", where);
+    if (!(method.lambda > 0)) throw InputError(path, where + "lambda", "must be positive");
+    const json& seg = need(best, "segmentation", where);
+    method.rule.kind = parse_segmentation(text(seg, "kind", where + "segmentation."));
+    method.rule.resistive = number(seg, "resistive", where + "segmentation.");
+    method.rule.conductive = number(seg, "conductive", where + "segmentation.");
+    method.rule.validate();
+    s.methods[name] = method;
+  }
+  s.tank.validate();
+  s.noise.validate();
+  return s;
+}
+
+}  // namespace
 
 KtcRunSettings read_ktc_settings(const std::string& run) {
   const std::string path = (std::filesystem::path(run) / "results.json").string();
@@ -231,65 +286,13 @@ KtcRunSettings read_ktc_settings(const std::string& run) {
   } catch (const json::exception& e) {
     throw InputError(path, "", std::string("is not JSON: ") + e.what());
   }
-  auto need = [&](const json& parent, const char* key, const std::string& where) -> const json& {
-    if (!parent.is_object() || !parent.contains(key))
-      throw InputError(path, where + key, "missing: not a KTC run's results (eitbench run --ktc)");
-    return parent.at(key);
-  };
-  auto number = [&](const json& parent, const char* key, const std::string& where) {
-    const json& v = need(parent, key, where);
-    if (!v.is_number()) throw InputError(path, where + key, "must be a number");
-    return v.get<double>();
-  };
-  if (!j.is_object() || j.value("kind", "") != "ktc")
-    throw InputError(path, "kind", "is not a KTC run's results (eitbench run --ktc)");
-  KtcRunSettings s;
-  s.path = path;
-  const json& tank = need(j, "tank", "");
-  s.tank.radius = number(tank, "radius", "tank.");
-  s.tank.electrode_coverage = number(tank, "electrode_coverage", "tank.");
-  s.tank.size_factor = number(tank, "size_factor", "tank.");
-  const json& density = need(tank, "density", "tank.");
-  if (!density.is_string()) throw InputError(path, "tank.density", "must be a name");
-  s.tank.density = parse_density(density.get<std::string>());
-  s.background = number(tank, "background", "tank.");
-  const json& z = need(tank, "contact_impedances", "tank.");
-  if (!z.is_array() || z.size() != 32)
-    throw InputError(path, "tank.contact_impedances", "must hold 32 numbers");
-  s.contact_impedances.resize(32);
-  for (int e = 0; e < 32; ++e) {
-    if (!z[static_cast<std::size_t>(e)].is_number())
-      throw InputError(path, "tank.contact_impedances", "must hold 32 numbers");
-    s.contact_impedances[e] = z[static_cast<std::size_t>(e)].get<double>();
+  try {
+    return parse_settings(j, path);
+  } catch (const InputError& e) {
+    if (e.source() == path) throw;
+    // A value the options refuse (a density, a rule, the tank): the file's, not a flag's.
+    throw InputError(path, e.source() + (e.field().empty() ? "" : "." + e.field()), e.message());
   }
-  const json& hash = need(tank, "reference_hash", "tank.");
-  if (!hash.is_string()) throw InputError(path, "tank.reference_hash", "must be text");
-  s.reference_hash = hash.get<std::string>();
-  const json& noise = need(j, "noise", "");
-  s.noise.relative = number(noise, "relative", "noise.");
-  s.noise.floor = number(noise, "floor", "noise.");
-  s.grid = static_cast<int>(number(j, "grid", ""));
-  const json& methods = need(j, "methods", "");
-  if (!methods.is_array()) throw InputError(path, "methods", "must be a list");
-  for (const json& m : methods) {
-    const json& name = need(m, "method", "methods[].");
-    if (!name.is_string()) throw InputError(path, "methods[].method", "must be a name");
-    const json& best = need(m, "best", "methods[].");
-    const json& seg = need(best, "segmentation", "methods[].best.");
-    KtcRunSettings::Method method;
-    method.lambda = number(best, "lambda", "methods[].best.");
-    const json& kind = need(seg, "kind", "methods[].best.segmentation.");
-    if (!kind.is_string())
-      throw InputError(path, "methods[].best.segmentation.kind", "must be a name");
-    method.rule.kind = parse_segmentation(kind.get<std::string>());
-    method.rule.resistive = number(seg, "resistive", "methods[].best.segmentation.");
-    method.rule.conductive = number(seg, "conductive", "methods[].best.segmentation.");
-    method.rule.validate();
-    s.methods[name.get<std::string>()] = method;
-  }
-  s.tank.validate();
-  s.noise.validate();
-  return s;
 }
 
 }  // namespace eitbench

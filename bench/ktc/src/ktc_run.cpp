@@ -11,6 +11,7 @@
 
 #include "eitbench/bench/io/content_hash.h"
 #include "eitbench/bench/support/progress.h"
+#include "eitbench/bench/support/timing.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
@@ -31,9 +32,12 @@ KtcFrameScores score_every_rule(const Eigen::MatrixXd& x, const KtcScorer& truth
   for (Eigen::Index k = 0; k < x.size(); ++k)
     if (std::isfinite(x.data()[k])) largest = std::max(largest, std::abs(x.data()[k]));
   for (double f : ktc_level_fractions()) {
-    // NaN (outside the tank) compares false: water, as segment() has it.
-    const Eigen::MatrixXd resistive = (x.array() >= f * largest).cast<double>().matrix();
-    const Eigen::MatrixXd conductive = (x.array() <= -f * largest).cast<double>().matrix();
+    // NaN (outside the tank) compares false: water, as segment() has it; a blank image is water.
+    const Eigen::MatrixXd none = Eigen::MatrixXd::Zero(x.rows(), x.cols());
+    const Eigen::MatrixXd resistive =
+        largest == 0 ? none : (x.array() >= f * largest).cast<double>().matrix();
+    const Eigen::MatrixXd conductive =
+        largest == 0 ? none : (x.array() <= -f * largest).cast<double>().matrix();
     s.resistive.push_back(truth.ssim(1, resistive));
     s.conductive.push_back(truth.ssim(2, conductive));
   }
@@ -54,11 +58,13 @@ double ktc_choice_score(const KtcMethodResult& r, const KtcChoice& c, int l, int
   return 0.5 * (f.resistive[index(c.rule.resistive)] + f.conductive[index(c.rule.conductive)]);
 }
 
-KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, bool otsu_only) {
+KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, bool otsu_only,
+                   int only_candidate) {
   KtcChoice best;
   best.tuning_score = -INFINITY;
   const auto& fr = ktc_level_fractions();
   for (std::size_t c = 0; c < r.candidates.size(); ++c) {
+    if (only_candidate >= 0 && c != static_cast<std::size_t>(only_candidate)) continue;
     double otsu = 0;
     std::vector<double> res(fr.size(), 0.0), con(fr.size(), 0.0);
     for (std::size_t l = 0; l < r.levels.size(); ++l)
@@ -86,6 +92,18 @@ KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, bo
           fr[static_cast<std::size_t>(ic)]});
   }
   return best;
+}
+
+double ktc_level_total(const std::vector<double>& samples) {
+  double sum = 0;
+  for (double v : samples) sum += v;
+  return samples.empty() ? 0 : sum * 3.0 / static_cast<double>(samples.size());
+}
+
+double ktc_total(const std::vector<std::vector<double>>& table) {
+  double sum = 0;
+  for (const auto& level : table) sum += ktc_level_total(level);
+  return sum;
 }
 
 void tune_and_hold_out(KtcMethodResult& r) {
@@ -125,20 +143,41 @@ void KtcRunOptions::validate() const {
                        "has no true" + std::to_string(s.number) +
                            ".mat beside it: the benchmark scores against the truth");
   if (levels.empty()) throw InputError("--levels", "", "needs at least one level");
-  for (int l : levels) ktc_removed_electrodes(l);  // InputError for a level outside 1 ... 7
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    ktc_removed_electrodes(levels[k]);  // InputError for a level outside 1 ... 7
+    if (std::count(levels.begin(), levels.begin() + static_cast<std::ptrdiff_t>(k), levels[k]))
+      throw InputError("--levels", "", "lists level " + std::to_string(levels[k]) + " twice");
+  }
   if (methods.empty()) throw InputError("--methods", "", "needs at least one method");
-  for (const std::string& m : methods) ktc_candidates(m);
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    if (std::find(ktc_method_names().begin(), ktc_method_names().end(), methods[k]) ==
+        ktc_method_names().end())
+      throw InputError("--methods", "", "'" + methods[k] + "' is not a method the KTC run ranks");
+    if (std::count(methods.begin(), methods.begin() + static_cast<std::ptrdiff_t>(k), methods[k]))
+      throw InputError("--methods", "", "lists " + methods[k] + " twice");
+  }
+  check_ktc_grid(grid);
   tank.validate();
   noise.validate();
 }
 
+KtcInputs load_ktc_inputs(const KtcRunOptions& options) {
+  options.validate();
+  const KtcFolder folder = scan_ktc_folder(options.data);
+  KtcInputs in;
+  in.reference_path = folder.reference;
+  in.reference = read_ktc_measurement(folder.reference);
+  in.reference_hash = file_hash(folder.reference);
+  for (const auto& s : folder.samples) {
+    in.samples.push_back({s.number, read_ktc_measurement(s.data), read_ktc_truth(s.truth)});
+    check_same_patterns(in.samples.back().measurement, in.reference.patterns);
+  }
+  return in;
+}
+
 namespace {
 
-struct Sample {
-  int number;
-  KtcMeasurement measurement;
-  ClassImage truth;
-};
+using Sample = KtcInputs::Sample;
 
 // Every candidate's reconstructions of every sample at every level, scored.
 KtcMethodResult sweep(const KtcSetup& setup, const std::string& method,
@@ -165,15 +204,13 @@ KtcMethodResult sweep(const KtcSetup& setup, const std::string& method,
       frames.push_back(ktc_difference(s.measurement, setup, levels[l]));
     const auto t0 = std::chrono::steady_clock::now();
     m->method_for(m->present_values(frames.front()));  // build the level's method once
-    r.setup_seconds[l] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.setup_seconds[l] = seconds_since(t0);
     for (std::size_t c = 0; c < C; ++c) {
       m->set_regularisation(r.candidates[c], "candidate");
       for (std::size_t s = 0; s < S; ++s) {
         const auto start = std::chrono::steady_clock::now();
         images[c][l][s] = m->reconstruct(frames[s]);
-        r.milliseconds[c][l][s] =
-            1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        r.milliseconds[c][l][s] = 1e3 * seconds_since(start);
         r.scores[c][l][s] = score_every_rule(ktc_image(setup, images[c][l][s]), scorers[s]);
       }
       const std::lock_guard<std::mutex> lock(progress_mutex);
@@ -192,25 +229,17 @@ KtcMethodResult sweep(const KtcSetup& setup, const std::string& method,
 
 }  // namespace
 
-KtcRunResults run_ktc(const KtcRunOptions& options) {
+KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
   options.validate();
   KtcRunResults out;
   out.options = options;
-  const KtcFolder folder = scan_ktc_folder(options.data);
-  std::vector<Sample> samples;
-  for (const auto& s : folder.samples) {
-    samples.push_back({s.number, read_ktc_measurement(s.data), read_ktc_truth(s.truth)});
-    out.samples.push_back(s.number);
-    out.truths.push_back(samples.back().truth);
-  }
-  const KtcMeasurement reference = read_ktc_measurement(folder.reference);
-  out.reference_hash = file_hash(folder.reference);
-  if (!options.quiet) fmt::print(stderr, "calibrating the tank to {} ...\n", folder.reference);
+  out.reference_hash = in.reference_hash;
+  for (const Sample& s : in.samples) out.samples.push_back(s.number), out.truths.push_back(s.truth);
+  if (!options.quiet) fmt::print(stderr, "calibrating the tank to {} ...\n", in.reference_path);
   const auto t0 = std::chrono::steady_clock::now();
   KtcSetup setup =
-      make_ktc_setup(calibrate_ktc_tank(reference, options.tank), options.grid, options.noise);
-  out.calibration_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      make_ktc_setup(calibrate_ktc_tank(in.reference, options.tank), options.grid, options.noise);
+  out.calibration_seconds = seconds_since(t0);
   if (!options.quiet)
     fmt::print(stderr,
                "tank: sigma_0 {:.4g}, contact impedances {:.3g} ... {:.3g}, residual {:.2f} % "
@@ -218,7 +247,7 @@ KtcRunResults run_ktc(const KtcRunOptions& options) {
                setup.tank.background, setup.tank.contact_impedances.minCoeff(),
                setup.tank.contact_impedances.maxCoeff(), 100 * setup.tank.relative_residual,
                out.calibration_seconds);
-  for (const Sample& s : samples) check_same_patterns(s.measurement, setup.tank);
+  const std::vector<Sample>& samples = in.samples;
   std::vector<KtcScorer> scorers;
   for (const Sample& s : samples) scorers.emplace_back(s.truth);
   int total = 0, done = 0;

@@ -70,6 +70,7 @@ KtcTank ktc_tank_at(const KtcMeasurement& reference, const KtcTankOptions& optio
   for (Eigen::Index i = 0; i < v.size(); ++i)
     if (std::isfinite(tank.reference[i]))
       misfit += std::pow(v[i] - tank.reference[i], 2), norm += std::pow(tank.reference[i], 2);
+  if (!(norm > 0)) throw InputError(reference.path, "Uelref", "has no finite value but zeros");
   tank.relative_residual = std::sqrt(misfit / norm);
   return tank;
 }
@@ -82,15 +83,14 @@ KtcTank calibrate_ktc_tank(const KtcMeasurement& reference, const KtcTankOptions
 #ifdef EITBENCH_HAVE_CERES
   const Calibration c = calibrate_measured(tank.mesh, forward, options.background_start,
                                            reference.voltages, {}, reference.path);
-#else
-  const Calibration c;
-  throw InputError(reference.path, "", "calibrating the tank needs a build with Ceres");
-#endif
   tank.background = c.background;
   tank.contact_impedances = c.contact_impedances;
   tank.relative_residual = c.relative_residual;
   forward.contact_impedances = c.contact_impedances;
   tank.model = std::make_shared<const ForwardModel>(tank.mesh, forward);
+#else
+  throw InputError(reference.path, "", "calibrating the tank needs a build with Ceres");
+#endif
   return tank;
 }
 
@@ -113,8 +113,7 @@ Eigen::VectorXd ktc_level_frame(const Eigen::VectorXd& voltages, const CurrentPa
   return out;
 }
 
-void check_same_patterns(const KtcMeasurement& measurement, const KtcTank& tank) {
-  const CurrentPatterns& p = tank.protocol->patterns();
+void check_same_patterns(const KtcMeasurement& measurement, const CurrentPatterns& p) {
   const CurrentPatterns& q = measurement.patterns;
   if (q.electrodes() != p.electrodes() || q.patterns() != p.patterns() ||
       q.differences() != p.differences())

@@ -49,7 +49,8 @@ class MeasurementProtocol {
   const CurrentPatterns& patterns() const;
 
   // Boards such as OpenEIT report |v|: frames are magnitudes, and the model's frames and
-  // Jacobian are those of |v| (ForwardModel). False by default; InputError for current patterns.
+  // Jacobian are those of |v| (ForwardModel). False by default; with_magnitude(true) is an
+  // InputError for current patterns.
   bool magnitude() const { return magnitude_; }
   MeasurementProtocol with_magnitude(bool magnitude) const;
 
@@ -61,7 +62,7 @@ class MeasurementProtocol {
   // docs/conventions.md, in their order); otherwise every channel.
   const std::vector<int>& inputs() const { return inputs_; }
   int input_size() const { return static_cast<int>(inputs_.size()); }
-  std::vector<Channel> input_channels() const;
+  std::vector<Channel> input_channels() const;  // std::logic_error for current patterns
   // The inputs of a frame of size() values (InputError("frame", "values") for another size).
   Eigen::VectorXd to_inputs(const Eigen::VectorXd& frame) const;
 

@@ -33,9 +33,11 @@ struct KtcSetup {
   KtcOrientation orientation;
 };
 
-// The linear problem on the calibrated tank. grid_size pixels a side (16 ... 256).
+// The linear problem on the calibrated tank. grid_size pixels a side (check_ktc_grid).
 KtcSetup make_ktc_setup(KtcTank tank, int grid_size = 64, const KtcNoise& noise = {},
                         const KtcOrientation& orientation = {});
+// InputError("KtcSetup", "grid") unless 16 <= grid_size <= 256.
+void check_ktc_grid(int grid_size);
 
 // The methods a KTC run ranks (every model-based one but the shape fits), and each one's
 // candidate regularisation weights on its relative scale (Reconstructor::set_regularisation).
@@ -50,11 +52,11 @@ struct KtcSetting {
 };
 KtcSetting ktc_default_setting(const std::string& method);
 
-// `method` for KTC's frames: its regularisation fixed at `relative`, or (0) as the method chooses
-// by default (the Tikhonov family by GCV on each frame's values, the others their documented
-// value). InputError naming --method for a method that is not a KTC one.
+// `method` for KTC's frames, its regularisation fixed at `relative` (positive, finite).
+// InputError naming --method for a method that is not a KTC one, --lambda for a bad weight.
+// The method is not safe to use from several threads while set_regularisation changes it.
 std::unique_ptr<MissingValues> make_ktc_method(const KtcSetup& setup, const std::string& method,
-                                               double relative = 0);
+                                               double relative);
 
 // The difference frame of a measurement at `level`: Uel - Uelref, NaN where the level removes.
 Eigen::VectorXd ktc_difference(const KtcMeasurement& measurement, const KtcSetup& setup, int level);

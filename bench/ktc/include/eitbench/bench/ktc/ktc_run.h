@@ -50,8 +50,14 @@ struct KtcMethodResult {
 };
 
 // The best setting on `samples` (indices into result.samples), every level summed; with
-// `otsu_only` among the Otsu rules only. Ties go to the earlier candidate and smaller fractions.
-KtcChoice tune_ktc(const KtcMethodResult& result, const std::vector<int>& samples, bool otsu_only);
+// `otsu_only` among the Otsu rules only, with `only_candidate` >= 0 at that candidate only. Ties go
+// to the earlier candidate and smaller fractions.
+KtcChoice tune_ktc(const KtcMethodResult& result, const std::vector<int>& samples, bool otsu_only,
+                   int only_candidate = -1);
+// A [level][sample] table of scores summed as the challenge sums them: each level's mean over the
+// samples times 3 (its three targets a level), then over the levels (at most 21 for seven).
+double ktc_level_total(const std::vector<double>& samples);
+double ktc_total(const std::vector<std::vector<double>>& table);
 // The score of sample `s` at level index `l` with `choice`.
 double ktc_choice_score(const KtcMethodResult& result, const KtcChoice& choice, int l, int s);
 // Fills best, held_out_choice, in_sample, held_out and held_out_otsu from the scores.
@@ -70,9 +76,25 @@ struct KtcRunOptions {
   int grid = 64;
   bool quiet = false;
 
-  // InputError naming the field (the data folder, a level, a method).
+  // InputError naming the flag: the data folder (ref.mat, and dataN.mat each with its trueN.mat),
+  // a level outside 1 ... 7 or given twice, a method that is no KTC one or given twice, the grid,
+  // the tank, the noise.
   void validate() const;
 };
+
+// Every file of a KTC run, read and checked before anything is written.
+struct KtcInputs {
+  std::string reference_path, reference_hash;
+  KtcMeasurement reference;
+  struct Sample {
+    int number;
+    KtcMeasurement measurement;
+    ClassImage truth;
+  };
+  std::vector<Sample> samples;
+};
+// InputError naming the file and field for a bad file, or a sample of other patterns than ref.mat.
+KtcInputs load_ktc_inputs(const KtcRunOptions& options);
 
 struct KtcRunResults {
   KtcRunOptions options;
@@ -84,7 +106,8 @@ struct KtcRunResults {
   std::vector<int> samples;        // KTC's sample numbers
 };
 
-// The whole run: calibrate, sweep every method, tune, hold out. Writes nothing.
-KtcRunResults run_ktc(const KtcRunOptions& options);
+// The whole run on the loaded inputs: calibrate, sweep every method, tune, hold out. Writes
+// nothing. Each reconstruction is timed while another level runs beside it (one a core).
+KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& inputs);
 
 }  // namespace eitbench

@@ -53,8 +53,9 @@ std::vector<int> ktc_removed_electrodes(int level);
 Eigen::VectorXd ktc_level_frame(const Eigen::VectorXd& voltages, const CurrentPatterns& patterns,
                                 int level);
 
-// The measurement's patterns against the tank's: InputError(measurement.path, field) when they
-// differ (a measurement of another protocol cannot be reconstructed on this tank's model).
-void check_same_patterns(const KtcMeasurement& measurement, const KtcTank& tank);
+// The measurement's patterns against the reference's (the tank's): InputError(measurement.path,
+// field) when they differ (a measurement of another protocol cannot be reconstructed on this
+// tank's model).
+void check_same_patterns(const KtcMeasurement& measurement, const CurrentPatterns& reference);
 
 }  // namespace eitbench
