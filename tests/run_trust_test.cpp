@@ -82,7 +82,9 @@ TEST_F(RunTrust, ResumeOnOtherUserDataMakesStagesAgain) {
 }
 
 // True while some process holds the folder's lock (the file keeps the last holder's PID after
-// it ends, so only the lock itself tells).
+// it ends, so only the lock itself tells). The probe takes the lock for a moment when it is free,
+// so it must never race a writer that is about to take it: a run refused by the probe never
+// locks at all.
 bool locked(const std::string& lock_file) {
   const int fd = ::open(lock_file.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) return false;
@@ -99,8 +101,15 @@ TEST_F(RunTrust, OneWriterPerFolder) {
   // Resumed with another epoch budget, it trains again: long enough to be caught at work.
   const std::string longer =
       "run --preset tiny --quiet --methods tikhonov --augment none --epochs 50 --resume";
+  // Caught at work once the lock file names it: a writer writes its PID only after it holds the
+  // lock, and reading the file never takes the lock from under it (locked() would: CI once saw
+  // the run refused by the probe itself, and the test wait 300 s for a lock never taken).
   ASSERT_TRUE(kill_when(longer + " --out " + path("x"), [&] {
-    if (!locked(path("x/.eitbench.lock"))) return false;
+    const std::string pid = text_of(path("pid"));
+    const std::string holder = text_of(path("x/.eitbench.lock"));
+    if (holder.empty() || pid.find_first_not_of(" \n") == std::string::npos ||
+        std::stol(pid) != std::stol(holder))
+      return false;
     second = run(kQuiet + " --out " + path("x"));
     report = run("report --quiet " + path("x"));
     return true;
