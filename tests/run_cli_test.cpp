@@ -379,6 +379,7 @@ TEST(Results, JsonRoundTrip) {
   r.rows = {a, b};
   TrainingSummary t;
   t.augment = "d16", t.best_round = 1, t.best_epoch = 1, t.steps = 4, t.converged = true;
+  t.end = "rule", t.doublings = 1, t.budget_steps = 8, t.stage_best = {0.25, 0.2495};
   t.fraction_of_gemm_peak = 0.375;
   t.inference_device = "cuda:0", t.device_latency_ms = 0.5, t.device_frames_per_second = 7e4;
   t.history.push_back({1, 1, 4, 64, 0.5, 0.25, 1e-3, 1.0, 64.0});
@@ -404,6 +405,10 @@ TEST(Results, JsonRoundTrip) {
   EXPECT_EQ(back.training[0].history[0].validation_loss, 0.25);
   EXPECT_EQ(back.training[0].history[0].learning_rate, 1e-3);
   EXPECT_TRUE(back.training[0].converged);
+  EXPECT_EQ(back.training[0].end, "rule");
+  EXPECT_EQ(back.training[0].doublings, 1);
+  EXPECT_EQ(back.training[0].budget_steps, 8);
+  EXPECT_EQ(back.training[0].stage_best, t.stage_best);
   EXPECT_EQ(back.training[0].fraction_of_gemm_peak, 0.375);
   EXPECT_EQ(back.training[0].inference_device, "cuda:0");
   EXPECT_EQ(back.training[0].device_latency_ms, 0.5);
@@ -444,6 +449,7 @@ TEST(Report, GpuInferenceOnlyWhereMeasured) {
   r.rows = {row};
   TrainingSummary t;
   t.augment = "d16", t.best_round = 1, t.best_epoch = 1, t.steps = 4, t.converged = true;
+  t.end = "rule", t.doublings = 1, t.budget_steps = 8, t.stage_best = {0.25, 0.2495};
   t.history.push_back({1, 1, 4, 64, 0.5, 0.25, 1e-3, 1.0, 64.0});
   r.training = {t};
   const fs::path dir =

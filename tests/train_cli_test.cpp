@@ -102,6 +102,27 @@ TEST_F(TrainCli, KilledRunResumesToTheUninterruptedResult) {
   EXPECT_EQ(losses(path("whole_loss.csv")).size(), 31u);
 }
 
+// The budget rule's stages (budget_rule.h): a run killed after its first stage resumes from the
+// stage record to the model and curves an uninterrupted run gives.
+TEST_F(TrainCli, KilledBetweenStagesResumesToTheUninterruptedResult) {
+  const std::string args =
+      "train --data " + data() + " --augment rotations --epochs 6 --batch 8 " +
+      "--validate-every 64 --patience 0 --doublings 2 --doubling-tolerance 0 --quiet --out ";
+  ASSERT_EQ(run(args + path("whole.pt")).exit_code, 0);
+  ASSERT_TRUE(kill_when(args + path("cut.pt"), [&] {
+    return fs::exists(path("cut.pt.stage.json"));
+  })) << "no stage record appeared";
+  ASSERT_FALSE(fs::exists(path("cut.pt"))) << "the run finished before it was killed";
+  const Result resumed = run(args + path("cut.pt") + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const LearnedModel a = read_model_file(path("whole.pt")), b = read_model_file(path("cut.pt"));
+  EXPECT_NE(a.info().training.find("\"doublings\":"), std::string::npos);
+  const SampleMatrix frames = read_dataset(data()).differences;
+  EXPECT_EQ(a.reconstruct(frames), b.reconstruct(frames));
+  EXPECT_FALSE(fs::exists(path("cut.pt.stage")));
+  EXPECT_FALSE(fs::exists(path("cut.pt.stage.json")));
+}
+
 TEST_F(TrainCli, BadInputsFailWithAMessageAndNoOutput) {
   ASSERT_EQ(run("train --data " + data() + kTrain + " --out " + path("m.pt")).exit_code, 0);
   ASSERT_EQ(run("train --data " + data(8) + kTrain + " --out " + path("m8.pt")).exit_code, 0);

@@ -49,7 +49,9 @@ const Table kSolvers = {{"TikhonovOptions", "lambda", "--lambda"},
                         {"GreitOptions", "choice", "--choose"},
                         {"Neighbours", "name", "--neighbours"}};
 // The flags train and run share.
-const Table kBudget = {{"TrainingOptions", "epochs", "--epochs"},
+const Table kBudget = {{"BudgetRule", "max_doublings", "--doublings"},
+                       {"BudgetRule", "tolerance", "--doubling-tolerance"},
+                       {"TrainingOptions", "epochs", "--epochs"},
                        {"TrainingOptions", "learning_rate", "--lr"},
                        {"TrainingOptions", "patience", "--patience"},
                        {"TrainingOptions", "device", "--device"}};

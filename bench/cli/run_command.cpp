@@ -239,7 +239,8 @@ std::function<void()> add_run_command(CLI::App& app) {
                 press_calibration, finetune, sweep;
     double radius_mm = 0;
     std::uint64_t seed = 1;
-    int threads = 2, electrodes = 16, epochs = 0, patience = -1;
+    int threads = 2, electrodes = 16, epochs = 0, patience = -1, doublings = -1;
+    double doubling_tolerance = -1;
     long long finetune_steps = RunConfig().finetune_steps;
     double learning_rate = 0;
     std::vector<std::string> methods, augments;
@@ -321,6 +322,16 @@ std::function<void()> add_run_command(CLI::App& app) {
                   "the learning rate schedule's peak (default: the preset's, 1e-2 for the small "
                   "model, 1e-3 for the paper model)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--doublings", args->doublings,
+                  "after the budget, continue each learned model from its best over as many "
+                  "steps again while the last doubling lowered its best validation loss by more "
+                  "than --doubling-tolerance, at most this many times (default: the preset's; "
+                  "tiny and quick 0, standard and paper 3; docs/learned.md)")
+      ->check(CLI::Range(0, 20));
+  cmd->add_option("--doubling-tolerance", args->doubling_tolerance,
+                  "the relative drop of the best validation loss a doubling must bring for another "
+                  "(default 0.01)")
+      ->check(CLI::Range(0.0, 0.99));
   cmd->add_option("--patience", args->patience,
                   "validations without a 0.5 % improvement before training stops (default 5; 0: "
                   "train to the budget)")
@@ -371,6 +382,8 @@ std::function<void()> add_run_command(CLI::App& app) {
     if (args->epochs > 0) c.epochs = args->epochs;
     if (args->learning_rate > 0) c.learning_rate = args->learning_rate;
     if (args->patience >= 0) c.patience = args->patience;
+    if (args->doublings >= 0) c.budget_rule.max_doublings = args->doublings;
+    if (args->doubling_tolerance >= 0) c.budget_rule.tolerance = args->doubling_tolerance;
     if (!args->device.empty()) c.device = args->device;
     if (!args->data.empty() && !args->reference.empty() && args->data == args->reference)
       throw InputError("--reference", "", "is the same file as --data");

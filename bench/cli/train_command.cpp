@@ -31,6 +31,7 @@ struct Args {
                     decoder = "pixel_shuffle", mesh;
   ProtocolChoice protocol;
   TrainingOptions options = default_options();
+  BudgetRule rule;
   int threads = 2, train_size = 0;
   double dropout = -1;
   bool resume = false, quiet = false;
@@ -127,6 +128,16 @@ void add_options(CLI::App* cmd, Args* args) {
                   "the last improvement (0: train to the budget)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1000000));
+  cmd->add_option("--doublings", args->rule.max_doublings,
+                  "after the budget, continue from the best model over as many steps again "
+                  "(the budget doubles) while the last doubling lowered the best validation loss "
+                  "by more than --doubling-tolerance, at most this many times (docs/learned.md)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 20));
+  cmd->add_option("--doubling-tolerance", args->rule.tolerance,
+                  "the relative drop of the best validation loss a doubling must bring for another")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.99));
   cmd->add_option("--min-improvement", args->options.min_improvement,
                   "the relative drop of the validation loss that counts as an improvement")
       ->capture_default_str()
@@ -166,10 +177,10 @@ void print_result(const Args& args, const TrainingResult& r) {
   double samples = 0, seconds = 0;
   for (const auto& e : r.history) samples += e.samples_per_second * e.seconds, seconds += e.seconds;
   fmt::print(
-      "{} rounds, {} steps ({} an epoch), {}; best round {} (epoch {}): validation MSE {:.5g}; "
-      "{:.0f} samples/s\n",
-      r.history.size(), r.history.back().steps, r.steps_per_epoch,
-      r.converged ? "converged (stopped early)" : "NOT converged: the budget ran out first",
+      "{} rounds, {} steps ({} an epoch; {} doublings, ended by {}), {}; best round {} (epoch "
+      "{}): validation MSE {:.5g}; {:.0f} samples/s\n",
+      r.history.size(), r.history.back().steps, r.steps_per_epoch, r.doublings, to_string(r.end),
+      r.converged ? "converged" : "NOT converged: its budget or its schedule's floor ended it",
       r.best_round, r.best_epoch, best.validation_loss, seconds > 0 ? samples / seconds : 0.0);
   fmt::print("wrote {} ({} parameters), {} and {}\n", args.out, r.model.parameters(),
              loss_curve_path(args.out, "csv"), loss_curve_path(args.out, "png"));
@@ -228,6 +239,7 @@ std::function<void()> add_train_command(CLI::App& app) {
     run.out = args->out;
     run.resume = args->resume;
     run.quiet = args->quiet;
+    run.rule = args->rule;
     const TrainingResult r =
         train_and_save(network, o, std::move(train), validation, sensor_of(data), run);
     print_result(*args, r);

@@ -2,8 +2,12 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/methods/model_file.h"
@@ -23,65 +27,236 @@ std::string loss_curve_path(const std::string& model_path, const std::string& ex
   return (p.parent_path() / (p.stem().string() + "_loss." + extension)).string();
 }
 
-TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptions& options,
-                              LabelledFrames train, const LabelledFrames& validation,
-                              const AugmentSetup& sensor, const TrainingRun& run) {
-  const std::string checkpoint = checkpoint_path(run.out);
-  temporary_path_for(run.out);  // the output folder must exist before hours of training
-  std::unique_ptr<Trainer> trainer;
-  bool resumed = false;
-  if (run.resume) {
-    if (!std::filesystem::exists(checkpoint))
-      throw InputError("--resume", "",
-                       "no checkpoint at " + checkpoint +
-                           ": nothing to resume (run without "
-                           "--resume to start)");
-    trainer = Trainer::resume(read_file_bytes(checkpoint), checkpoint, std::move(train), validation,
-                              sensor);
-    resumed = true;
-  } else {
-    trainer = std::make_unique<Trainer>(network, options, std::move(train), validation, sensor);
+namespace {
+
+std::string stage_path(const std::string& out) {
+  return out + ".stage";
+}
+
+}  // namespace
+
+bool resumable(const std::string& model_path) {
+  return std::filesystem::exists(checkpoint_path(model_path)) ||
+         (std::filesystem::exists(stage_path(model_path)) &&
+          std::filesystem::exists(stage_path(model_path) + ".json"));
+}
+
+namespace {
+
+// What the stages so far left: the best model, its stage's record, the merged history.
+struct Stages {
+  int done = 0;              // stages finished
+  long long budget = 0;      // the budget in steps at the last stage's end
+  std::vector<double> best;  // the best validation loss after each stage
+  std::vector<TrainingRecord> history;
+  int best_round = 0, best_epoch = 0;  // in the merged history
+  bool best_stopped_early = false;
+  std::optional<LearnedModel> model;  // the best so far
+  double seconds = 0;
+};
+
+void save_stages(const std::string& out, const Stages& st) {
+  write_model_file(stage_path(out), *st.model);
+  const nlohmann::json j{{"done", st.done},
+                         {"budget", st.budget},
+                         {"best", st.best},
+                         {"history", nlohmann::json::parse(history_to_json(st.history))},
+                         {"best_round", st.best_round},
+                         {"best_epoch", st.best_epoch},
+                         {"best_stopped_early", st.best_stopped_early},
+                         {"seconds", st.seconds}};
+  write_text_atomically(stage_path(out) + ".json", [&](std::ostream& o) { o << j.dump() << '\n'; });
+}
+
+// The stages a killed run finished (none when there is no record), InputError naming the file
+// when it is not one of this eitbench's.
+Stages load_stages(const std::string& out) {
+  Stages st;
+  const std::string path = stage_path(out) + ".json";
+  if (!std::filesystem::exists(path) || !std::filesystem::exists(stage_path(out))) return st;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(read_file_bytes(path));
+    st.done = j.at("done").get<int>();
+    st.budget = j.at("budget").get<long long>();
+    st.best = j.at("best").get<std::vector<double>>();
+    st.history = history_from_json(j.at("history").dump(), path);
+    st.best_round = j.at("best_round").get<int>();
+    st.best_epoch = j.at("best_epoch").get<int>();
+    st.best_stopped_early = j.at("best_stopped_early").get<bool>();
+    st.seconds = j.at("seconds").get<double>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, "", std::string("not this eitbench's stage record: ") + e.what());
   }
-  const long long total = trainer->total_steps();
-  const long long done_before = trainer->history().empty() ? 0 : trainer->history().back().steps;
-  Progress progress(run.label, static_cast<int>(total), run.quiet);
+  st.model = read_model_file(stage_path(out));
+  return st;
+}
+
+// The rounds of one stage until its trainer is done, a checkpoint after each.
+void run_stage(Trainer& trainer, const TrainingRun& run, const std::string& checkpoint,
+               const std::string& label, bool resumed) {
+  const long long total = trainer.total_steps();
+  const long long done_before = trainer.history().empty() ? 0 : trainer.history().back().steps;
+  Progress progress(label, static_cast<int>(total), run.quiet);
   if (resumed)
-    progress.note(fmt::format("{}: resuming after round {} ({} of at most {} steps)", run.label,
-                              trainer->history().size(), done_before, total));
-  const auto t0 = std::chrono::steady_clock::now();
+    progress.note(fmt::format("{}: resuming after round {} ({} of at most {} steps)", label,
+                              trainer.history().size(), done_before, total));
   long long steps = done_before;
-  while (!trainer->done()) {
+  while (!trainer.done()) {
     double loss_sum = 0;
     long long count = 0, round_steps = 0;
-    const TrainingRecord r = trainer->run_round([&](long long step, long long, double loss) {
+    const TrainingRecord r = trainer.run_round([&](long long step, long long, double loss) {
       loss_sum += loss * double(step - round_steps), count += step - round_steps;
       steps += step - round_steps, round_steps = step;
-      const long long epoch = (steps + trainer->steps_per_epoch() - 1) / trainer->steps_per_epoch();
+      const long long epoch = (steps + trainer.steps_per_epoch() - 1) / trainer.steps_per_epoch();
       progress.update(static_cast<int>(steps),
                       fmt::format("epoch {}, loss {:.4g}", epoch, loss_sum / count));
     });
-    write_bytes_atomically(checkpoint, trainer->checkpoint());
+    write_bytes_atomically(checkpoint, trainer.checkpoint());
     progress.note(fmt::format(
         "{} round {:3d} (epoch {}, {} steps): train {:.5g}, validation {:.5g}{}, lr {:.3g}, "
         "{:.0f} samples/s",
-        run.label, r.round, r.epoch, r.steps, r.train_loss, r.validation_loss,
-        trainer->best_round() == r.round ? " (best)" : "", r.learning_rate, r.samples_per_second));
+        label, r.round, r.epoch, r.steps, r.train_loss, r.validation_loss,
+        trainer.best_round() == r.round ? " (best)" : "", r.learning_rate, r.samples_per_second));
   }
-  if (trainer->converged())
+  if (trainer.converged())
     progress.note(fmt::format("{}: stopped early, no improvement in {} rounds; best round {}",
-                              run.label, trainer->options().patience, trainer->best_round()));
-  TrainingResult result{
-      trainer->best_model(),      trainer->history(),
-      trainer->best_round(),      trainer->best_epoch(),
-      trainer->converged(),       trainer->total_steps(),
-      trainer->steps_per_epoch(), trainer->samples_per_epoch(),
-      seconds_since(t0),          resumed,
-  };
+                              label, trainer.options().patience, trainer.best_round()));
+}
+
+// Early stopping ended the stage while its learning rate was still above the schedule's floor:
+// the model stopped improving with the rate left to move it, so the budget was not what ended it.
+// (Stopped at or after the floor, the schedule may have ended it: only a doubling can tell.)
+bool stopped_with_rate_left(const Trainer& trainer) {
+  return trainer.converged() && !trainer.history().empty() &&
+         trainer.history().back().steps < trainer.schedule().decay_steps();
+}
+
+// A finished stage joined to the ones before: its rounds after theirs, its model if better.
+void add_stage(Stages& st, const Trainer& trainer) {
+  const TrainingRecord last = st.history.empty() ? TrainingRecord{} : st.history.back();
+  double stage_best = INFINITY;
+  for (TrainingRecord r : trainer.history()) {
+    stage_best = std::min(stage_best, r.validation_loss);
+    r.round += last.round, r.epoch += last.epoch, r.steps += last.steps, r.samples += last.samples;
+    st.history.push_back(r);
+    st.seconds += r.seconds;
+  }
+  const double before =
+      st.best.empty() ? INFINITY : *std::min_element(st.best.begin(), st.best.end());
+  if (!st.model || stage_best < before) {
+    st.model = trainer.best_model();
+    st.best_round = last.round + trainer.best_round();
+    st.best_epoch = last.epoch + trainer.best_epoch();
+    st.best_stopped_early = trainer.converged();
+  }
+  st.best.push_back(std::min(stage_best, before));
+  st.budget = st.done == 0 ? trainer.total_steps() : 2 * st.budget;
+  ++st.done;
+}
+
+// The final model's training record: the best stage's, with the merged history and the rule's end.
+void record_training(LearnedModel& model, const Stages& st, const BudgetRule& rule,
+                     TrainingEnd end) {
+  nlohmann::json t = nlohmann::json::parse(model.info().training);
+  t["history"] = nlohmann::json::parse(history_to_json(st.history));
+  t["best_round"] = st.best_round;
+  t["best_epoch"] = st.best_epoch;
+  t["budget_steps"] = st.budget;
+  t["steps"] = st.history.empty() ? 0 : st.history.back().steps;
+  t["samples"] = st.history.empty() ? 0 : st.history.back().samples;
+  t["rounds"] = st.history.size();
+  t["converged"] = converged(end);
+  t["end"] = to_string(end);
+  t["doublings"] = st.done - 1;
+  t["stage_best"] = st.best;
+  t["rule"] = {{"max_doublings", rule.max_doublings}, {"tolerance", rule.tolerance}};
+  model.info().training = t.dump();
+}
+
+}  // namespace
+
+TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptions& options,
+                              LabelledFrames train, const LabelledFrames& validation,
+                              const AugmentSetup& sensor, const TrainingRun& run) {
+  run.rule.validate();
+  const std::string checkpoint = checkpoint_path(run.out);
+  temporary_path_for(run.out);  // the output folder must exist before hours of training
+  if (run.resume && !resumable(run.out))
+    throw InputError("--resume", "",
+                     "no checkpoint at " + checkpoint +
+                         ": nothing to resume (run without "
+                         "--resume to start)");
+  Stages st = run.resume ? load_stages(run.out) : Stages{};
+  bool resumed = st.done > 0;
+  const bool more = run.rule.max_doublings > 0;  // stages after this one may follow
+  TrainingEnd end = TrainingEnd::budget;
+  long long steps_per_epoch_seen = 0, samples_per_epoch_seen = 0;  // the data's, every stage
+  const auto t0 = std::chrono::steady_clock::now();
+  while (true) {
+    const std::string label =
+        st.done == 0 ? run.label : fmt::format("{} (doubling {})", run.label, st.done);
+    std::unique_ptr<Trainer> trainer;
+    const bool from_checkpoint = run.resume && std::filesystem::exists(checkpoint);
+    LabelledFrames data = more ? train : std::move(train);
+    if (from_checkpoint) {
+      trainer = Trainer::resume(read_file_bytes(checkpoint), checkpoint, std::move(data),
+                                validation, sensor);
+      resumed = true;
+    } else {
+      TrainingOptions o = options;
+      if (st.done > 0) o.epochs = 0, o.steps = st.budget;  // as many steps again, fresh schedule
+      trainer = std::make_unique<Trainer>(network, o, std::move(data), validation, sensor);
+      if (st.done > 0) trainer->start_from(*st.model, stage_path(run.out));
+    }
+    run_stage(*trainer, run, checkpoint, label, from_checkpoint);
+    add_stage(st, *trainer);
+    steps_per_epoch_seen = trainer->steps_per_epoch();
+    samples_per_epoch_seen = trainer->samples_per_epoch();
+    std::filesystem::remove(checkpoint);
+    if (!more) {
+      end = !trainer->converged()              ? TrainingEnd::budget
+            : stopped_with_rate_left(*trainer) ? TrainingEnd::early_stopping
+                                               : TrainingEnd::floor;
+      break;
+    }
+    if (st.done == 1 && stopped_with_rate_left(*trainer)) {
+      end = TrainingEnd::early_stopping;  // the budget sufficed: no doubling can tell more
+      break;
+    }
+    const int doublings = st.done - 1;
+    const double previous = st.done >= 2 ? st.best[st.best.size() - 2] : INFINITY;
+    if (doublings > 0 && !double_again(run.rule, previous, st.best.back(), doublings)) {
+      end = doublings < run.rule.max_doublings ||
+                    !(st.best.back() < previous * (1 - run.rule.tolerance))
+                ? TrainingEnd::rule
+                : TrainingEnd::cap;
+      break;
+    }
+    save_stages(run.out, st);
+    if (!run.quiet)
+      fmt::print(stderr, "{}: budget doubled to {} steps (best validation {:.5g})\n", run.label,
+                 2 * st.budget, st.best.back());
+  }
+  record_training(*st.model, st, run.rule, end);
+  TrainingResult result{std::move(*st.model),
+                        st.history,
+                        st.best_round,
+                        st.best_epoch,
+                        converged(end),
+                        end,
+                        st.done - 1,
+                        st.best,
+                        st.budget,
+                        steps_per_epoch_seen,
+                        samples_per_epoch_seen,
+                        seconds_since(t0),
+                        resumed};
   write_model_file(run.out, result.model);
   if (run.curves)
     write_loss_curves(loss_curve_path(run.out, "csv"), loss_curve_path(run.out, "png"),
-                      {{to_string(trainer->options().augment), result.history}});
-  std::filesystem::remove(checkpoint);  // the model is complete: nothing left to resume
+                      {{to_string(options.augment), result.history}});
+  std::filesystem::remove(stage_path(run.out));
+  std::filesystem::remove(stage_path(run.out) + ".json");
   return result;
 }
 

@@ -60,10 +60,10 @@ std::string unconverged_note(const std::vector<TrainingSummary>& training) {
     if (!t.converged) names += (count++ ? ", " : "") + ("dnn (" + t.augment + ")");
   if (count == 0) return "";
   const bool one = count == 1;
-  return " **Not converged:** " + names + (one ? " ran" : " each ran") +
-         " out of training budget while validation was still improving, so this ranking may "
-         "understate " +
-         (one ? "it" : "them") + " (raise the budget: `--epochs`).";
+  return " **Not converged:** " + names + (one ? " was" : " were") +
+         " ended by the training budget or the schedule's floor, not by the model (the training "
+         "table says which), so this ranking may understate " +
+         (one ? "it" : "them") + " (raise the budget: `--epochs`, `--doublings`).";
 }
 
 }  // namespace
@@ -229,11 +229,17 @@ void write_device_inference(std::ostream& o, const RunResults& r) {
 
 void write_training(std::ostream& o, const RunResults& r) {
   if (r.training.empty()) return;
-  o << "\n## Training\n\nEach learned model trains until its validation MSE stops improving "
-       "(early stopping; converged) or its step budget runs out (not converged), and keeps its "
-       "best validation round.\n\n| augment | converged | steps | samples seen | best epoch | "
-       "best validation MSE | samples/s | of GEMM peak | time (s) |\n"
-       "|---|---|---|---|---|---|---|---|---|\n";
+  o << "\n## Training\n\nEach learned model trains with its budget, then continues from its "
+       "best model with a fresh schedule over as many steps again (the budget doubles) while the "
+       "last doubling lowered its best validation MSE by more than the tolerance, up to the run's "
+       "doublings; within each stage early stopping ends it when validation stops improving. "
+       "Converged: the model ended the training (early stopping with the learning rate still "
+       "above the schedule's floor, or a doubling that no longer paid); **no**: the budget, "
+       "early stopping at the floor with no doubling to tell whether the schedule ended it, or "
+       "the cap on doublings while the last one still paid.\n\n"
+       "| augment | converged | budget (steps) | last doubling | steps | samples seen | "
+       "best epoch | best validation MSE | samples/s | of GEMM peak | time (s) |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& t : r.training) {
     const double best = t.best_round > 0 && t.best_round <= static_cast<int>(t.history.size())
                             ? t.history[t.best_round - 1].validation_loss
@@ -242,9 +248,17 @@ void write_training(std::ostream& o, const RunResults& r) {
     const std::string of_peak = t.fraction_of_gemm_peak > 0
                                     ? fmt::format("{:.0f} %", 100 * t.fraction_of_gemm_peak)
                                     : std::string("–");
-    o << fmt::format("| {} | {} | {} | {} | {} | {:.4g} | {:.0f} | {} | {:.1f} |\n", t.augment,
-                     t.converged ? "yes" : "**no** (budget)", t.steps, t.samples, t.best_epoch,
-                     best, t.samples_per_second, of_peak, t.seconds);
+    // What the last doubling changed: the best validation MSE after it against before it.
+    const std::size_t k = t.stage_best.size();
+    const std::string last =
+        k >= 2 ? fmt::format("{:+.1f} %", 100 * (t.stage_best[k - 1] / t.stage_best[k - 2] - 1))
+               : std::string("–");
+    const std::string end = t.end.empty() ? (t.converged ? "early stopping" : "budget") : t.end;
+    o << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.4g} | {:.0f} | {} | {:.1f} |\n",
+                     t.augment, t.converged ? "yes (" + end + ")" : "**no** (" + end + ")",
+                     t.budget_steps > 0 ? std::to_string(t.budget_steps) : std::string("–"), last,
+                     t.steps, t.samples, t.best_epoch, best, t.samples_per_second, of_peak,
+                     t.seconds);
   }
   o << "\n![Training (light) and validation MSE against samples seen](loss_curves.png)\n";
   write_device_inference(o, r);

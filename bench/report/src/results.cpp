@@ -255,6 +255,10 @@ MeasuredRow measured_row_from_json(const json& j) {
 json to_json(const TrainingSummary& t) {
   return {{"augment", t.augment},
           {"converged", t.converged},
+          {"end", t.end},
+          {"doublings", t.doublings},
+          {"budget_steps", t.budget_steps},
+          {"stage_best", t.stage_best},
           {"best_round", t.best_round},
           {"best_epoch", t.best_epoch},
           {"steps", t.steps},
@@ -274,6 +278,10 @@ TrainingSummary training_summary_from_json(const json& t, const std::string& sou
   TrainingSummary s;
   s.augment = t.at("augment").get<std::string>();
   s.converged = t.value("converged", false);
+  s.end = t.value("end", std::string());
+  s.doublings = t.value("doublings", 0);
+  s.budget_steps = t.value("budget_steps", 0LL);
+  s.stage_best = t.value("stage_best", std::vector<double>());
   s.best_epoch = t.at("best_epoch").get<int>();
   s.best_round = t.value("best_round", s.best_epoch);
   s.steps = t.at("steps").get<long long>();

@@ -30,6 +30,11 @@ TrainingSummary training_summary(const LearnedModel& model, const std::string& p
     s.best_round = t.at("best_round").get<int>();
     s.best_epoch = t.at("best_epoch").get<int>();
     s.converged = t.at("converged").get<bool>();
+    // The budget rule's record (model files from before it: one stage, its end by the flag).
+    s.end = t.value("end", std::string(s.converged ? "early stopping" : "budget"));
+    s.doublings = t.value("doublings", 0);
+    s.budget_steps = t.value("budget_steps", 0LL);
+    s.stage_best = t.value("stage_best", std::vector<double>());
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, "training", std::string("not this eitbench's record: ") + e.what());
   }
@@ -63,14 +68,16 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
   o.epochs = config.epochs;
   TrainingRun run;
   run.out = path;
-  run.resume = claimed && fs::exists(checkpoint_path(path));
+  run.resume = claimed && resumable(path);
   run.quiet = config.quiet;
   run.label = "dnn " + augment;
   run.curves = false;
+  run.rule = config.budget_rule;
   context.say(fmt::format(
-      "dnn {}: training the {} model on {} samples until validation stops improving (at most {} "
-      "epochs)",
-      augment, config.model, source.indices(Split::train).size(), config.epochs));
+      "dnn {}: training the {} model on {} samples until validation stops improving ({} epochs, "
+      "then up to {} doublings)",
+      augment, config.model, source.indices(Split::train).size(), config.epochs,
+      config.budget_rule.max_doublings));
   TrainingResult r =
       train_and_save(setup.network, o, labelled_frames(source, Split::train),
                      labelled_frames(source, Split::validation), sensor_of(source), run);
@@ -80,19 +87,22 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
 }  // namespace
 
 Provenance training_provenance(const RunConfig& config, const RunData& data) {
-  return {{"program", data.provenance.at("program")},
-          {"training data",
-           data.own_training ? data.provenance.at("data") : data.provenance.at("training data")},
-          {"model", config.model},
-          {"epochs", std::to_string(config.epochs)},
-          {"batch", std::to_string(config.batch)},
-          {"learning rate", fmt::format("{:g}", config.learning_rate)},
-          {"schedule", config.schedule},
-          {"validate every", std::to_string(config.validate_every)},
-          {"patience", std::to_string(config.patience)},
-          {"min improvement", fmt::format("{:g}", config.min_improvement)},
-          {"seed", std::to_string(config.seed)},
-          {"device", resolve_device(config.device, "--device")}};
+  return {
+      {"program", data.provenance.at("program")},
+      {"training data",
+       data.own_training ? data.provenance.at("data") : data.provenance.at("training data")},
+      {"model", config.model},
+      {"epochs", std::to_string(config.epochs)},
+      {"batch", std::to_string(config.batch)},
+      {"learning rate", fmt::format("{:g}", config.learning_rate)},
+      {"schedule", config.schedule},
+      {"validate every", std::to_string(config.validate_every)},
+      {"patience", std::to_string(config.patience)},
+      {"min improvement", fmt::format("{:g}", config.min_improvement)},
+      {"budget rule", fmt::format("{} doublings, tolerance {:g}", config.budget_rule.max_doublings,
+                                  config.budget_rule.tolerance)},
+      {"seed", std::to_string(config.seed)},
+      {"device", resolve_device(config.device, "--device")}};
 }
 
 LearnedSetup learned_setup(const RunConfig& config, const Dataset& source) {

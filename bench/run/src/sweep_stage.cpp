@@ -45,8 +45,9 @@ bool from_main_run(const RunResults& main_runs, EfficiencyPoint& p) {
   return false;
 }
 
-// Trains one sweep model on the first p.train_size training frames for at most `steps` optimiser
-// steps (with early stopping when p.budget is "converged") and scores it, noise-free.
+// Trains one sweep model on the first p.train_size training frames for `steps` optimiser steps
+// and scores it, noise-free: when p.budget is "converged" with early stopping and the budget
+// rule's doublings, as the main models train; "equal_steps" exactly those steps.
 void train_point(const Context& context, const LearnedSetup& setup, const RunData& data,
                  const Reconstruction& reconstruction, long long steps, const std::string& name,
                  EfficiencyPoint& p) {
@@ -61,10 +62,11 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
   Provenance provenance = training_provenance(context.config, data);
   provenance["point"] = name, provenance["steps"] = std::to_string(steps);
   provenance["subset"] = kSubsetRule;
-  run.resume = context.cache.claim_model(run.label, run.out, provenance) &&
-               fs::exists(checkpoint_path(run.out));
+  run.resume = context.cache.claim_model(run.label, run.out, provenance) && resumable(run.out);
   run.quiet = context.config.quiet;
   run.curves = false;
+  // The converged arms follow the main models' rule; equal steps is exactly none's steps.
+  if (p.budget == "converged") run.rule = context.config.budget_rule;
   TrainingResult r =
       train_and_save(setup.network, o,
                      labelled_frames(data.source, Split::train, p.train_size, context.config.seed),

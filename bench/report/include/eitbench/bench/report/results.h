@@ -69,7 +69,14 @@ struct TrainingSummary {
   std::string augment;
   std::vector<TrainingRecord> history;  // one entry a validation
   int best_round = 0, best_epoch = 0;
-  bool converged = false;            // stopped by early stopping; false: the budget ran out first
+  bool converged = false;            // the model ended the training; false: the budget did
+  // How it ended (budget_rule.h: early stopping, budget, rule, cap), the doublings taken, the
+  // budget in steps at the end, and the best validation MSE after each stage ("" / 0 / empty in
+  // runs from before the rule).
+  std::string end;
+  int doublings = 0;
+  long long budget_steps = 0;
+  std::vector<double> stage_best;
   long long steps = 0, samples = 0;  // optimiser steps and training samples seen
   double seconds = 0, samples_per_second = 0;
   // Training FLOP/s (3 forward passes a sample) over the machine's float32 GEMM peak.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "eitbench/bench/data/simulate.h"
+#include "eitbench/bench/methods/budget_rule.h"
 #include "eitbench/jacobian/disk_mesh.h"
 
 namespace eitbench {
@@ -61,6 +62,9 @@ struct RunConfig {
   std::string schedule = "cosine";
   long long validate_every = 16384;   // training samples between validations
   int patience = 5;                   // validations without improvement before stopping
+  // Doublings of the budget after `epochs` (budget_rule.h): every learned model of the run and the
+  // sweep's converged arms follow it.
+  BudgetRule budget_rule;
   double min_improvement = 5e-3;      // relative: what counts as an improvement
   std::vector<int> efficiency_sizes;  // training-set sizes of the data-efficiency sweep
   int sweep_frames = 12;  // validation frames for the iterative methods' hyperparameter sweep

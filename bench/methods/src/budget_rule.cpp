@@ -1,0 +1,50 @@
+#include "eitbench/bench/methods/budget_rule.h"
+
+#include <cmath>
+
+#include "eitbench/jacobian/error.h"
+
+namespace eitbench {
+
+void BudgetRule::validate() const {
+  if (max_doublings < 0 || max_doublings > 20)
+    throw InputError("BudgetRule", "max_doublings", "must lie in 0 ... 20");
+  if (!(tolerance >= 0 && tolerance < 1))
+    throw InputError("BudgetRule", "tolerance", "must lie in [0, 1)");
+}
+
+std::string to_string(TrainingEnd end) {
+  switch (end) {
+    case TrainingEnd::early_stopping:
+      return "early stopping";
+    case TrainingEnd::floor:
+      return "floor";
+    case TrainingEnd::budget:
+      return "budget";
+    case TrainingEnd::rule:
+      return "rule";
+    case TrainingEnd::cap:
+      return "cap";
+  }
+  return "?";
+}
+
+TrainingEnd parse_training_end(const std::string& name) {
+  for (TrainingEnd e : {TrainingEnd::early_stopping, TrainingEnd::floor, TrainingEnd::budget,
+                        TrainingEnd::rule, TrainingEnd::cap})
+    if (to_string(e) == name) return e;
+  throw InputError("TrainingEnd", "name",
+                   "unknown end '" + name + "' (early stopping, floor, budget, rule, cap)");
+}
+
+bool converged(TrainingEnd end) {
+  return end == TrainingEnd::early_stopping || end == TrainingEnd::rule;
+}
+
+bool double_again(const BudgetRule& rule, double previous, double latest, int doublings) {
+  if (doublings >= rule.max_doublings) return false;
+  if (!std::isfinite(previous) || !std::isfinite(latest)) return false;
+  return latest < previous * (1 - rule.tolerance);
+}
+
+}  // namespace eitbench

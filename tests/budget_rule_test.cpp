@@ -1,0 +1,157 @@
+// The budget rule (docs/learned.md#the-budget): its decision, and training under it on the tiny
+// set: a budget too short for a model that keeps improving is doubled, and doubled again while
+// the doubling pays; one that early stopping ended with rate left is not doubled; a doubling that
+// does not pay ends the training.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "eitbench/bench/data/training_data.h"
+#include "eitbench/bench/methods/budget_rule.h"
+#include "eitbench/bench/methods/training_run.h"
+#include "learned_support.h"
+#include "test_support.h"
+
+namespace eitbench {
+namespace {
+
+using testing::test_network;
+using testing::tiny;
+
+TEST(BudgetRule, DoublesAgainOnlyWhileTheLastDoublingPaid) {
+  const BudgetRule rule{3, 0.01};
+  EXPECT_TRUE(double_again(rule, 1.0, 0.98, 1));    // 2 % better: again
+  EXPECT_FALSE(double_again(rule, 1.0, 0.995, 1));  // 0.5 %: no
+  EXPECT_FALSE(double_again(rule, 1.0, 1.2, 1));    // worse: no
+  EXPECT_FALSE(double_again(rule, 1.0, 0.5, 3));    // the cap
+  EXPECT_FALSE(double_again(rule, INFINITY, 0.5, 1));
+  EXPECT_FALSE(double_again(rule, 1.0, NAN, 1));
+  EXPECT_FALSE(double_again(BudgetRule{}, 1.0, 0.5, 0));  // no doubling allowed
+  EXPECT_TRUE(converged(TrainingEnd::rule));
+  EXPECT_TRUE(converged(TrainingEnd::early_stopping));
+  EXPECT_FALSE(converged(TrainingEnd::cap));
+  EXPECT_FALSE(converged(TrainingEnd::budget));
+  EXPECT_FALSE(converged(TrainingEnd::floor));
+  for (TrainingEnd e : {TrainingEnd::early_stopping, TrainingEnd::floor, TrainingEnd::budget,
+                        TrainingEnd::rule, TrainingEnd::cap})
+    EXPECT_EQ(parse_training_end(to_string(e)), e);
+  EXPECT_EQ(testing::input_error_at([] {
+              BudgetRule{-1, 0.01}.validate();
+            }),
+            "BudgetRule.max_doublings");
+  EXPECT_EQ(testing::input_error_at([] { BudgetRule{1, 1.0}.validate(); }), "BudgetRule.tolerance");
+}
+
+class BudgetRuleTraining : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("eitbench_budget_rule_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  TrainingRun run(int doublings) const {
+    TrainingRun r;
+    r.out = (dir_ / "model.pt").string();
+    r.quiet = true;
+    r.curves = false;
+    r.rule = {doublings, 0.01};
+    return r;
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(BudgetRuleTraining, ABudgetTooShortIsDoubledWhileItPays) {
+  // Validated on its own training frames at a constant rate: every step helps, so 6 steps are
+  // far too few, and each doubling lowers the best validation loss by far more than 1 %.
+  const LabelledFrames train = labelled_frames(tiny(), Split::train);
+  TrainingOptions o;
+  o.steps = 6;
+  o.batch_size = 16;
+  o.validate_every = 32;
+  o.learning_rate = 3e-3;
+  o.schedule.kind = ScheduleKind::constant;
+  const TrainingResult r =
+      train_and_save(test_network(), o, train, train, sensor_of(tiny()), run(2));
+  EXPECT_EQ(r.doublings, 2);
+  EXPECT_EQ(r.end, TrainingEnd::cap);  // the cap ended it: budget-bound, not converged
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.total_steps, 24);  // 6, doubled to 12, then to 24
+  EXPECT_EQ(r.history.back().steps, 24);
+  ASSERT_EQ(r.stage_best.size(), 3u);
+  EXPECT_LT(r.stage_best[1], 0.99 * r.stage_best[0]);
+  EXPECT_LT(r.stage_best[2], 0.99 * r.stage_best[1]);
+  // The model file records it, and no stage file is left behind.
+  EXPECT_NE(r.model.info().training.find("\"end\":\"cap\""), std::string::npos);
+  EXPECT_NE(r.model.info().training.find("\"doublings\":2"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "model.pt.stage"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "model.pt.stage.json"));
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "model.pt"));
+}
+
+TEST_F(BudgetRuleTraining, ABudgetThatSufficesIsNotDoubled) {
+  // Validation labels that training moves away from (all zero, as in the early-stopping test): the
+  // best validation loss comes in the first rounds, and early stopping ends the training long
+  // before the cosine reaches its floor, with rate left to move the model: the budget sufficed.
+  LabelledFrames validation = labelled_frames(tiny(), Split::validation);
+  validation.circles.clear();
+  validation.labels.setZero(validation.frames.rows(), 64 * 64);
+  TrainingOptions o;
+  o.steps = 400;
+  o.batch_size = 16;
+  o.validate_every = 32;
+  o.patience = 4;
+  const TrainingResult r = train_and_save(test_network(), o, labelled_frames(tiny(), Split::train),
+                                          validation, sensor_of(tiny()), run(3));
+  EXPECT_EQ(r.doublings, 0);
+  EXPECT_EQ(r.end, TrainingEnd::early_stopping);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.total_steps, 400);
+  ASSERT_FALSE(r.history.empty());
+  EXPECT_LT(r.history.back().steps, 240);  // before the floor, at 60 % of the budget
+  EXPECT_EQ(r.stage_best.size(), 1u);
+  // The same stop after the cosine reached its floor (1 % of the budget, 4 steps): the schedule may
+  // have ended it. Alone it is not counted as converged; under the rule it is doubled to find out.
+  o.schedule.warmup_fraction = 0, o.schedule.decay_fraction = 0.01;
+  const TrainingResult alone =
+      train_and_save(test_network(), o, labelled_frames(tiny(), Split::train), validation,
+                     sensor_of(tiny()), run(0));
+  EXPECT_EQ(alone.end, TrainingEnd::floor);
+  EXPECT_FALSE(alone.converged);
+  ASSERT_FALSE(alone.history.empty());
+  EXPECT_GE(alone.history.back().steps, 4);
+  EXPECT_LT(alone.history.back().steps, 400);
+  const TrainingResult doubled =
+      train_and_save(test_network(), o, labelled_frames(tiny(), Split::train), validation,
+                     sensor_of(tiny()), run(1));
+  EXPECT_EQ(doubled.doublings, 1);
+}
+
+TEST_F(BudgetRuleTraining, ADoublingThatDoesNotPayEndsTheTraining) {
+  // A rate too small to move the weights: the budget ends the first stage (no early stopping),
+  // so it is doubled once, and that doubling changes the best validation loss by far less than
+  // 1 %: the rule ends the training, which counts as converged.
+  const LabelledFrames train = labelled_frames(tiny(), Split::train);
+  TrainingOptions o;
+  o.steps = 40;
+  o.batch_size = 16;
+  o.validate_every = 160;
+  o.patience = 100;
+  o.learning_rate = 1e-9;
+  o.schedule.kind = ScheduleKind::constant;
+  const TrainingResult r =
+      train_and_save(test_network(), o, train, train, sensor_of(tiny()), run(3));
+  EXPECT_EQ(r.doublings, 1);
+  EXPECT_EQ(r.end, TrainingEnd::rule);
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.total_steps, 80);
+  ASSERT_EQ(r.stage_best.size(), 2u);
+  EXPECT_GE(r.stage_best[1], 0.99 * r.stage_best[0]);
+  EXPECT_NE(r.model.info().training.find("\"end\":\"rule\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace eitbench
