@@ -403,6 +403,13 @@ TEST(LearnedModel, CorruptBytesAreRefused) {
     flipped[k] = static_cast<char>(~flipped[k]);
   EXPECT_THROW(LearnedModel::from_bytes(flipped, "flipped"), InputError);
   EXPECT_THROW(LearnedModel::from_bytes("plain text, not a model", "text"), InputError);
+  // A module's TorchScript code damaged (the fuzzer's finding): its parser throws
+  // torch::jit::ErrorReport, which is not a c10::Error.
+  std::string code = bytes;
+  const std::size_t at = code.find("class Module(Module):");
+  ASSERT_NE(at, std::string::npos);
+  code[at + std::string("class Module(Module").size()] = '!';
+  EXPECT_THROW(LearnedModel::from_bytes(code, "code"), InputError);
   // A training checkpoint is not a model file.
   const Dataset& data = tiny();
   const Trainer t(test_network(), {}, labelled_frames(data, Split::train),

@@ -159,7 +159,11 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
     archive.read("network", network);
     archive.read("meta", meta);
     archive.read("weights", weights);
+  } catch (const InputError&) {
+    throw;
   } catch (const c10::Error& e) {
+    throw InputError(source, "", "not a readable model file (" + first_line(e) + ")");
+  } catch (const std::exception& e) {  // the archive's TorchScript code, damaged
     throw InputError(source, "", "not a readable model file (" + first_line(e) + ")");
   }
   if (!network.isString() || !meta.isString())
@@ -205,6 +209,8 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
   try {
     impl->net->load(weights);
   } catch (const c10::Error& e) {
+    throw InputError(source, "weights", first_line(e));
+  } catch (const std::exception& e) {
     throw InputError(source, "weights", first_line(e));
   }
   if (shapes(impl->net) != expected)

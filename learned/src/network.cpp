@@ -96,6 +96,11 @@ std::string first_line(const c10::Error& error) {
   return what.substr(0, what.find('\n'));
 }
 
+std::string first_line(const std::exception& error) {
+  const std::string what = error.what();
+  return what.substr(0, what.find('\n'));
+}
+
 std::string network_to_json(const NetworkOptions& o) {
   nlohmann::json j = {{"inputs", o.inputs},
                       {"image_size", o.image_size},

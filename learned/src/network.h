@@ -39,6 +39,9 @@ SampleMatrix to_samples(const torch::Tensor& tensor);
 
 // LibTorch's message without its backtrace, first line only: what a user's error message quotes.
 std::string first_line(const c10::Error& error);
+// The first line of any other exception a damaged archive raises: TorchScript's parser reports a
+// corrupted module's code as torch::jit::ErrorReport, a std::exception, not a c10::Error.
+std::string first_line(const std::exception& error);
 
 // The JSON of NetworkOptions, and back (InputError(source) on a missing or wrong field).
 std::string network_to_json(const NetworkOptions& options);

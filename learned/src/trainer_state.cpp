@@ -221,7 +221,11 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
     archive.read("net", net);
     archive.read("best", best);
     archive.read("optimizer", adam);
+  } catch (const InputError&) {
+    throw;
   } catch (const c10::Error& e) {
+    throw InputError(source, "", "not a readable checkpoint (" + first_line(e) + ")");
+  } catch (const std::exception& e) {  // the archive's TorchScript code, damaged
     throw InputError(source, "", "not a readable checkpoint (" + first_line(e) + ")");
   }
   std::unique_ptr<Impl> m;
@@ -247,6 +251,8 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
     m->adam->load(adam);
     move_optimizer_state(*m->adam, m->device);
   } catch (const c10::Error& e) {
+    throw InputError(source, "weights", first_line(e));
+  } catch (const std::exception& e) {
     throw InputError(source, "weights", first_line(e));
   }
   return std::unique_ptr<Trainer>(new Trainer(std::move(m)));
