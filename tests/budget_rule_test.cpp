@@ -28,6 +28,9 @@ TEST(BudgetRule, DoublesAgainOnlyWhileTheLastDoublingPaid) {
   EXPECT_FALSE(double_again(rule, INFINITY, 0.5, 1));
   EXPECT_FALSE(double_again(rule, 1.0, NAN, 1));
   EXPECT_FALSE(double_again(BudgetRule{}, 1.0, 0.5, 0));  // no doubling allowed
+  EXPECT_TRUE(doubling_paid(rule, 1.0, 0.5));             // past the cap: it still paid (cap)
+  EXPECT_FALSE(doubling_paid(rule, 1.0, 0.995));          // it did not (rule)
+  EXPECT_FALSE(doubling_paid(rule, 1.0, NAN));
   EXPECT_TRUE(converged(TrainingEnd::rule));
   EXPECT_TRUE(converged(TrainingEnd::early_stopping));
   EXPECT_FALSE(converged(TrainingEnd::cap));
@@ -96,9 +99,7 @@ TEST_F(BudgetRuleTraining, ABudgetThatSufficesIsNotDoubled) {
   // Validation labels that training moves away from (all zero, as in the early-stopping test): the
   // best validation loss comes in the first rounds, and early stopping ends the training long
   // before the cosine reaches its floor, with rate left to move the model: the budget sufficed.
-  LabelledFrames validation = labelled_frames(tiny(), Split::validation);
-  validation.circles.clear();
-  validation.labels.setZero(validation.frames.rows(), 64 * 64);
+  const LabelledFrames validation = testing::zero_label_validation();
   TrainingOptions o;
   o.steps = 400;
   o.batch_size = 16;

@@ -130,9 +130,7 @@ TEST(Schedule, TheTrainerFollowsIt) {
 // first rounds on. Early stopping must end the run and keep the round with the least loss.
 TEST(EarlyStopping, StopsOnAPlateauAndRestoresTheBestWeights) {
   const LabelledFrames train = labelled_frames(tiny(), Split::train);
-  LabelledFrames validation = labelled_frames(tiny(), Split::validation);
-  validation.circles.clear();
-  validation.labels.setZero(validation.frames.rows(), 64 * 64);
+  const LabelledFrames validation = testing::zero_label_validation();
   TrainingOptions o;
   o.steps = 400;
   o.batch_size = 16;

@@ -2,6 +2,7 @@
 // What the learned reconstructor's suites share: a tiny data set and a network small enough for
 // tests.
 #include "eitbench/bench/data/simulate.h"
+#include "eitbench/bench/data/training_data.h"
 #include "eitbench/learned.h"
 
 namespace eitbench::testing {
@@ -26,6 +27,15 @@ inline NetworkOptions test_network() {
   n.decoder_channels = {8, 4};
   n.dropout = 0.1;
   return n;
+}
+
+// The tiny validation split with every label zero: training moves away from it, so validation
+// loss grows from the first rounds on and early stopping ends a run early.
+inline LabelledFrames zero_label_validation() {
+  LabelledFrames validation = labelled_frames(tiny(), Split::validation);
+  validation.circles.clear();
+  validation.labels.setZero(validation.frames.rows(), 64 * 64);
+  return validation;
 }
 
 }  // namespace eitbench::testing

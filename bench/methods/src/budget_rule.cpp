@@ -41,10 +41,13 @@ bool converged(TrainingEnd end) {
   return end == TrainingEnd::early_stopping || end == TrainingEnd::rule;
 }
 
-bool double_again(const BudgetRule& rule, double previous, double latest, int doublings) {
-  if (doublings >= rule.max_doublings) return false;
+bool doubling_paid(const BudgetRule& rule, double previous, double latest) {
   if (!std::isfinite(previous) || !std::isfinite(latest)) return false;
   return latest < previous * (1 - rule.tolerance);
+}
+
+bool double_again(const BudgetRule& rule, double previous, double latest, int doublings) {
+  return doublings < rule.max_doublings && doubling_paid(rule, previous, latest);
 }
 
 }  // namespace eitbench

@@ -47,12 +47,10 @@ namespace {
 struct Stages {
   int done = 0;              // stages finished
   long long budget = 0;      // the budget in steps at the last stage's end
-  std::vector<double> best;  // the best validation loss after each stage
+  std::vector<double> best;  // the best validation loss over the stages so far, after each
   std::vector<TrainingRecord> history;
   int best_round = 0, best_epoch = 0;  // in the merged history
-  bool best_stopped_early = false;
-  std::optional<LearnedModel> model;  // the best so far
-  double seconds = 0;
+  std::optional<LearnedModel> model;   // the best so far
 };
 
 void save_stages(const std::string& out, const Stages& st) {
@@ -62,9 +60,7 @@ void save_stages(const std::string& out, const Stages& st) {
                          {"best", st.best},
                          {"history", nlohmann::json::parse(history_to_json(st.history))},
                          {"best_round", st.best_round},
-                         {"best_epoch", st.best_epoch},
-                         {"best_stopped_early", st.best_stopped_early},
-                         {"seconds", st.seconds}};
+                         {"best_epoch", st.best_epoch}};
   write_text_atomically(stage_path(out) + ".json", [&](std::ostream& o) { o << j.dump() << '\n'; });
 }
 
@@ -82,8 +78,6 @@ Stages load_stages(const std::string& out) {
     st.history = history_from_json(j.at("history").dump(), path);
     st.best_round = j.at("best_round").get<int>();
     st.best_epoch = j.at("best_epoch").get<int>();
-    st.best_stopped_early = j.at("best_stopped_early").get<bool>();
-    st.seconds = j.at("seconds").get<double>();
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, "", std::string("not this eitbench's stage record: ") + e.what());
   }
@@ -139,15 +133,12 @@ void add_stage(Stages& st, const Trainer& trainer) {
     stage_best = std::min(stage_best, r.validation_loss);
     r.round += last.round, r.epoch += last.epoch, r.steps += last.steps, r.samples += last.samples;
     st.history.push_back(r);
-    st.seconds += r.seconds;
   }
-  const double before =
-      st.best.empty() ? INFINITY : *std::min_element(st.best.begin(), st.best.end());
+  const double before = st.best.empty() ? INFINITY : st.best.back();
   if (!st.model || stage_best < before) {
     st.model = trainer.best_model();
     st.best_round = last.round + trainer.best_round();
     st.best_epoch = last.epoch + trainer.best_epoch();
-    st.best_stopped_early = trainer.converged();
   }
   st.best.push_back(std::min(stage_best, before));
   st.budget = st.done == 0 ? trainer.total_steps() : 2 * st.budget;
@@ -226,10 +217,8 @@ TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptio
     const int doublings = st.done - 1;
     const double previous = st.done >= 2 ? st.best[st.best.size() - 2] : INFINITY;
     if (doublings > 0 && !double_again(run.rule, previous, st.best.back(), doublings)) {
-      end = doublings < run.rule.max_doublings ||
-                    !(st.best.back() < previous * (1 - run.rule.tolerance))
-                ? TrainingEnd::rule
-                : TrainingEnd::cap;
+      end =
+          doubling_paid(run.rule, previous, st.best.back()) ? TrainingEnd::cap : TrainingEnd::rule;
       break;
     }
     save_stages(run.out, st);

@@ -253,9 +253,8 @@ void write_training(std::ostream& o, const RunResults& r) {
     const std::string last =
         k >= 2 ? fmt::format("{:+.1f} %", 100 * (t.stage_best[k - 1] / t.stage_best[k - 2] - 1))
                : std::string("–");
-    const std::string end = t.end.empty() ? (t.converged ? "early stopping" : "budget") : t.end;
     o << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.4g} | {:.0f} | {} | {:.1f} |\n",
-                     t.augment, t.converged ? "yes (" + end + ")" : "**no** (" + end + ")",
+                     t.augment, t.converged ? "yes (" + t.end + ")" : "**no** (" + t.end + ")",
                      t.budget_steps > 0 ? std::to_string(t.budget_steps) : std::string("–"), last,
                      t.steps, t.samples, t.best_epoch, best, t.samples_per_second, of_peak,
                      t.seconds);

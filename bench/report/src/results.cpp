@@ -278,7 +278,8 @@ TrainingSummary training_summary_from_json(const json& t, const std::string& sou
   TrainingSummary s;
   s.augment = t.at("augment").get<std::string>();
   s.converged = t.value("converged", false);
-  s.end = t.value("end", std::string());
+  // Runs from before the budget rule: one stage, its end told by the flag.
+  s.end = t.value("end", std::string(s.converged ? "early stopping" : "budget"));
   s.doublings = t.value("doublings", 0);
   s.budget_steps = t.value("budget_steps", 0LL);
   s.stage_best = t.value("stage_best", std::vector<double>());

@@ -43,5 +43,9 @@ bool converged(TrainingEnd end);
 // taken whenever one is allowed and early stopping did not end the first stage with rate left
 // (training_run.h): only it can tell whether the budget sufficed.
 bool double_again(const BudgetRule& rule, double previous, double latest, int doublings);
+// Whether a doubling lowered the best validation loss from `previous` to `latest` by more than
+// the tolerance (false for non-finite losses): past the cap, a doubling that still paid ends the
+// training as `cap`, one that did not as `rule`.
+bool doubling_paid(const BudgetRule& rule, double previous, double latest);
 
 }  // namespace eitbench

@@ -69,10 +69,10 @@ struct TrainingSummary {
   std::string augment;
   std::vector<TrainingRecord> history;  // one entry a validation
   int best_round = 0, best_epoch = 0;
-  bool converged = false;            // the model ended the training; false: the budget did
-  // How it ended (budget_rule.h: early stopping, budget, rule, cap), the doublings taken, the
-  // budget in steps at the end, and the best validation MSE after each stage ("" / 0 / empty in
-  // runs from before the rule).
+  bool converged = false;  // the model ended the training; false: the budget did
+  // How it ended (budget_rule.h: early stopping, floor, budget, rule, cap), the doublings taken,
+  // the budget in steps at the end, and the best validation MSE after each stage (runs from
+  // before the rule: early stopping or budget by `converged`, 0, 0, empty).
   std::string end;
   int doublings = 0;
   long long budget_steps = 0;
