@@ -83,9 +83,9 @@ KtcSetting ktc_default_setting(const std::string& method) {
   // eitbench run --ktc ../shared/data/ktc2023 (docs/ktc.md#the-benchmark): each method's setting
   // tuned on all four samples.
   static const std::map<std::string, KtcSetting> table{
-      {"tikhonov", {0.003, {K::levels, 0.55, 0.5}}}, {"noser", {0.3, {K::levels, 0.45, 0.4}}},
-      {"laplace", {0.003, {K::levels, 0.4, 0.4}}},   {"greit", {0.1, {K::levels, 0.35, 0.45}}},
-      {"tv", {3e-5, {K::otsu, 0.5, 0.5}}},           {"gn", {1.0, {K::levels, 0.2, 0.7}}},
+      {"tikhonov", {0.001, {K::otsu, 0.5, 0.5}}}, {"noser", {0.3, {K::levels, 0.45, 0.4}}},
+      {"laplace", {0.003, {K::otsu, 0.5, 0.5}}},  {"greit", {0.1, {K::levels, 0.35, 0.45}}},
+      {"tv", {3e-5, {K::otsu, 0.5, 0.5}}},        {"gn", {1.0, {K::levels, 0.2, 0.7}}},
   };
   return table.at(method);
 }

@@ -39,8 +39,10 @@ json rule_json(const SegmentationRule& r) {
 }
 
 json choice_json(const KtcChoice& c) {
-  return {
-      {"lambda", c.lambda}, {"segmentation", rule_json(c.rule)}, {"tuning_score", c.tuning_score}};
+  return {{"lambda", c.lambda},
+          {"segmentation", rule_json(c.rule)},
+          {"tuning_score", c.tuning_score},
+          {"nested", {{"otsu", c.nested_otsu}, {"levels", c.nested_levels}}}};
 }
 
 // Whether the setting tuned on every sample lies on its candidates' first or last value: a wider
@@ -57,8 +59,8 @@ json sweep_json(const KtcMethodResult& m) {
   for (std::size_t c = 0; c < m.candidates.size(); ++c) {
     const int only = static_cast<int>(c);
     out.push_back({{"lambda", m.candidates[c]},
-                   {"otsu", tune_ktc(m, all, true, only).tuning_score},
-                   {"best_rule", tune_ktc(m, all, false, only).tuning_score}});
+                   {"otsu", tune_ktc(m, all, KtcRules::otsu, only).tuning_score},
+                   {"best_rule", tune_ktc(m, all, KtcRules::either, only).tuning_score}});
   }
   return out;
 }
@@ -127,9 +129,11 @@ std::string report_markdown(const KtcRunResults& r) {
       100 * r.tank.relative_residual, r.calibration_seconds);
   o << "Scores are the challenge's (mean SSIM of the resistive and conductive masks). Each "
        "sample is scored **held out**: with the regularisation and segmentation tuned on the "
-       "other samples (every level), never on itself. A level's figure is the mean over the "
-       "samples times 3, the challenge's three targets a level; the total over seven levels is "
-       "at most 21.\n\n";
+       "other samples (every level), never on itself. The rule's kind, Otsu or levels, is "
+       "chosen the same way within those samples (each tuned on all of them but one and scored "
+       "on that one), so that a rule that only fits them better is not taken. A level's figure "
+       "is the mean over the samples times 3, the challenge's three targets a level; the total "
+       "over seven levels is at most 21.\n\n";
   o << "| method | L" << r.options.levels.front();
   for (std::size_t l = 1; l < r.options.levels.size(); ++l) o << " | L" << r.options.levels[l];
   o << " | total (held out) | Otsu only (held out) | in sample | setting (all samples) | ms a "

@@ -58,7 +58,7 @@ double ktc_choice_score(const KtcMethodResult& r, const KtcChoice& c, int l, int
   return 0.5 * (f.resistive[index(c.rule.resistive)] + f.conductive[index(c.rule.conductive)]);
 }
 
-KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, bool otsu_only,
+KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, KtcRules rules,
                    int only_candidate) {
   KtcChoice best;
   best.tuning_score = -INFINITY;
@@ -82,8 +82,8 @@ KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, bo
         best.tuning_score = score;
       }
     };
-    take(otsu, {});
-    if (otsu_only) continue;
+    if (rules != KtcRules::levels) take(otsu, {});
+    if (rules == KtcRules::otsu) continue;
     // The two classes' masks never overlap under the levels rule: each fraction apart.
     const auto ir = std::max_element(res.begin(), res.end()) - res.begin();
     const auto ic = std::max_element(con.begin(), con.end()) - con.begin();
@@ -106,11 +106,29 @@ double ktc_total(const std::vector<std::vector<double>>& table) {
   return sum;
 }
 
+KtcChoice choose_ktc_rules(const KtcMethodResult& r, const std::vector<int>& samples) {
+  double nested[2] = {0, 0};  // Otsu, levels
+  if (samples.size() >= 2)
+    for (std::size_t t = 0; t < samples.size(); ++t) {
+      std::vector<int> others = samples;
+      others.erase(others.begin() + static_cast<std::ptrdiff_t>(t));
+      for (int k = 0; k < 2; ++k) {
+        const KtcChoice c = tune_ktc(r, others, k == 0 ? KtcRules::otsu : KtcRules::levels);
+        for (std::size_t l = 0; l < r.levels.size(); ++l)
+          nested[k] += ktc_choice_score(r, c, static_cast<int>(l), samples[t]);
+      }
+    }
+  KtcChoice chosen =
+      tune_ktc(r, samples, nested[1] > nested[0] + 1e-12 ? KtcRules::levels : KtcRules::otsu);
+  chosen.nested_otsu = nested[0], chosen.nested_levels = nested[1];
+  return chosen;
+}
+
 void tune_and_hold_out(KtcMethodResult& r) {
   const int S = static_cast<int>(r.samples.size()), L = static_cast<int>(r.levels.size());
   std::vector<int> all(static_cast<std::size_t>(S));
   for (int s = 0; s < S; ++s) all[static_cast<std::size_t>(s)] = s;
-  r.best = tune_ktc(r, all, false);
+  r.best = choose_ktc_rules(r, all);
   r.in_sample.assign(static_cast<std::size_t>(L), std::vector<double>(static_cast<std::size_t>(S)));
   r.held_out = r.held_out_otsu = r.in_sample;
   r.held_out_choice.clear();
@@ -120,7 +138,7 @@ void tune_and_hold_out(KtcMethodResult& r) {
       if (o != s) others.push_back(o);
     // With a single sample there is nothing else to tune on: in sample, and the report says so.
     if (others.empty()) others = all;
-    const KtcChoice held = tune_ktc(r, others, false), otsu = tune_ktc(r, others, true);
+    const KtcChoice held = choose_ktc_rules(r, others), otsu = tune_ktc(r, others, KtcRules::otsu);
     r.held_out_choice.push_back(held);
     for (int l = 0; l < L; ++l) {
       r.in_sample[static_cast<std::size_t>(l)][static_cast<std::size_t>(s)] =

@@ -28,7 +28,13 @@ struct KtcChoice {
   double lambda = 0;
   SegmentationRule rule;
   double tuning_score = 0;  // the summed score on the samples it was tuned on
+  // How the rule's kind was chosen (choose_ktc_rules): each kind's score on the tuning samples,
+  // each sample scored with the setting tuned on the others. Zero where the kind was imposed.
+  double nested_otsu = 0, nested_levels = 0;
 };
+
+// The segmentation rules a tuning may pick from.
+enum class KtcRules { otsu, levels, either };
 
 struct KtcMethodResult {
   std::string method;
@@ -49,18 +55,25 @@ struct KtcMethodResult {
   double median_ms = 0;  // per reconstruction at best's lambda
 };
 
-// The best setting on `samples` (indices into result.samples), every level summed; with
-// `otsu_only` among the Otsu rules only, with `only_candidate` >= 0 at that candidate only. Ties go
-// to the earlier candidate and smaller fractions.
-KtcChoice tune_ktc(const KtcMethodResult& result, const std::vector<int>& samples, bool otsu_only,
+// The best setting on `samples` (indices into result.samples), every level summed, among `rules`;
+// with `only_candidate` >= 0 at that candidate only. Ties go to the earlier candidate, Otsu and
+// smaller fractions.
+KtcChoice tune_ktc(const KtcMethodResult& result, const std::vector<int>& samples, KtcRules rules,
                    int only_candidate = -1);
+// The setting tuned on `samples` with its rule's kind chosen as the setting itself is, on data it
+// was not tuned on (nested): each kind, Otsu or the levels rule, is tuned on all of `samples` but
+// one and scored on the one left out, each in turn; the kind that scores more is tuned on all of
+// them. The levels rule tunes two fractions more than Otsu, and on three samples it can win every
+// tuning and still lose the sample left out. Ties, and fewer than two samples, go to Otsu.
+KtcChoice choose_ktc_rules(const KtcMethodResult& result, const std::vector<int>& samples);
 // A [level][sample] table of scores summed as the challenge sums them: each level's mean over the
 // samples times 3 (its three targets a level), then over the levels (at most 21 for seven).
 double ktc_level_total(const std::vector<double>& samples);
 double ktc_total(const std::vector<std::vector<double>>& table);
 // The score of sample `s` at level index `l` with `choice`.
 double ktc_choice_score(const KtcMethodResult& result, const KtcChoice& choice, int l, int s);
-// Fills best, held_out_choice, in_sample, held_out and held_out_otsu from the scores.
+// Fills best, held_out_choice, in_sample, held_out and held_out_otsu from the scores: best and
+// each held-out choice by choose_ktc_rules.
 void tune_and_hold_out(KtcMethodResult& result);
 
 // The scores of one image (on KTC's grid) against one truth under every rule.

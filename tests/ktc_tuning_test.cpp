@@ -1,0 +1,67 @@
+// The KTC benchmark's tuning: the segmentation rule's kind is chosen on samples it was not tuned
+// on, so that the levels rule's two fractions more than Otsu do not win by fitting the tuning
+// samples alone. Scores are made by hand, so each choice has a value worked out below.
+#include <gtest/gtest.h>
+
+#include "eitbench/bench/ktc/ktc_run.h"
+
+namespace eitbench {
+namespace {
+
+// One candidate, one level, three samples. Under Otsu every sample scores 0.4. Under the levels
+// rule sample s scores 1 at fraction index peak[s] (both classes) and `elsewhere` at every other.
+KtcMethodResult made(const std::vector<int>& peak, double elsewhere) {
+  const std::size_t F = ktc_level_fractions().size();
+  KtcMethodResult r;
+  r.method = "made";
+  r.candidates = {0.1};
+  r.levels = {1};
+  r.samples = {1, 2, 3};
+  r.scores.assign(1, std::vector<std::vector<KtcFrameScores>>(1));
+  for (int p : peak) {
+    KtcFrameScores f;
+    f.otsu = 0.4;
+    f.resistive.assign(F, elsewhere), f.conductive.assign(F, elsewhere);
+    f.resistive[static_cast<std::size_t>(p)] = f.conductive[static_cast<std::size_t>(p)] = 1.0;
+    r.scores[0][0].push_back(f);
+  }
+  return r;
+}
+
+TEST(KtcTuning, ALevelsRuleThatOnlyFitsItsTuningSamplesLosesToOtsu) {
+  // Each sample's best fraction is its own: on all three the levels rule sums 1 + 0.3 + 0.3 = 1.6
+  // against Otsu's 1.2, but tuned on two it picks one of theirs and scores 0.3 on the third.
+  KtcMethodResult r = made({2, 9, 15}, 0.3);
+  const std::vector<int> all = {0, 1, 2};
+  EXPECT_EQ(tune_ktc(r, all, KtcRules::either).rule.kind, SegmentationKind::levels);
+  const KtcChoice c = choose_ktc_rules(r, all);
+  EXPECT_EQ(c.rule.kind, SegmentationKind::otsu);
+  EXPECT_NEAR(c.nested_otsu, 1.2, 1e-12);
+  EXPECT_NEAR(c.nested_levels, 0.9, 1e-12);
+  // Held out: each sample with the setting tuned on the other two, whose own choice of kind
+  // (one held-out sample each) is Otsu's 0.4 against the levels rule's 0.3.
+  tune_and_hold_out(r);
+  for (std::size_t s = 0; s < 3; ++s) {
+    EXPECT_EQ(r.held_out_choice[s].rule.kind, SegmentationKind::otsu) << s;
+    EXPECT_NEAR(r.held_out[0][s], 0.4, 1e-12) << s;
+  }
+  EXPECT_EQ(r.best.rule.kind, SegmentationKind::otsu);
+}
+
+TEST(KtcTuning, ALevelsRuleThatHoldsOutIsChosen) {
+  // The same best fraction on every sample: held out the levels rule scores 1 a sample.
+  KtcMethodResult r = made({7, 7, 7}, 0.3);
+  const std::vector<int> all = {0, 1, 2};
+  const KtcChoice c = choose_ktc_rules(r, all);
+  EXPECT_EQ(c.rule.kind, SegmentationKind::levels);
+  EXPECT_DOUBLE_EQ(c.rule.resistive, ktc_level_fractions()[7]);
+  EXPECT_DOUBLE_EQ(c.rule.conductive, ktc_level_fractions()[7]);
+  EXPECT_NEAR(c.nested_levels, 3.0, 1e-12);
+  tune_and_hold_out(r);
+  for (std::size_t s = 0; s < 3; ++s) EXPECT_NEAR(r.held_out[0][s], 1.0, 1e-12) << s;
+  // With one sample nothing is held out within it: Otsu, which tunes nothing.
+  EXPECT_EQ(choose_ktc_rules(r, {1}).rule.kind, SegmentationKind::otsu);
+}
+
+}  // namespace
+}  // namespace eitbench
