@@ -264,6 +264,7 @@ TEST_F(RunCli, SweepAndVariationFlagsRefuseBadValues) {
       {"--touch-radius 0.2,0.3", "--touch-contrast: needs"},
       {"--touch-contrast 0,0.3", "--touch-contrast: goes with --touch-radius"},
       {"--randomise-snr 50,40", "--randomise-snr: needs"},
+      {"--decay 0.01", "--decay: must be at least the warm-up's 0.02"},
   };
   for (const auto& [flags, message] : cases) {
     const Result r = run(base + flags);
@@ -275,6 +276,34 @@ TEST_F(RunCli, SweepAndVariationFlagsRefuseBadValues) {
       run("simulate --preset tiny --quiet --touch-radius 0.2,0.3 --out " + path("set.h5"));
   EXPECT_EQ(s.exit_code, 2) << s.output;
   EXPECT_FALSE(fs::exists(path("set.h5")));
+}
+
+// --decay moves the learned model's schedule (its figures change, the model-based ones do not),
+// and a resumed run with another --decay trains again instead of reusing the model it made.
+TEST_F(RunCli, DecayReachesTheLearnedSchedule) {
+  const std::string base =
+      "run --preset tiny --quiet --methods tikhonov --augment none "
+      "--sweep none --out ";
+  ASSERT_EQ(run(base + path("a")).exit_code, 0);
+  fs::copy(path("a"), path("c"), fs::copy_options::recursive);
+  ASSERT_EQ(run(base + path("b") + " --decay 0.3").exit_code, 0);
+  const Result resumed = run(base + path("c") + " --decay 0.3 --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const RunResults a = read_results_json(path("a/results.json"));
+  const RunResults b = read_results_json(path("b/results.json"));
+  const RunResults c = read_results_json(path("c/results.json"));
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (std::size_t k = 0; k < a.rows.size(); ++k) {
+    const ResultRow &x = a.rows[k], &y = b.rows[k], &z = c.rows[k];
+    if (x.method == "dnn") {
+      EXPECT_NE(x.cc, y.cc) << x.snr_db;
+      EXPECT_NEAR(z.cc, y.cc, 1e-6 * std::abs(y.cc)) << x.snr_db;
+    } else {
+      EXPECT_EQ(x.cc, y.cc) << x.method;
+    }
+  }
+  EXPECT_NE(a.configuration.at("training").find("after 0.6 of the budget"), std::string::npos);
+  EXPECT_NE(b.configuration.at("training").find("after 0.3 of the budget"), std::string::npos);
 }
 
 TEST_F(RunCli, KilledSimulationLeavesNoFile) {

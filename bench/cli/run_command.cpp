@@ -21,6 +21,7 @@
 #include "eitbench/bench/support/timing.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/learned/schedule.h"
 #include "options.h"
 #include "world.h"
 
@@ -242,7 +243,7 @@ std::function<void()> add_run_command(CLI::App& app) {
     int threads = 2, electrodes = 16, epochs = 0, patience = -1, doublings = -1;
     double doubling_tolerance = -1;
     long long finetune_steps = RunConfig().finetune_steps;
-    double learning_rate = 0;
+    double learning_rate = 0, decay = -1;
     std::vector<std::string> methods, augments;
     ProtocolChoice protocol;
     SimulationVariation variation;
@@ -322,6 +323,10 @@ std::function<void()> add_run_command(CLI::App& app) {
                   "the learning rate schedule's peak (default: the preset's, 1e-2 for the small "
                   "model, 1e-3 for the paper model)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--decay", args->decay,
+                  "where the learning rate's cosine reaches its floor, as a fraction of the "
+                  "budget (default: the preset's, 0.9 quick, 0.6 otherwise)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--doublings", args->doublings,
                   "after the budget, continue each learned model from its best over as many "
                   "steps again while the last doubling lowered its best validation loss by more "
@@ -381,6 +386,10 @@ std::function<void()> add_run_command(CLI::App& app) {
     if (!args->augments.empty()) c.augments = args->augments, c.augments_chosen = true;
     if (args->epochs > 0) c.epochs = args->epochs;
     if (args->learning_rate > 0) c.learning_rate = args->learning_rate;
+    if (args->decay >= 0) c.decay = args->decay;
+    if (const double warmup = ScheduleOptions().warmup_fraction; c.decay < warmup)
+      throw InputError("--decay", "",
+                       fmt::format("must be at least the warm-up's {:g} of the budget", warmup));
     if (args->patience >= 0) c.patience = args->patience;
     if (args->doublings >= 0) c.budget_rule.max_doublings = args->doublings;
     if (args->doubling_tolerance >= 0) c.budget_rule.tolerance = args->doubling_tolerance;

@@ -96,10 +96,11 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   c["model"] = fmt::format("{} ({} parameters, {:.1f} MFLOP a frame)", config.model, parameters,
                            forward_flops(learned.network) / 1e6);
   c["training"] = fmt::format(
-      "at most {} epochs, batch {}, Adam peak lr {:g} ({} schedule), validation every {} samples, "
-      "early stopping after {} without a {:g} improvement, on-the-fly augmentation, device {}",
-      config.epochs, config.batch, config.learning_rate, config.schedule, config.validate_every,
-      config.patience, config.min_improvement, learned.training.device);
+      "at most {} epochs, batch {}, Adam peak lr {:g} ({} schedule, at its floor after {:g} of "
+      "the budget), validation every {} samples, early stopping after {} without a {:g} "
+      "improvement, on-the-fly augmentation, device {}",
+      config.epochs, config.batch, config.learning_rate, config.schedule, config.decay,
+      config.validate_every, config.patience, config.min_improvement, learned.training.device);
   if (learned.gemm_flops > 0)
     c["gemm_peak"] = fmt::format("{:.0f} GFLOP/s (float32 2048 x 2048 matrix product, {} threads)",
                                  learned.gemm_flops / 1e9, config.threads);

@@ -96,6 +96,7 @@ Provenance training_provenance(const RunConfig& config, const RunData& data) {
       {"batch", std::to_string(config.batch)},
       {"learning rate", fmt::format("{:g}", config.learning_rate)},
       {"schedule", config.schedule},
+      {"decay", fmt::format("{:g}", config.decay)},
       {"validate every", std::to_string(config.validate_every)},
       {"patience", std::to_string(config.patience)},
       {"min improvement", fmt::format("{:g}", config.min_improvement)},
@@ -115,6 +116,7 @@ LearnedSetup learned_setup(const RunConfig& config, const Dataset& source) {
   s.training.batch_size = config.batch;
   s.training.learning_rate = config.learning_rate;
   s.training.schedule.kind = parse_schedule(config.schedule, "schedule");
+  s.training.schedule.decay_fraction = config.decay;
   s.training.validate_every = config.validate_every;
   s.training.patience = config.patience;
   s.training.min_improvement = config.min_improvement;

@@ -60,8 +60,11 @@ struct RunConfig {
   // the same 300 epochs of D16 on the quick set (0.00440 against 0.00464).
   double learning_rate = 1e-2;
   std::string schedule = "cosine";
-  long long validate_every = 16384;   // training samples between validations
-  int patience = 5;                   // validations without improvement before stopping
+  // Where the cosine reaches its floor, as a fraction of the budget's steps (the rest is left for
+  // early stopping to find the end): ScheduleOptions::decay_fraction.
+  double decay = 0.6;
+  long long validate_every = 16384;  // training samples between validations
+  int patience = 5;                  // validations without improvement before stopping
   // Doublings of the budget after `epochs` (budget_rule.h): every learned model of the run and the
   // sweep's converged arms follow it.
   BudgetRule budget_rule;
