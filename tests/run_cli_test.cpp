@@ -293,6 +293,7 @@ TEST_F(RunCli, DecayReachesTheLearnedSchedule) {
   const RunResults b = read_results_json(path("b/results.json"));
   const RunResults c = read_results_json(path("c/results.json"));
   ASSERT_EQ(a.rows.size(), b.rows.size());
+  ASSERT_EQ(a.rows.size(), c.rows.size());
   for (std::size_t k = 0; k < a.rows.size(); ++k) {
     const ResultRow &x = a.rows[k], &y = b.rows[k], &z = c.rows[k];
     if (x.method == "dnn") {

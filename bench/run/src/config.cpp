@@ -24,7 +24,7 @@ RunConfig RunConfig::for_preset(const std::string& preset) {
     c.efficiency_sizes = {15, 30, 60};
     c.sweep_frames = 3, c.timed_frames = 3, c.figure_samples = 4;
     c.touch_validation_frames = 14;  // the whole validation split
-  } else if (preset == "quick") {    // about 20 minutes on 2 cores
+  } else if (preset == "quick") {    // about 25 minutes on 2 cores
     // The three learned models that answer the paper's questions (rotations alone is in the
     // standard preset).
     c.augments = {"none", "d16", "paper"};
@@ -39,7 +39,7 @@ RunConfig RunConfig::for_preset(const std::string& preset) {
     // augmentation still stops early with rate left (0.00721 against 0.00716). The run takes
     // 25.1 min on the AMD EPYC (docs/learned.md#the-budget).
     c.decay = 0.9;
-    c.efficiency_sizes = {500, 1000, 2000};  // 250 too would pass the 20 minutes
+    c.efficiency_sizes = {500, 1000, 2000};  // 250 too would add to its 25 minutes
   } else if (preset == "standard") {
     c.epochs = 300;
     c.budget_rule.max_doublings = 3;

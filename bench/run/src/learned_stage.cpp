@@ -12,6 +12,7 @@
 #include "eitbench/bench/methods/training_run.h"
 #include "eitbench/bench/support/timing.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/learned/schedule.h"
 #include "stages.h"
 
 namespace eitbench::run {
@@ -87,7 +88,7 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
 }  // namespace
 
 Provenance training_provenance(const RunConfig& config, const RunData& data) {
-  return {
+  Provenance p{
       {"program", data.provenance.at("program")},
       {"training data",
        data.own_training ? data.provenance.at("data") : data.provenance.at("training data")},
@@ -96,7 +97,6 @@ Provenance training_provenance(const RunConfig& config, const RunData& data) {
       {"batch", std::to_string(config.batch)},
       {"learning rate", fmt::format("{:g}", config.learning_rate)},
       {"schedule", config.schedule},
-      {"decay", fmt::format("{:g}", config.decay)},
       {"validate every", std::to_string(config.validate_every)},
       {"patience", std::to_string(config.patience)},
       {"min improvement", fmt::format("{:g}", config.min_improvement)},
@@ -104,6 +104,10 @@ Provenance training_provenance(const RunConfig& config, const RunData& data) {
                                   config.budget_rule.tolerance)},
       {"seed", std::to_string(config.seed)},
       {"device", resolve_device(config.device, "--device")}};
+  // Only where it is not the schedule's default: a run made before --decay resumes as it was.
+  if (config.decay != ScheduleOptions().decay_fraction)
+    p["decay"] = fmt::format("{:g}", config.decay);
+  return p;
 }
 
 LearnedSetup learned_setup(const RunConfig& config, const Dataset& source) {
