@@ -325,7 +325,8 @@ std::function<void()> add_run_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--decay", args->decay,
                   "where the learning rate's cosine reaches its floor, as a fraction of the "
-                  "budget (default: the preset's, 0.9 quick, 0.6 otherwise)")
+                  "budget, in the training on the simulated set (default: the preset's, 0.9 "
+                  "quick, 0.6 otherwise; a fine-tuning on presses keeps 0.6)")
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--doublings", args->doublings,
                   "after the budget, continue each learned model from its best over as many "

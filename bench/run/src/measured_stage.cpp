@@ -352,6 +352,9 @@ PressModel trained_on_presses(const StageInputs& in, const LearnedSetup& setup, 
   o.steps = config.finetune_steps;
   o.validate_every = config.finetune_validate_every;
   o.batch_size = std::min(o.batch_size, std::max(2, static_cast<int>(train_rows.size())));
+  // Its own schedule, as its own steps: --decay (the quick preset's 0.9) is the simulated
+  // training's, measured there; the fine-tuning keeps the schedule it was measured with.
+  o.schedule.decay_fraction = ScheduleOptions().decay_fraction;
   // A fine-tuning starts near its optimum: a tenth of the training's peak rate. From scratch the
   // network first sits on blank images (the nearest optimum of the MSE against small discs): the
   // validations lie far enough apart (config.finetune_validate_every) that early stopping does

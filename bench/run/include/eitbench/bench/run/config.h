@@ -8,6 +8,7 @@
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/methods/budget_rule.h"
 #include "eitbench/jacobian/disk_mesh.h"
+#include "eitbench/learned/schedule.h"
 
 namespace eitbench {
 
@@ -61,8 +62,8 @@ struct RunConfig {
   double learning_rate = 1e-2;
   std::string schedule = "cosine";
   // Where the cosine reaches its floor, as a fraction of the budget's steps (the rest is left for
-  // early stopping to find the end): ScheduleOptions::decay_fraction.
-  double decay = 0.6;
+  // early stopping to find the end): ScheduleOptions::decay_fraction, its default 0.6 too.
+  double decay = ScheduleOptions().decay_fraction;
   long long validate_every = 16384;  // training samples between validations
   int patience = 5;                  // validations without improvement before stopping
   // Doublings of the budget after `epochs` (budget_rule.h): every learned model of the run and the
