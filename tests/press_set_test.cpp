@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "cli_fixture.h"
 #include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/data/press_touches.h"
 #include "eitbench/bench/io/numpy.h"
+#include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/bench/methods/press_scores.h"
 #include "test_support.h"
 
@@ -185,6 +187,84 @@ TEST_F(PressSet, BadTouchFilesAreRefusedNamingFileAndRow) {
   EXPECT_NE(run(import(text_file("ok.csv", "0,0\n0,0\n0,0\n"), "--touch-scale 0")).exit_code, 0);
 }
 
+// Unlabelled frames set the noise: a press set whose references before each press carry white
+// noise of a known level gives that level back (calibrate --noise, into the sensor file), and
+// reconstruct --choose discrepancy chooses lambda from it; import --paired-reference keeps the
+// references the noise is measured on.
+TEST_F(PressSet, TheSensorsNoiseComesFromItsReferencesAndChoosesLambda) {
+  const Result paired = run("import --in " + kFrames + " --reference " + kFrames +
+                            " --paired-reference --out " + path("paired.h5"));
+  ASSERT_EQ(paired.exit_code, 0) << paired.output;
+  const Dataset p = read_dataset(path("paired.h5"));
+  ASSERT_EQ(p.references.rows(), 3);
+  EXPECT_EQ(p.references, p.frames);  // the file is its own reference here
+  EXPECT_NE(run("info " + path("paired.h5")).output.find("paired references: one before each"),
+            std::string::npos);
+  // Split by time: frames 1:3 keep their own references, whose mean is the reference.
+  const Result later = run("import --in " + kFrames + " --reference " + kFrames +
+                           " --paired-reference --frames 1:3 --out " + path("later.h5"));
+  ASSERT_EQ(later.exit_code, 0) << later.output;
+  const Dataset l = read_dataset(path("later.h5"));
+  ASSERT_EQ(l.size(), 2);
+  EXPECT_EQ(l.frames, p.frames.bottomRows(2));
+  EXPECT_EQ(l.references, p.references.bottomRows(2));
+  EXPECT_LT((l.reference - p.references.bottomRows(2).colwise().mean().transpose()).norm(), 1e-12);
+  const Result outside = run("import --in " + kFrames + " --frames 2:9 --out " + path("x.h5"));
+  EXPECT_EQ(outside.exit_code, 2);
+  EXPECT_NE(outside.output.find("--frames: range 2:9 is empty or outside the 3 frames"),
+            std::string::npos)
+      << outside.output;
+  EXPECT_FALSE(fs::exists(path("x.h5")));
+
+  ASSERT_EQ(run("simulate --preset tiny --quiet --out " + path("tiny.h5")).exit_code, 0);
+  Dataset d = read_dataset(path("tiny.h5"));
+  d.touches.clear();
+  for (const auto& circles : d.circles) d.touches.push_back({{circles[0].x, circles[0].y, NAN}});
+  const double sigma = 1e-3 * std::sqrt(d.reference.squaredNorm() / d.reference.size());
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal(0, sigma);
+  d.references.resize(d.size(), d.reference.size());
+  for (Eigen::Index i = 0; i < d.references.size(); ++i)
+    d.references.data()[i] = d.reference.data()[i % d.reference.size()];
+  for (Eigen::Index f = 0; f < d.size(); ++f)
+    for (Eigen::Index k = 0; k < d.references.cols(); ++k) d.references(f, k) += normal(rng);
+  write_dataset(path("press.h5"), d);
+
+  const std::string noise = "calibrate --density coarse --noise " + path("press.h5");
+  const Result c = run(noise + " --noise-frames 0:40 --out " + path("sensor.json"));
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  EXPECT_NE(c.output.find("40 references; a difference frame's noise"), std::string::npos)
+      << c.output;
+  const SensorFile sensor = read_sensor_file(path("sensor.json"));
+  ASSERT_TRUE(sensor.noise.has_value());
+  EXPECT_EQ(sensor.noise->references, 40);
+  const double expected = std::sqrt(2.0) * 1e-3;  // two frames' noise, relative to the reference
+  EXPECT_NEAR(sensor.noise->noise / expected, 1, 0.05);
+  EXPECT_EQ(sensor.noise->gains.size(), d.reference.size());
+
+  const std::string lambda = "reconstruct --method noser --data " + path("press.h5") +
+                             " --split train --touches 1 --density coarse --png 0 --out " +
+                             path("out.h5") + " --choose discrepancy";
+  const Result r = run(lambda + " --sensor " + path("sensor.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("(discrepancy)"), std::string::npos) << r.output;
+  const Result without = run(lambda);
+  EXPECT_EQ(without.exit_code, 2);
+  EXPECT_NE(without.output.find("needs the sensor's measured noise"), std::string::npos)
+      << without.output;
+  const Result greit = run("reconstruct --method greit --data " + path("press.h5") +
+                           " --density coarse --png 0 --out " + path("g.h5") +
+                           " --choose discrepancy --sensor " + path("sensor.json"));
+  EXPECT_NE(greit.exit_code, 0);
+  EXPECT_NE(greit.output.find("discrepancy needs a one-step linear method"), std::string::npos)
+      << greit.output;
+  const Result plain = run("calibrate --density coarse --noise " + path("tiny.h5"));
+  EXPECT_EQ(plain.exit_code, 2);
+  EXPECT_NE(plain.output.find("tiny.h5: references: the set has no reference recorded"),
+            std::string::npos)
+      << plain.output;
+}
+
 // The hydrogel skin's recording (where ../shared holds it; never committed): 550 presses in
 // metres on a skin of radius 70 mm, to the unit disk, the third column the press depth.
 TEST_F(PressSet, TheHydrogelRecordingIsAPressSet) {
@@ -199,6 +279,7 @@ TEST_F(PressSet, TheHydrogelRecordingIsAPressSet) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const Dataset d = read_dataset(path("presses.h5"));
   ASSERT_EQ(d.touches.size(), 550u);
+  EXPECT_EQ(d.references.rows(), 550);  // each press's own reference, for calibrate --noise
   EXPECT_EQ(d.touch_size, "depth");
   for (const auto& list : d.touches) {
     ASSERT_EQ(list.size(), 1u);

@@ -174,19 +174,30 @@ TEST_F(MeasuredRun, ScoresEveryMethodOnPressesTunedOnAnotherSet) {
   const RunResults results = read_results_json(path("out/results.json"));
   const MeasuredRow* centre = nullptr;
   const MeasuredRow* noser_cal = nullptr;
-  int finetuned = 0;
+  const MeasuredRow* noser_gcv = nullptr;
+  int finetuned = 0, greit_gcv = 0;
   for (const MeasuredRow& m : results.measured) {
     EXPECT_EQ(m.scored, "set.h5");
     EXPECT_EQ(m.calibration, "cal.h5");
     EXPECT_GT(m.frames, 10);
     if (m.method == "centre") centre = &m;
     if (m.method == "noser" && m.training == "calibration presses") noser_cal = &m;
+    if (m.method == "noser" && m.training == "calibration frames (GCV)") noser_gcv = &m;
+    greit_gcv += m.method == "greit" && m.training.rfind("calibration frames", 0) == 0;
     finetuned += m.training == "fine-tuned" || m.training == "real presses only";
   }
   ASSERT_NE(centre, nullptr);
   ASSERT_NE(noser_cal, nullptr);
   // Simulated presses are found far better than by guessing the centre.
   EXPECT_LT(noser_cal->centre_error_median, 0.5 * centre->centre_error_median);
+  // Without any label too: lambda by GCV on the calibration frames, the threshold fixed. GREIT
+  // has no GCV, so no such row.
+  ASSERT_NE(noser_gcv, nullptr);
+  EXPECT_NE(noser_gcv->settings.find("(gcv)"), std::string::npos) << noser_gcv->settings;
+  EXPECT_NE(noser_gcv->settings.find("touch threshold 0.5 (fixed: no labels)"), std::string::npos)
+      << noser_gcv->settings;
+  EXPECT_LT(noser_gcv->centre_error_median, 0.5 * centre->centre_error_median);
+  EXPECT_EQ(greit_gcv, 0);
   // New positions: the scored presses no calibration press came within 0.01 R of.
   const Dataset s = read_dataset(set), c = read_dataset(cal);
   int novel = 0;

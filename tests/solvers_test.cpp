@@ -136,6 +136,52 @@ TEST(Tikhonov, GcvAndLcurveLandWithinHalfADecadeOfTheValidationOptimum) {
   }
 }
 
+// Morozov's principle: the chosen lambda's residual, computed with A itself rather than the
+// eigenbasis the choice works in, is the factor times the noise level; more noise, or a larger
+// factor, asks for more regularisation. On frames with white noise of the level it is told it
+// regularises more than the validation optimum, as the principle is known to (here 17 to 22
+// times the optimum's lambda: it asks the residual to hold all the noise).
+TEST(Tikhonov, DiscrepancyMatchesTheResidualToTheNoise) {
+  const Reconstruction& s = medium();
+  SampleMatrix labels;
+  const SampleMatrix clean = linear_frames(s, touches(60, 2), &labels);
+  SampleMatrix y = clean;
+  add_noise(y, 30, 5);
+  const double sigma = std::sqrt((y - clean).squaredNorm() / static_cast<double>(y.size()));
+  const ScoreFn cc = [&](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    return correlation(a, b, s.grid);
+  };
+  for (auto prior : {Prior::identity, Prior::noser, Prior::laplace}) {
+    auto chosen = [&](double level, double factor) {
+      TikhonovOptions o;
+      o.prior = prior;
+      o.choice = Criterion::discrepancy;
+      o.noise = level;
+      o.discrepancy_factor = factor;
+      o.single_precision = false;
+      Tikhonov t(s.problem, o);
+      t.fit(y, SampleMatrix(), nullptr);
+      const SampleMatrix images = t.reconstruct_all(y);
+      double residual = 0;
+      for (Eigen::Index k = 0; k < y.rows(); ++k)
+        residual +=
+            (y.row(k).transpose() - s.problem->A * s.problem->from_image(images.row(k).transpose()))
+                .squaredNorm();
+      EXPECT_NEAR(std::sqrt(residual / static_cast<double>(y.size())) / (factor * level), 1, 1e-3)
+          << t.name() << " noise " << level << " factor " << factor;
+      return t.lambda();
+    };
+    const double at_sigma = chosen(sigma, 1);
+    EXPECT_GT(chosen(2 * sigma, 1), at_sigma);
+    EXPECT_GT(chosen(sigma, 1.5), at_sigma);
+    TikhonovOptions o;
+    o.prior = prior;
+    Tikhonov t(s.problem, o);
+    const double best = t.choose_validation(y, labels, cc);
+    EXPECT_GT(at_sigma, best) << t.name() << " discrepancy " << at_sigma << " validation " << best;
+  }
+}
+
 TEST(Tikhonov, RejectsBadInput) {
   const Reconstruction& s = medium();
   TikhonovOptions o;
@@ -182,6 +228,18 @@ TEST(SolverOptions, ValidateNamesTheField) {
   t = {};
   t.laplace_epsilon = 0;
   EXPECT_EQ(at(t), "TikhonovOptions.laplace_epsilon");
+  t = {};
+  t.choice = Criterion::discrepancy;  // the principle needs the noise it matches
+  EXPECT_EQ(at(t), "TikhonovOptions.noise");
+  t.noise = 0;
+  EXPECT_EQ(at(t), "TikhonovOptions.noise");
+  t.noise = 1e-3;
+  EXPECT_EQ(at(t), "no InputError");
+  t.discrepancy_factor = 0.5;  // a residual below the noise fits the noise
+  EXPECT_EQ(at(t), "TikhonovOptions.discrepancy_factor");
+  t = {};
+  t.noise = 1e-3;  // GCV would ignore it
+  EXPECT_EQ(at(t), "TikhonovOptions.noise");
 
   const std::pair<void (*)(GreitOptions&), std::string> greit[] = {
       {[](GreitOptions& o) { o.targets = 9; }, "targets"},
@@ -224,7 +282,7 @@ TEST(SolverOptions, ValidateNamesTheField) {
 // naming its options' field, instead of being ignored; so is a validation without candidates.
 TEST(SolverOptions, ACriterionAMethodCannotUseIsRefused) {
   using testing::input_error_at;
-  for (Criterion c : {Criterion::gcv, Criterion::lcurve}) {
+  for (Criterion c : {Criterion::gcv, Criterion::lcurve, Criterion::discrepancy}) {
     TotalVariationOptions tv;
     tv.choice = c;
     EXPECT_EQ(input_error_at([&] { tv.validate(); }), "TotalVariationOptions.choice");
@@ -234,8 +292,9 @@ TEST(SolverOptions, ACriterionAMethodCannotUseIsRefused) {
     GreitOptions greit;
     greit.choice = c;
     EXPECT_EQ(input_error_at([&] { greit.validate(); }), "GreitOptions.choice");
-    TikhonovOptions t;  // the one-step linear methods use both
+    TikhonovOptions t;  // the one-step linear methods use each
     t.choice = c;
+    if (c == Criterion::discrepancy) t.noise = 1e-3;
     EXPECT_NO_THROW(t.validate());
   }
   TotalVariationOptions tv;

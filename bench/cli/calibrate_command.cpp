@@ -6,12 +6,15 @@
 #include <memory>
 
 #include "commands.h"
+#include "eitbench/bench/data/dataset_file.h"
 #include "eitbench/bench/data/measurements.h"
+#include "eitbench/bench/data/sensor_noise.h"
 #include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/solvers/calibration.h"
 #include "eitbench/solvers/press_frame.h"
 #include "options.h"
 #include "press_frame_command.h"
+#include "press_tuning.h"
 
 namespace eitbench::cli {
 
@@ -53,12 +56,38 @@ Calibration calibrate_reference(const Mesh& mesh, const std::string& path,
   return calibrate(mesh, start, background, reference, MeasurementOrder::rotating, {}, path);
 }
 
+// The noise, drift, gains and signal size of the set at `path` (its frames `range`), measured on
+// its paired references; the gains against the model of the sensor calibrated so far.
+SensorNoise measure_noise(const Mesh& mesh, const std::string& path, const std::string& range,
+                          const SensorFile& sensor) {
+  const Dataset d = read_dataset(path);
+  if (mesh.num_electrodes() != d.electrodes)
+    throw InputError(
+        path, "electrodes",
+        fmt::format("{} electrodes; the mesh has {}", d.electrodes, mesh.num_electrodes()));
+  const auto [first, last] = parse_range(range, d.size(), "--noise-frames");
+  ForwardOptions forward;
+  forward.contact_impedances = sensor.contact_impedances;
+  forward.current = sensor.current;
+  forward.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(d));
+  const ForwardModel model(mesh, forward);
+  const Eigen::VectorXd empty =
+      model.measured(Eigen::VectorXd::Constant(mesh.num_triangles(), sensor.background));
+  const SensorNoise n = measure_sensor_noise(d, path, first, last, empty);
+  fmt::print(
+      "{}: {} references; a difference frame's noise {:.3g} of the reference's RMS, its "
+      "signal {:.3g} (SNR {:.1f} dB); drift {:.3g}; channel gains against the model spread by "
+      "{:.3g}\n",
+      path, n.references, n.noise, n.signal, n.snr_db, n.drift, n.gain_spread);
+  return n;
+}
+
 }  // namespace
 
 std::function<void()> add_calibrate_command(CLI::App& app) {
   struct Args {
     MeshSource mesh;
-    std::string reference, variable, order = "rotating", out, presses;
+    std::string reference, variable, order = "rotating", out, presses, noise, noise_frames;
     double background = 1, contact_impedance = 0.01, current = 1;
     PressFrameOptions frame;
     PressSensorOptions fit;
@@ -78,6 +107,14 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
                   "electrodes (the turn and the handedness that best explain its changes); with "
                   "--out also their scale and the touch (a disc's radius and contrast, per unit "
                   "depth where the set records depths), written into the sensor file");
+  cmd->add_option("--noise", args->noise,
+                  "a measured set with a reference recorded before each frame (import "
+                  "--paired-reference; positions not needed): measure the sensor's noise, drift, "
+                  "channel gains and signal size on it, and write them into the sensor file "
+                  "(reconstruct --choose discrepancy uses the noise)");
+  cmd->add_option("--noise-frames", args->noise_frames,
+                  "--noise: frames A:B of the set (default all), e.g. those a scored part does "
+                  "not hold");
   cmd->add_option("--step", args->frame.step_degrees, "--presses: the turns tried, in degrees")
       ->capture_default_str();
   cmd->add_option("--touch-radius", args->frame.touch_radius,
@@ -104,16 +141,28 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--out", args->out,
                   "the sensor file to write (JSON): with --reference its background and contact "
-                  "impedances, with --presses the press fit (without --reference, the nominal "
-                  "--background and --contact-impedance, marked as not fitted)");
+                  "impedances, with --presses the press fit, with --noise the noise (without "
+                  "--reference, the nominal --background and --contact-impedance, marked as not "
+                  "fitted)");
   return [args] {
     const Mesh mesh = load_mesh(args->mesh);
-    if (args->reference.empty() && args->presses.empty())
+    if (args->reference.empty() && args->presses.empty() && args->noise.empty())
       throw InputError("calibrate", "",
-                       "needs --reference (the empty sensor's frame) or --presses (a press set)");
+                       "needs --reference (the empty sensor's frame), --presses (a press set) or "
+                       "--noise (a set with paired references)");
+    if (!args->noise_frames.empty() && args->noise.empty())
+      throw InputError("--noise-frames", "", "needs --noise, the set whose frames it selects");
     if (!args->presses.empty() && args->out.empty()) {
       print_press_frame(mesh, args->presses, args->frame);
-      if (args->reference.empty()) return;
+      if (args->reference.empty() && args->noise.empty()) return;
+    }
+    if (args->out.empty() && !args->noise.empty() && args->reference.empty()) {
+      SensorFile nominal;
+      nominal.current = args->current, nominal.background = args->background;
+      nominal.contact_impedances =
+          Eigen::VectorXd::Constant(mesh.num_electrodes(), args->contact_impedance);
+      measure_noise(mesh, args->noise, args->noise_frames, nominal);
+      return;
     }
     if (args->out.empty())
       throw InputError("--out", "", "--reference needs --out, the sensor file to write");
@@ -143,6 +192,7 @@ std::function<void()> add_calibrate_command(CLI::App& app) {
       s.press_fit =
           fit_press_sensor_file(mesh, args->presses, args->frame, args->fit, forward, s.background);
     }
+    if (!args->noise.empty()) s.noise = measure_noise(mesh, args->noise, args->noise_frames, s);
     write_sensor_file(args->out, s);
     fmt::print("wrote {}\n", args->out);
   };

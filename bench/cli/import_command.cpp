@@ -8,8 +8,27 @@
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/data/press_touches.h"
 #include "options.h"
+#include "press_tuning.h"  // parse_range
 
 namespace eitbench::cli {
+namespace {
+
+// Frames [a, b) of `d`, with what belongs to each frame; paired references give the reference
+// again as the mean of those kept (a single reference file's mean stays).
+void keep_frames(Dataset& d, std::pair<int, int> range) {
+  const auto [a, b] = range;
+  const Eigen::Index n = b - a;
+  d.frames = SampleMatrix(d.frames.middleRows(a, n));
+  d.differences = SampleMatrix(d.differences.middleRows(a, n));
+  if (d.references.rows() > 0) {
+    d.references = SampleMatrix(d.references.middleRows(a, n));
+    d.reference = d.references.colwise().mean().transpose();
+  }
+  if (!d.touches.empty()) d.touches = {d.touches.begin() + a, d.touches.begin() + b};
+  d.split.assign(static_cast<std::size_t>(n), Split::test);
+}
+
+}  // namespace
 
 void add_import_options(CLI::App& cmd, ImportOptions& o, std::string& order,
                         ProtocolChoice& protocol) {
@@ -30,6 +49,7 @@ std::function<void()> add_import_command(CLI::App& app) {
     ProtocolChoice protocol;
     TouchFileOptions touches;
     double radius = 1;
+    std::string frames;
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
@@ -71,6 +91,10 @@ std::function<void()> add_import_command(CLI::App& app) {
                   "the sensor's radius in the mesh's unit, recorded in the set; touches must lie "
                   "within it")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--frames", args->frames,
+                  "keep frames A:B of the file (0-based, B excluded), with their references and "
+                  "touches: a recording split by time, the earlier part to tune on, the later "
+                  "one to score");
   cmd->add_option("--out", args->out, "HDF5 data set to write (all frames in the test split)")
       ->required();
   return [args] {
@@ -86,6 +110,7 @@ std::function<void()> add_import_command(CLI::App& app) {
       fmt::print("  touches: one a frame from {}{}\n", args->touches.path,
                  d.touch_size.empty() ? "" : " (third column: " + d.touch_size + ")");
     }
+    if (!args->frames.empty()) keep_frames(d, parse_range(args->frames, d.size()));
     if (m.reduced_input)
       fmt::print("  reciprocity: not measured ({})\n",
                  args->options.protocol && !is_adjacent(*args->options.protocol)

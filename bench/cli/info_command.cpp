@@ -64,6 +64,8 @@ void print_dataset_summary(const std::string& path, const Dataset& d) {
                Protocol(d.electrodes).reciprocity_error(d.reference, MeasurementOrder::rotating));
   else
     fmt::print("  reference: |v| max {:.4g}\n", d.reference.cwiseAbs().maxCoeff());
+  if (d.references.rows() > 0)
+    fmt::print("  paired references: one before each frame (calibrate --noise measures on them)\n");
   if (d.has_labels())
     fmt::print("  labels: {} x {} images, intensity {:.3f} .. {:.3f}\n", d.image_size, d.image_size,
                d.labels.minCoeff(), d.labels.maxCoeff());

@@ -12,6 +12,7 @@
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/data/noise.h"
 #include "eitbench/bench/data/sensor.h"
+#include "eitbench/bench/data/sensor_noise.h"
 #include "eitbench/bench/methods/evaluate.h"
 #include "eitbench/bench/methods/images_file.h"
 #include "eitbench/bench/methods/metrics.h"
@@ -40,6 +41,7 @@ struct Args {
   std::string neighbours = "pixels";
   double tolerance = 0, robust = 0;
   std::string sensor;
+  double discrepancy_factor = 1;
   std::string split = "test";
   int touches = 0;  // 0: every frame; else only those with this many true touches
   ProtocolChoice protocol;
@@ -92,10 +94,11 @@ void add_options(CLI::App* cmd, Args* args) {
   auto* choose =
       cmd->add_option(
              "--choose", args->choose,
-             "choose lambda: gcv | lcurve (one-step linear methods; gcv is their default) | "
-             "validation (any method; needs a validation split). Without it and --lambda, tv, gn "
-             "and greit keep their default weight")
-          ->check(CLI::IsMember({"gcv", "lcurve", "validation"}));
+             "choose lambda: gcv | lcurve | discrepancy (one-step linear methods; gcv is their "
+             "default; discrepancy: the residual at the measured noise of --sensor, from "
+             "calibrate --noise) | validation (any method; needs a validation split). Without "
+             "it and --lambda, tv, gn and greit keep their default weight")
+          ->check(CLI::IsMember({"gcv", "lcurve", "discrepancy", "validation"}));
   lambda->excludes(choose);
   cmd->add_option("--neighbours", args->neighbours,
                   "laplace, tv: couple pixels (4-neighbour) or mesh elements (edge-sharing)")
@@ -109,6 +112,11 @@ void add_options(CLI::App* cmd, Args* args) {
                   "shape: Huber's loss on each measurement at this multiple of the start's "
                   "residual RMS (default: none)")
       ->check(kPositive);
+  cmd->add_option("--discrepancy-factor", args->discrepancy_factor,
+                  "--choose discrepancy: the residual's RMS is this multiple of the noise's "
+                  "(Morozov's tau; above 1 allows for model error)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1e6));
   cmd->add_option("--sensor", args->sensor,
                   "a calibrated sensor file (eitbench calibrate): the model's contact impedances, "
                   "current and background conductivity (unless --background)");
@@ -143,21 +151,20 @@ void add_options(CLI::App* cmd, Args* args) {
 }  // namespace
 
 // "A:B" -> [A, B) within n frames.
-std::pair<int, int> parse_range(const std::string& text, int n) {
+std::pair<int, int> parse_range(const std::string& text, int n, const char* flag) {
   if (text.empty()) return {0, n};
   const auto colon = text.find(':');
   auto number = [&](const std::string& s, int fallback) {
     if (s.empty()) return fallback;
     char* end = nullptr;
     const long v = std::strtol(s.c_str(), &end, 10);
-    if (*end != '\0') throw InputError("--frames", "", "'" + text + "' is not a range A:B");
+    if (*end != '\0') throw InputError(flag, "", "'" + text + "' is not a range A:B");
     return static_cast<int>(v);
   };
-  if (colon == std::string::npos)
-    throw InputError("--frames", "", "'" + text + "' is not a range A:B");
+  if (colon == std::string::npos) throw InputError(flag, "", "'" + text + "' is not a range A:B");
   const int a = number(text.substr(0, colon), 0), b = number(text.substr(colon + 1), n);
   if (a < 0 || b > n || a >= b)
-    throw InputError("--frames", "",
+    throw InputError(flag, "",
                      "range " + text + " is empty or outside the " + std::to_string(n) + " frames");
   return {a, b};
 }
@@ -295,6 +302,15 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
               : args->choose.empty() ? find_method(args->method).default_choice
                                      : args->choose;
   mo.lambda = args->lambda;
+  if (mo.choose == "discrepancy") {
+    const auto sensor = load_sensor(args->sensor, mesh.num_electrodes());
+    if (!sensor || !sensor->noise)
+      throw InputError("--choose discrepancy", "",
+                       "needs the sensor's measured noise: --sensor FILE with a noise object "
+                       "(eitbench calibrate --noise SET.h5 --out FILE)");
+    mo.noise = noise_in_units_of(*sensor->noise, s.data.reference);
+    mo.discrepancy_factor = args->discrepancy_factor;
+  }
   mo.absolute = args->absolute;
   mo.neighbours = args->neighbours;
   mo.tolerance = args->tolerance;

@@ -20,20 +20,24 @@ const char* to_string(Criterion c) {
       return "gcv";
     case Criterion::lcurve:
       return "lcurve";
+    case Criterion::discrepancy:
+      return "discrepancy";
   }
   return "?";
 }
 
 Criterion parse_criterion(const std::string& name) {
-  for (Criterion c : {Criterion::fixed, Criterion::validation, Criterion::gcv, Criterion::lcurve})
+  for (Criterion c : {Criterion::fixed, Criterion::validation, Criterion::gcv, Criterion::lcurve,
+                      Criterion::discrepancy})
     if (name == to_string(c)) return c;
-  throw InputError("Criterion", "name",
-                   "unknown criterion '" + name + "' (fixed, validation, gcv or lcurve)");
+  throw InputError(
+      "Criterion", "name",
+      "unknown criterion '" + name + "' (fixed, validation, gcv, lcurve or discrepancy)");
 }
 
 void check_fixed_or_validation(const char* options, Criterion choice,
                                const std::vector<double>& candidates) {
-  if (choice == Criterion::gcv || choice == Criterion::lcurve)
+  if (choice == Criterion::gcv || choice == Criterion::lcurve || choice == Criterion::discrepancy)
     throw InputError(options, "choice",
                      std::string(to_string(choice)) +
                          " needs a one-step linear method; this one is fixed or chosen by "

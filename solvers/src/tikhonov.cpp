@@ -70,6 +70,14 @@ void TikhonovOptions::validate() const {
   if (lambda && (!(*lambda > 0) || !std::isfinite(*lambda)))
     fail("lambda", "must be positive and finite");
   if (!(noser_exponent >= 0 && noser_exponent <= 1)) fail("noser_exponent", "must lie in [0, 1]");
+  if (choice == Criterion::discrepancy && !noise)
+    fail("noise", "choice discrepancy needs the frames' noise");
+  if (noise && choice != Criterion::discrepancy)
+    fail("noise", "is used only with choice discrepancy; another choice would ignore it");
+  if (noise && (!(*noise > 0) || !std::isfinite(*noise)))
+    fail("noise", "must be positive and finite");
+  if (!(discrepancy_factor >= 1) || !std::isfinite(discrepancy_factor))
+    fail("discrepancy_factor", "must be finite and at least 1");
   // GCV and the L-curve need a curve to minimise or to bend: at least three candidates.
   if (grid < 3) fail("grid", "needs at least 3 lambdas, got " + std::to_string(grid));
   // L^T L has the constants in its kernel: without epsilon R^T R is singular.
@@ -165,6 +173,9 @@ void Tikhonov::fit(const SampleMatrix& frames, const SampleMatrix& labels, const
     case Criterion::lcurve:
       choose_lcurve(frames);
       return;
+    case Criterion::discrepancy:
+      choose_discrepancy(frames);
+      return;
     case Criterion::validation:
       choose_validation(frames, labels, score);
       return;
@@ -229,6 +240,32 @@ double Tikhonov::choose_lcurve(const SampleMatrix& frames) {
     if (kappa > best_kappa) best_kappa = kappa, best = k;
   }
   set_lambda(grid_[best], "lcurve");
+  return lambda_;
+}
+
+double Tikhonov::residual_rms(const SampleMatrix& frames, double lambda) const {
+  // y - A x = lambda (G + lambda I)^-1 y: in G's eigenbasis each component shrinks by
+  // lambda / (g + lambda). U is square (G is m x m), so nothing of y lies outside it.
+  const Eigen::MatrixXd Z = frames * U_;
+  const Eigen::ArrayXd z2 = Z.colwise().squaredNorm().transpose().array();
+  const double sum = ((lambda / (g_.array() + lambda)).square() * z2).sum();
+  return std::sqrt(sum / (static_cast<double>(frames.rows()) * frames.cols()));
+}
+
+double Tikhonov::choose_discrepancy(const SampleMatrix& frames) {
+  check_frames_to_choose_on(frames, "the discrepancy principle");
+  if (!options_.noise)
+    throw InputError("TikhonovOptions", "noise", "the discrepancy principle needs a noise level");
+  // The residual grows with lambda: bisect log lambda between the grid's ends.
+  const double target = options_.discrepancy_factor * *options_.noise;
+  double lo = std::log(grid_.front()), hi = std::log(grid_.back());
+  if (residual_rms(frames, std::exp(hi)) <= target) lo = hi;
+  if (residual_rms(frames, std::exp(lo)) >= target) hi = lo;
+  for (int k = 0; k < 60 && hi - lo > 1e-6; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (residual_rms(frames, std::exp(mid)) < target ? lo : hi) = mid;
+  }
+  set_lambda(std::exp(0.5 * (lo + hi)), "discrepancy");
   return lambda_;
 }
 

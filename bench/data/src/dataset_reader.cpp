@@ -362,6 +362,13 @@ Dataset read_dataset_checked(const std::string& path) {
     }
   }
   if (r.has("touches")) read_touches(r, path, n, d);
+  if (r.has("references")) {
+    dims = {n, full};
+    const std::vector<double> refs = r.array<double>("references", dims);
+    check_finite(r, "references", refs.data(), refs.size());
+    d.references = Eigen::Map<const SampleMatrix>(refs.data(), static_cast<Eigen::Index>(n),
+                                                  static_cast<Eigen::Index>(full));
+  }
   return d;
 }
 
@@ -379,6 +386,7 @@ std::string to_wire(const Dataset& d) {
   w.pod<std::uint64_t>(d.touches.size());
   for (const auto& list : d.touches) w.vector(list);
   w.text(d.touch_size);
+  w.matrix(d.references);
   w.vector(d.split);
   w.pod(d.shard);
   return w.take();
@@ -403,6 +411,7 @@ Dataset from_wire(const std::string& bytes) {
   d.touches.resize(r.pod<std::uint64_t>());
   for (auto& list : d.touches) list = r.vector<PressTouch>();
   d.touch_size = r.text();
+  d.references = r.matrix<SampleMatrix>();
   d.split = r.vector<Split>();
   d.shard = r.pod<Shard>();
   return d;

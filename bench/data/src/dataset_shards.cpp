@@ -28,6 +28,7 @@ ShardEntry entry_of(const std::string& path, const Dataset& d) {
   h.differences.resize(0, d.differences.cols());
   h.labels.resize(0, d.labels.cols());
   h.circles.clear(), h.touches.clear(), h.split.clear();
+  h.references.resize(0, d.frames.cols());
   h.shard = {};
   return e;
 }

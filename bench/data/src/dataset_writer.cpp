@@ -111,6 +111,12 @@ void create_arrays(OpenFile& w, const Dataset& d, bool labels, bool circles) {
       w.file.createDataSet("reference", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(1, &frame_size)),
       d.reference.data(), H5::PredType::NATIVE_DOUBLE);
   if (!d.touches.empty()) write_touches(w.file, d);
+  if (d.references.rows() > 0) {
+    const hsize_t dims[2] = {static_cast<hsize_t>(d.references.rows()), frame_size};
+    detail::write_closed(
+        w.file.createDataSet("references", H5::PredType::NATIVE_DOUBLE, H5::DataSpace(2, dims)),
+        d.references.data(), H5::PredType::NATIVE_DOUBLE);
+  }
   if (!d.sensor_mesh.empty()) {
     const hsize_t bytes = d.sensor_mesh.size();
     detail::write_closed(
@@ -222,6 +228,9 @@ DatasetWriter::DatasetWriter(const std::string& path, const Dataset& d, bool lab
   if (!d.touches.empty() && d.touches.size() != static_cast<std::size_t>(d.size()))
     throw std::invalid_argument(
         "DatasetWriter: a press set's touches come whole, one list a frame");
+  if (d.references.rows() > 0 &&
+      (d.references.rows() != d.size() || d.references.cols() != w.frame_size))
+    throw std::invalid_argument("DatasetWriter: paired references come whole, one frame a frame");
   temp_ = temporary_path_for(path);
   auto file = std::make_shared<OpenFile>();  // filled in the child, which has its own copy
   const std::string temp = temp_;

@@ -175,6 +175,7 @@ Dataset import_measurements(const Measurements& m, const std::string& reference_
                      "needs --reference (the untouched sensor's frames)");
   }
   d.reference = references.colwise().mean().transpose();
+  if (o.paired_reference) d.references = references;
   d.differences.resize(n, protocol.input_size());
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::VectorXd ref = references.row(references.rows() == 1 ? 0 : i).transpose();

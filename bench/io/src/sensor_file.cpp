@@ -69,6 +69,35 @@ SensorPressFit read_press_fit(const nlohmann::json& j, const std::string& path) 
   return f;
 }
 
+SensorNoise read_noise(const nlohmann::json& j, const std::string& path) {
+  if (!j.is_object()) throw InputError(path, "noise", "must be an object");
+  SensorNoise n;
+  const std::string in = "noise.";
+  n.frames = optional_field<std::string>(j, path, in, "frames", "");
+  n.references = optional_field(j, path, in, "references", 0);
+  for (auto [field, value] : {std::pair{"noise", &n.noise},
+                              {"drift", &n.drift},
+                              {"signal", &n.signal},
+                              {"gain_spread", &n.gain_spread}}) {
+    *value = optional_field<double>(j, path, in, field, NAN);
+    if (!(*value >= 0) || !std::isfinite(*value))
+      throw InputError(path, in + field, "missing, negative or not finite");
+  }
+  if (!(n.noise > 0)) throw InputError(path, "noise.noise", "must be positive");
+  n.snr_db = n.signal > 0 ? 20 * std::log10(n.signal / n.noise) : -INFINITY;
+  if (j.contains("gains")) {
+    const auto& g = j["gains"];
+    if (!g.is_array() || g.size() > 65536) throw InputError(path, "noise.gains", "not an array");
+    n.gains.resize(static_cast<Eigen::Index>(g.size()));
+    for (std::size_t k = 0; k < g.size(); ++k) {
+      if (!g[k].is_number() || !std::isfinite(g[k].get<double>()))
+        throw InputError(path, "noise.gains", "must hold finite numbers");
+      n.gains[static_cast<Eigen::Index>(k)] = g[k].get<double>();
+    }
+  }
+  return n;
+}
+
 }  // namespace
 
 void write_sensor_file(const std::string& path, const SensorFile& s) {
@@ -100,6 +129,17 @@ void write_sensor_file(const std::string& path, const SensorFile& s) {
                       {"relative_residual", f.relative_residual},
                       {"iterations", f.iterations},
                       {"converged", f.converged}};
+  }
+  if (s.noise) {
+    const SensorNoise& n = *s.noise;
+    j["noise"] = {{"frames", n.frames},
+                  {"references", n.references},
+                  {"noise", n.noise},
+                  {"drift", n.drift},
+                  {"signal", n.signal},
+                  {"snr_db", n.snr_db},
+                  {"gains", std::vector<double>(n.gains.data(), n.gains.data() + n.gains.size())},
+                  {"gain_spread", n.gain_spread}};
   }
   write_text_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
 }
@@ -144,6 +184,7 @@ SensorFile read_sensor_file(const std::string& path) {
     s.fitted = optional_field(c, path, in, "fitted", true);
   }
   if (j.contains("press_fit")) s.press_fit = read_press_fit(j["press_fit"], path);
+  if (j.contains("noise")) s.noise = read_noise(j["noise"], path);
   return s;
 }
 

@@ -8,8 +8,8 @@ namespace eitbench::methods {
 namespace {
 
 // The three share TikhonovOptions' lambda grid (41 values, trace(A P A^T)/m x 10^[-8, 2]), chosen
-// by GCV, the L-curve or validation CC: identity prior, NOSER (R^T R = diag(A^T A)^0.5), and the
-// Laplacian on pixels or elements.
+// by GCV, the L-curve, the discrepancy principle or validation CC: identity prior, NOSER (R^T R =
+// diag(A^T A)^0.5), and the Laplacian on pixels or elements.
 MethodSpec tikhonov_with(const std::string& prior) {
   MethodSpec spec;
   spec.name = prior;
@@ -19,6 +19,8 @@ MethodSpec tikhonov_with(const std::string& prior) {
     t.prior = parse_prior(prior);
     t.choice = parse_criterion(o.choose);
     if (t.choice == Criterion::fixed) t.lambda = o.lambda;
+    if (t.choice == Criterion::discrepancy) t.noise = o.noise;
+    t.discrepancy_factor = o.discrepancy_factor;
     t.relative = o.relative_lambda;
     t.neighbours = parse_neighbours(o.neighbours);
     return std::unique_ptr<Reconstructor>(std::make_unique<Tikhonov>(std::move(problem), t));

@@ -25,7 +25,8 @@ std::string length(double v, double mm) {
 bool without_real_labels(const MeasuredRow& m) {
   // Real labels of the calibration set only (tuning, a fingerprint, a map), never trained on.
   return m.training == "none" || m.training.rfind("simulation", 0) == 0 ||
-         m.training.rfind("calibration presses", 0) == 0;
+         m.training.rfind("calibration presses", 0) == 0 ||
+         m.training.rfind("calibration frames", 0) == 0;
 }
 
 std::string name(const MeasuredRow& m) {

@@ -1,6 +1,7 @@
 // Stage 6: real presses (run --measured SET --calibration CAL). Every method of the run is scored
 // on where it puts each press of SET. Each model-based method twice: tuned in simulation as the
-// main rows are, and tuned on CAL's presses; the learned models as trained in simulation; each of
+// main rows are, and tuned on CAL's presses (the one-step methods a third time, by GCV on CAL's
+// frames without their positions); the learned models as trained in simulation; each of
 // these again through its own position map fitted on CAL and through the sensor's press fit; floors
 // from predicting the centre and from a fingerprint of CAL's labelled frames; and, with
 // --finetune, the learned model fine-tuned on CAL's first n presses beside the same network trained
@@ -93,6 +94,7 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
   for (const auto& m : config.methods) methods += m + " ";
   p["methods"] = methods;
   p["scores"] = "all presses and those at new positions (0.01 R)";
+  p["label-free rows"] = "one-step methods: GCV on CAL's frames, touch threshold 0.5";
   p["sensor"] = file_hash(config.sensor);  // its press fit gives rows of its own
   p["calibrated rows"] = "sensor fit; each method's affine position map on CAL";
   p["press training"] = "fine-tuned at a tenth of the peak rate; from scratch at the peak rate";
@@ -254,20 +256,29 @@ void push_twins(const StageInputs& in, const MeasuredRow& row, const Located& lo
     if (auto twin = mapped_twin(in, row, located, *on_cal)) rows.push_back(*twin);
 }
 
+// The label-free tuning on real frames: GCV on CAL's frames, their positions unread.
+constexpr const char* kOnFrames = "calibration frames (GCV)";
+
 // A model-based method tuned two ways: in simulation (noise-free validation CC, as the main row
-// at infinite SNR) and on CAL's presses (the lowest mean centre error).
+// at infinite SNR) and on CAL's presses (the lowest mean centre error); the one-step Tikhonov
+// family a third way, by GCV on CAL's frames without their positions, the touch threshold fixed
+// at 0.5: no label of any kind (docs/real-presses.md#lambda-without-labels).
 void model_based_rows(const StageInputs& in, const std::string& name,
                       std::vector<MeasuredRow>& rows) {
   const RunConfig& config = in.context.config;
   const MethodSpec& spec = find_method(name);
   const PixelGrid& grid = in.reconstruction.grid;
   const double background = in.reconstruction.problem->background;
-  for (const std::string training : {"simulation", "calibration presses"}) {
-    Eigen::Index tuned_on = 0;  // real presses
+  for (const std::string training : {"simulation", kOnFrames, "calibration presses"}) {
+    const bool on_frames = training == kOnFrames;
+    if (on_frames && spec.default_choice != "gcv") continue;  // GCV is the one-step methods'
+    Eigen::Index tuned_on = 0;                                // real presses
     MethodOptions mo;
-    mo.choose = "validation";
+    mo.choose = on_frames ? "gcv" : "validation";
     auto method = make_reconstructor(name, in.reconstruction.problem, mo);
-    if (training == std::string("simulation")) {
+    if (on_frames) {
+      method->fit(in.cal.frames, SampleMatrix(), nullptr);
+    } else if (training == std::string("simulation")) {
       fit_on_validation(*method, name, config, in.data.validation.frames, in.data.validation.labels,
                         grid);
     } else {
@@ -281,17 +292,19 @@ void model_based_rows(const StageInputs& in, const std::string& name,
                   press_score(grid, 0.5));
       tuned_on = n;
     }
-    // The map is CAL's: a method tuned in simulation keeps to labels it never saw.
-    const bool mapped = training != std::string("simulation");
+    // The map is CAL's: a method tuned without labels keeps to labels it never saw.
+    const bool mapped = training == std::string("calibration presses");
     Located on_cal;
     const double threshold =
-        press_threshold(*method, grid, background, in.cal, mapped ? &on_cal : nullptr);
+        on_frames ? 0.5
+                  : press_threshold(*method, grid, background, in.cal, mapped ? &on_cal : nullptr);
     const Located located =
         located_presses(*method, grid, background, in.set, threshold, config.timed_frames);
     MeasuredRow row = row_for(in, name, "-", training, located);
     row.finetune_n = static_cast<int>(tuned_on);
     if (!std::isnan(threshold))
-      row.settings += fmt::format(", touch threshold {:g} (on CAL)", threshold);
+      row.settings += fmt::format(", touch threshold {:g} ({})", threshold,
+                                  on_frames ? "fixed: no labels" : "on CAL");
     log_row(in.context, row);
     rows.push_back(row);
     push_twins(in, row, located, mapped ? &on_cal : nullptr, rows);

@@ -21,9 +21,12 @@ enum class Criterion {
   validation,  // the candidate with the best total score on labelled frames, in fit()
   gcv,         // generalised cross-validation: one-step linear methods only (frames, no labels)
   lcurve,      // the L-curve's corner: one-step linear methods only (frames, no labels)
+  // Morozov's discrepancy principle: the lambda whose residual matches the frames' known noise
+  // (one-step linear methods; frames and a noise level, no labels).
+  discrepancy,
 };
 const char* to_string(Criterion c);
-// fixed | validation | gcv | lcurve; InputError("Criterion", "name") for another name.
+// fixed | validation | gcv | lcurve | discrepancy; InputError("Criterion", "name") for another.
 Criterion parse_criterion(const std::string& name);
 // For the methods that choose by validation or take a fixed value (TV, Gauss-Newton, GREIT):
 // InputError(options, "choice") for gcv or lcurve, InputError(options, "candidates") for

@@ -35,6 +35,14 @@ struct TikhonovOptions {
   // frame has, their noise), as the other methods' lambdas do.
   bool relative = false;
   Criterion choice = Criterion::gcv;  // any criterion; validation sweeps the grid below
+  // For choice == discrepancy, and only then: the frames' noise, as the RMS over a frame's values
+  // (positive and finite; in the frames' units). Lambda is set so that the residual's RMS over
+  // the frames, sqrt(mean ||y - A x||^2 / m), is discrepancy_factor times it: the largest lambda
+  // (most regularised) whose misfit the noise explains. A factor above 1 allows for model error.
+  // On real frames the misfit a model cannot remove (its own error) may exceed the noise at
+  // every lambda; the grid's smallest lambda is then chosen (docs/real-presses.md).
+  std::optional<double> noise;
+  double discrepancy_factor = 1.0;  // Morozov's tau, at least 1
   int grid = 41;  // lambdas tried, at least 3: trace(G)/m x 10^[-8, 2], log-spaced
   // epsilon of the Laplace prior, relative to the mean diagonal of L^T L: positive and finite.
   double laplace_epsilon = 1e-3;
@@ -64,6 +72,10 @@ class Tikhonov : public Reconstructor {
   // from the same sensor. Each sets lambda and returns it.
   double choose_gcv(const SampleMatrix& frames);
   double choose_lcurve(const SampleMatrix& frames);
+  // Needs options.noise. Within the grid's range (its ends when no lambda there matches).
+  double choose_discrepancy(const SampleMatrix& frames);
+  // The residual's RMS over the frames, sqrt(mean ||y - A x_lambda||^2 / m), at `lambda`.
+  double residual_rms(const SampleMatrix& frames, double lambda) const;
   double choose_validation(const SampleMatrix& frames, const SampleMatrix& labels,
                            const ScoreFn& score);
 

@@ -17,6 +17,10 @@
 //   /touches       N x 4 x 3     float64  a press set's known touches: x, y and size (the probe's
 //                                         radius or the press depth, NaN if unknown), NaN-padded
 //   /touch_count   N             int32
+//   /references    N x C         float64  a press set's reference recorded before each frame
+//                                         (import --paired-reference): repeated frames of the
+//                                         untouched sensor, on which calibrate --noise measures
+//                                         its noise and drift
 //   /sensor_mesh   bytes         uint8    a sensor of another shape: its mesh as Gmsh 4.1 text
 //                                         (absent for the disk, which the attributes describe)
 // Labels and circles are absent from imported measurements; touches only in press sets (import
@@ -93,6 +97,8 @@ struct Dataset {
   // "radius", "depth", or "" (none known).
   std::vector<std::vector<PressTouch>> touches;
   std::string touch_size;
+  // Each frame's own reference (import --paired-reference): N x C, or 0 rows.
+  SampleMatrix references;
   std::vector<Split> split;  // N
   Shard shard;
 

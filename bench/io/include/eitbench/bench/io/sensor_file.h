@@ -6,9 +6,13 @@
 //    "contact_impedances": [...16 values...], "current": 1,
 //    "calibration": {"reference": "...", "relative_residual": ..., "iterations": ..., ...},
 //    "press_fit": {"presses": "...", "rotate_degrees": ..., "mirror": false, "scale": ...,
-//                  "touch_radius": ..., "contrast": ..., "per_depth": true, ...}}
+//                  "touch_radius": ..., "contrast": ..., "per_depth": true, ...},
+//    "noise": {"frames": "...", "references": 500, "noise": ..., "drift": ..., "signal": ...,
+//              "snr_db": ..., "gains": [...], "gain_spread": ...}}
 // The press fit is optional (calibrate --presses --out writes it): how a press set's recorded
-// positions lie on the electrodes and the touch that explains its changes (press_sensor.h).
+// positions lie on the electrodes and the touch that explains its changes (press_sensor.h). So is
+// the noise (calibrate --noise --out): what unlabelled frames say about the real frames
+// (eitbench/bench/data/sensor_noise.h measures it).
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -32,6 +36,27 @@ struct SensorPressFit {
   bool converged = false;
 };
 
+// The sensor's noise, drift, channel gains and signal size, measured on a recording's frames
+// without positions. Levels are relative to the RMS of the recording's mean reference, so that
+// they hold in whatever units its frames are brought to.
+struct SensorNoise {
+  std::string frames;  // the set it was measured on, and which of its frames ("0:500")
+  int references = 0;  // repeated reference frames used
+  // Per input (the protocol's difference values), the RMS of a difference frame's noise. Each
+  // input's level is robust: 1.4826 x the median absolute deviation of consecutive references'
+  // differences, so that a glitch or a press caught in a reference does not set it.
+  double noise = 0;
+  double drift = 0;   // RMS over channels of the references' slow wander beyond the noise
+  double signal = 0;  // median over the frames of a difference frame's RMS
+  double snr_db = 0;  // 20 log10(signal / noise): the simulations' convention (noise.h)
+  // Per channel: the mean reference, brought to the model's units by their least-squares scale,
+  // over the model's reference (1 everywhere on a perfect model), or empty; and their RMS
+  // deviation from 1 over the channels the model does not put near zero (|v| above a tenth of
+  // its RMS), where a ratio means something.
+  Eigen::VectorXd gains;
+  double gain_spread = 0;
+};
+
 struct SensorFile {
   int electrodes = 0;
   double background = 0;               // S/m, positive
@@ -43,6 +68,7 @@ struct SensorFile {
   bool converged = false;
   bool fitted = true;  // false: background and impedances are nominal, not fitted to a frame
   std::optional<SensorPressFit> press_fit;
+  std::optional<SensorNoise> noise;
 };
 
 // Atomic. InputError naming the path when it cannot be written.

@@ -15,10 +15,15 @@ namespace eitbench {
 
 // What the command line and the benchmark ask of a method.
 struct MethodOptions {
-  // fixed | validation | gcv | lcurve, or empty for the method's default_choice. A method refuses
+  // fixed | validation | gcv | lcurve | discrepancy, or empty for the method's default_choice. A
+  // method refuses
   // a criterion it cannot use (InputError naming its options' "choice").
   std::string choose;
   double lambda = 0;  // with choose == fixed; 0: the method's default value
+  // With choose == discrepancy: the frames' noise, the RMS over a frame's values in the frames'
+  // units (TikhonovOptions::noise), and Morozov's factor on it.
+  double noise = 0;
+  double discrepancy_factor = 1;
   // The Tikhonov family's fixed lambda as a multiple of its scale (TikhonovOptions::relative);
   // the other methods' lambdas are relative already.
   bool relative_lambda = false;

@@ -1,0 +1,143 @@
+// The sensor's noise measured on unlabelled frames (calibrate --noise) against a recording whose
+// noise, drift, gains and signal were drawn by the test: each level must come back.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "eitbench/bench/data/sensor_noise.h"
+#include "eitbench/bench/io/sensor_file.h"
+#include "eitbench/jacobian/error.h"
+#include "test_support.h"
+
+namespace eitbench {
+namespace {
+
+struct Recording {
+  Dataset set;
+  Eigen::VectorXd base;   // the untouched sensor's frame, without noise or drift
+  double sigma = 0;       // each channel's noise, one frame
+  double drift_rms = 0;   // each channel's drift, RMS over the recording
+  double signal_rms = 0;  // each difference frame's RMS
+};
+
+// N references of the adjacent protocol: base + a linear drift from -a to a on every channel +
+// white noise; each difference frame is a fixed pattern of RMS `signal` plus the noise of two
+// frames (its own and its reference's), as a pressed frame minus its reference has.
+Recording recording(int n, double sigma, double drift, double signal, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal;
+  Recording r;
+  r.set.electrodes = 16;
+  const MeasurementProtocol protocol = measurement_protocol(r.set);
+  const int c = protocol.size();
+  r.base = Eigen::VectorXd::Constant(c, 1.0);
+  for (int k = 0; k < c; ++k) r.base(k) += 0.5 * std::sin(0.7 * k);
+  r.sigma = sigma, r.drift_rms = drift / std::sqrt(3.0), r.signal_rms = signal;
+  r.set.references.resize(n, c);
+  r.set.differences.resize(n, protocol.input_size());
+  Eigen::VectorXd pattern(protocol.input_size());
+  for (Eigen::Index i = 0; i < pattern.size(); ++i) pattern(i) = std::cos(0.3 * i) + 0.2;
+  pattern *= signal / std::sqrt(pattern.squaredNorm() / pattern.size());
+  for (int f = 0; f < n; ++f) {
+    const double ramp = drift * (2.0 * f / (n - 1) - 1);
+    for (int k = 0; k < c; ++k) r.set.references(f, k) = r.base(k) + ramp + sigma * normal(rng);
+    Eigen::VectorXd noise(c);
+    for (int k = 0; k < c; ++k) noise(k) = sigma * std::sqrt(2.0) * normal(rng);
+    r.set.differences.row(f) = (pattern + protocol.to_inputs(noise)).transpose();
+  }
+  r.set.frames = r.set.references;
+  r.set.reference = r.set.references.colwise().mean().transpose();
+  return r;
+}
+
+double rms(const Eigen::VectorXd& v) {
+  return std::sqrt(v.squaredNorm() / v.size());
+}
+
+TEST(SensorNoise, RecoversTheNoiseTheDriftAndTheSignalOfARecording) {
+  const Recording r = recording(600, 0.01, 0.05, 0.1, 1);
+  const SensorNoise n = measure_sensor_noise(r.set, "rec.h5", 0, 600, Eigen::VectorXd());
+  const double unit = rms(r.set.reference);
+  EXPECT_EQ(n.references, 600);
+  // A difference frame's noise is two frames': sqrt(2) sigma on every input.
+  EXPECT_NEAR(n.noise * unit / (std::sqrt(2.0) * r.sigma), 1, 0.03);
+  EXPECT_NEAR(n.drift * unit / r.drift_rms, 1, 0.05);
+  // The differences carry the noise too: their RMS is sqrt(signal^2 + 2 sigma^2).
+  EXPECT_NEAR(n.signal * unit / std::hypot(r.signal_rms, std::sqrt(2.0) * r.sigma), 1, 0.01);
+  EXPECT_NEAR(n.snr_db, 20 * std::log10(n.signal / n.noise), 1e-9);
+  EXPECT_EQ(n.gains.size(), 0);  // no model given
+}
+
+TEST(SensorNoise, AGlitchInAReferenceDoesNotSetTheNoise) {
+  Recording r = recording(600, 0.01, 0, 0.1, 2);
+  const double clean = measure_sensor_noise(r.set, "rec.h5", 0, 600, {}).noise;
+  r.set.references.row(300) *= 1.5;  // one reference caught mid-press
+  const double glitched = measure_sensor_noise(r.set, "rec.h5", 0, 600, {}).noise;
+  EXPECT_NEAR(glitched / clean, 1, 0.02);
+}
+
+TEST(SensorNoise, TheGainsAreEachChannelsRatioToTheModel) {
+  Recording r = recording(50, 0, 0, 0.1, 3);  // noise-free: the mean reference is the base
+  Eigen::VectorXd gain(r.base.size());
+  for (Eigen::Index k = 0; k < gain.size(); ++k) gain(k) = 1 + 0.1 * std::cos(1.3 * k);
+  const Eigen::VectorXd model = 3.0 * r.base.cwiseQuotient(gain);  // other units, other gains
+  const SensorNoise n = measure_sensor_noise(r.set, "rec.h5", 0, 50, model);
+  ASSERT_EQ(n.gains.size(), gain.size());
+  // Up to the common scale the fit chooses, each channel's gain comes back.
+  const Eigen::VectorXd ratio = n.gains.cwiseQuotient(gain);
+  EXPECT_LT((ratio.array() - ratio.mean()).abs().maxCoeff(), 1e-12);
+  EXPECT_NEAR(ratio.mean(), 1, 0.01);
+  EXPECT_GT(n.gain_spread, 0.05);
+}
+
+TEST(SensorNoise, TheLevelsFollowTheFramesUnits) {
+  const Recording r = recording(100, 0.01, 0, 0.1, 4);
+  const SensorNoise n = measure_sensor_noise(r.set, "rec.h5", 0, 100, {});
+  Recording scaled = r;
+  scaled.set.references *= 7, scaled.set.differences *= 7, scaled.set.reference *= 7;
+  const SensorNoise m = measure_sensor_noise(scaled.set, "rec.h5", 0, 100, {});
+  EXPECT_NEAR(m.noise / n.noise, 1, 1e-12);  // relative to the reference: no unit
+  EXPECT_NEAR(noise_in_units_of(n, scaled.set.reference) / noise_in_units_of(n, r.set.reference), 7,
+              1e-12);
+}
+
+TEST(SensorNoise, ASetWithoutPairedReferencesOrTooFewIsRefused) {
+  using testing::input_error_at;
+  Recording r = recording(10, 0.01, 0, 0.1, 5);
+  EXPECT_EQ(input_error_at([&] { measure_sensor_noise(r.set, "rec.h5", 4, 6, {}); }),
+            "rec.h5.references");
+  r.set.references.resize(0, r.set.references.cols());
+  EXPECT_EQ(input_error_at([&] { measure_sensor_noise(r.set, "rec.h5", 0, 10, {}); }),
+            "rec.h5.references");
+}
+
+TEST(SensorNoise, TheSensorFileKeepsItAndRefusesANegativeLevel) {
+  const auto dir = std::filesystem::temp_directory_path() / "eitbench_sensor_noise_test";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "sensor.json").string();
+  SensorFile s;
+  s.electrodes = 16, s.background = 1, s.contact_impedances = Eigen::VectorXd::Constant(16, 0.01);
+  SensorNoise n;
+  n.frames = "rec.h5 (frames 0:500)", n.references = 500;
+  n.noise = 0.002, n.drift = 0.01, n.signal = 0.02, n.snr_db = 20, n.gain_spread = 0.3;
+  n.gains = Eigen::VectorXd::LinSpaced(192, 0.5, 1.5);
+  s.noise = n;
+  write_sensor_file(path, s);
+  const SensorFile back = read_sensor_file(path);
+  ASSERT_TRUE(back.noise.has_value());
+  EXPECT_EQ(back.noise->frames, n.frames);
+  EXPECT_EQ(back.noise->references, 500);
+  EXPECT_DOUBLE_EQ(back.noise->noise, 0.002);
+  EXPECT_DOUBLE_EQ(back.noise->drift, 0.01);
+  EXPECT_NEAR(back.noise->snr_db, 20, 1e-9);
+  EXPECT_EQ(back.noise->gains, n.gains);
+  s.noise->noise = -1;
+  write_sensor_file(path, s);
+  EXPECT_EQ(testing::input_error_at([&] { read_sensor_file(path); }), path + ".noise.noise");
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace eitbench
