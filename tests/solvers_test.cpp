@@ -179,6 +179,18 @@ TEST(Tikhonov, DiscrepancyMatchesTheResidualToTheNoise) {
     Tikhonov t(s.problem, o);
     const double best = t.choose_validation(y, labels, cc);
     EXPECT_GT(at_sigma, best) << t.name() << " discrepancy " << at_sigma << " validation " << best;
+    // A noise far below what any lambda's residual reaches (the model's own error, on real
+    // frames): the grid's smallest lambda, and the settings say why.
+    TikhonovOptions tiny;
+    tiny.prior = prior;
+    tiny.choice = Criterion::discrepancy;
+    tiny.noise = 1e-12 * sigma;
+    Tikhonov floor(s.problem, tiny);
+    floor.fit(y, SampleMatrix(), nullptr);
+    EXPECT_DOUBLE_EQ(floor.lambda(), floor.lambda_grid().front());
+    EXPECT_NE(floor.settings().find("the residual exceeds the noise at every lambda"),
+              std::string::npos)
+        << floor.settings();
   }
 }
 

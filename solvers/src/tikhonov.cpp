@@ -146,7 +146,7 @@ std::string Tikhonov::name() const {
 }
 
 std::string Tikhonov::settings() const {
-  char buffer[96];
+  char buffer[160];
   std::snprintf(buffer, sizeof buffer, "lambda=%.4g (%s)", lambda_, how_.c_str());
   return buffer;
 }
@@ -260,12 +260,18 @@ double Tikhonov::choose_discrepancy(const SampleMatrix& frames) {
   const double target = options_.discrepancy_factor * *options_.noise;
   double lo = std::log(grid_.front()), hi = std::log(grid_.back());
   if (residual_rms(frames, std::exp(hi)) <= target) lo = hi;
-  if (residual_rms(frames, std::exp(lo)) >= target) hi = lo;
+  // A model whose own error exceeds the noise misfits the frames by more at every lambda: the
+  // settings say so rather than pass the grid's end off as a match.
+  const bool misfit = residual_rms(frames, std::exp(lo)) >= target;
+  if (misfit) hi = lo;
   for (int k = 0; k < 60 && hi - lo > 1e-6; ++k) {
     const double mid = 0.5 * (lo + hi);
     (residual_rms(frames, std::exp(mid)) < target ? lo : hi) = mid;
   }
-  set_lambda(std::exp(0.5 * (lo + hi)), "discrepancy");
+  if (misfit)
+    set_lambda(grid_.front(), "discrepancy: the residual exceeds the noise at every lambda");
+  else
+    set_lambda(std::exp(0.5 * (lo + hi)), "discrepancy");
   return lambda_;
 }
 

@@ -135,9 +135,10 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
     if (config.radius_mm > 0) c["radius_mm"] = fmt::format("{:g}", config.radius_mm);
     c["press_scores"] = fmt::format(
         "centre error of each press of the measured set: its strongest blob (threshold chosen on "
-        "the calibration presses, 0.5 for models trained on presses) or the centre when none; "
-        "model-based methods tuned in simulation (validation CC) and on the calibration presses "
-        "(mean centre error; tv, gn and the shape fits on the first {}); fine-tuning: {} steps at "
+        "the calibration presses, 0.5 for models trained on presses and for rows without labels) "
+        "or the centre when none; model-based methods tuned in simulation (validation CC) and on "
+        "the calibration presses (mean centre error; tv, gn and the shape fits on the first {}), "
+        "the one-step methods also by GCV on the calibration frames; fine-tuning: {} steps at "
         "most, a tenth of the peak rate, every fifth press held out for early stopping",
         8 * config.sweep_frames, config.finetune_steps);
   }
