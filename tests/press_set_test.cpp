@@ -248,6 +248,13 @@ TEST_F(PressSet, TheSensorsNoiseComesFromItsReferencesAndChoosesLambda) {
   const Result r = run(lambda + " --sensor " + path("sensor.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("(discrepancy)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the strongest blob at 0.5 x the image's maximum"), std::string::npos);
+  // The press where pyEIT puts it: the centroid of every pixel above the threshold.
+  const Result centroid = run(lambda + " --sensor " + path("sensor.json") + " --locate centroid");
+  ASSERT_EQ(centroid.exit_code, 0) << centroid.output;
+  EXPECT_NE(centroid.output.find("the centroid of every pixel at 0.5"), std::string::npos)
+      << centroid.output;
+  EXPECT_EQ(run(lambda + " --locate middle").exit_code, 2);
   const Result without = run(lambda);
   EXPECT_EQ(without.exit_code, 2);
   EXPECT_NE(without.output.find("needs the sensor's measured noise"), std::string::npos)

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "eitbench/bench/methods/press_scores.h"
 #include "eitbench/bench/methods/touch_metrics.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/results.h"
@@ -82,6 +83,43 @@ TEST(TouchDetection, ABlobBelowTheMinimumAreaIsIgnored) {
   // Nothing positive, nothing touched.
   EXPECT_TRUE(find_touches(-image, grid, 0.5).empty());
   EXPECT_TRUE(find_touches(Eigen::VectorXd::Zero(grid.num_pixels()), grid, 0.5).empty());
+}
+
+// The press's centroid (pyEIT's rule): one touch for the whole image, at the intensity-weighted
+// centroid of every pixel at or above the threshold, whichever blob it lies in. Two discs of
+// different intensities: the strongest blob is the brighter disc, the centroid lies between them
+// where the pixel counts and intensities put it (worked out from the drawn pixels, not by the
+// detector's own sums), and a small spike the blob rule drops still pulls it.
+TEST(TouchDetection, ThePressCentroidWeighsEveryPixelAboveTheThreshold) {
+  const PixelGrid grid(64, 1.0);
+  const Eigen::VectorXd image =
+      draw(grid, {touch_circle(-0.4, 0.0, 0.2, 0.8), touch_circle(0.4, 0.2, 0.15, 0.6)});
+  const std::vector<Touch> blob = find_touches(image, grid, 0.5);
+  ASSERT_EQ(blob.size(), 2u);
+  EXPECT_NEAR(located_press(blob, {0, 0}).x(), -0.4, 0.5 * grid.pixel_width());
+  double w = 0, x = 0, y = 0;
+  int count = 0;
+  for (int i = 0; i < grid.size(); ++i)
+    for (int j = 0; j < grid.size(); ++j) {
+      const double v = image[i * grid.size() + j];
+      if (v < 0.5 * 0.8) continue;
+      w += v, x += v * grid.center(i, j).x(), y += v * grid.center(i, j).y(), ++count;
+    }
+  const std::vector<Touch> centroid = centroid_touch(image, grid, 0.5);
+  ASSERT_EQ(centroid.size(), 1u);
+  EXPECT_NEAR(centroid[0].x, x / w, 1e-12);
+  EXPECT_NEAR(centroid[0].y, y / w, 1e-12);
+  EXPECT_GT(centroid[0].x, -0.4 + 0.1);  // pulled well towards the second disc
+  EXPECT_NEAR(centroid[0].r, std::sqrt(count * std::pow(grid.pixel_width(), 2) / M_PI), 1e-12);
+  EXPECT_NEAR(centroid[0].contrast, 0.8, 1e-9);
+  // Below the blob rule's minimum area, a spike is dropped there, and counted here.
+  const Eigen::VectorXd spiked =
+      draw(grid, {touch_circle(-0.4, 0.0, 0.2, 0.8), touch_circle(0.6, 0.3, 0.03, 0.8)});
+  EXPECT_NEAR(located_press(find_touches(spiked, grid, 0.5), {0, 0}).x(), -0.4, 0.02);
+  EXPECT_GT(centroid_touch(spiked, grid, 0.5)[0].x, -0.4 + 0.01);
+  EXPECT_TRUE(centroid_touch(-image, grid, 0.5).empty());
+  EXPECT_EQ(testing::input_error_at([&] { centroid_touch(image, grid, 0); }),
+            "centroid_touch.threshold");
 }
 
 TEST(TouchMatching, MissedAndPhantomTouchesAreCounted) {

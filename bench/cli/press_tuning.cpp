@@ -11,7 +11,7 @@ namespace eitbench::cli {
 
 PressTuning press_tuning(const std::string& path, const std::string& range, const Dataset& data,
                          const std::string& data_path, const std::vector<int>& scored_rows,
-                         const PixelGrid& grid, double touch_threshold) {
+                         const PixelGrid& grid, double touch_threshold, bool centroid) {
   const Dataset cal = read_dataset(path);
   check_press_set(path, cal, measurement_protocol(data));
   const auto [a, b] = parse_range(range, cal.size());
@@ -27,7 +27,7 @@ PressTuning press_tuning(const std::string& path, const std::string& range, cons
   const std::vector<std::vector<PressTouch>> touches(cal.touches.begin() + a,
                                                      cal.touches.begin() + b);
   t.labels = press_labels(touches, grid, path);
-  t.score = press_score(grid, touch_threshold);
+  t.score = press_score(grid, touch_threshold, centroid);
   return t;
 }
 

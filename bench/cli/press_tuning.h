@@ -25,6 +25,6 @@ struct PressTuning {
 // `scored_rows`.
 PressTuning press_tuning(const std::string& path, const std::string& range, const Dataset& data,
                          const std::string& data_path, const std::vector<int>& scored_rows,
-                         const PixelGrid& grid, double touch_threshold);
+                         const PixelGrid& grid, double touch_threshold, bool centroid = false);
 
 }  // namespace eitbench::cli

@@ -42,6 +42,7 @@ struct Args {
   double tolerance = 0, robust = 0;
   std::string sensor;
   double discrepancy_factor = 1;
+  std::string locate = "blob";
   std::string split = "test";
   int touches = 0;  // 0: every frame; else only those with this many true touches
   ProtocolChoice protocol;
@@ -130,6 +131,12 @@ void add_options(CLI::App* cmd, Args* args) {
                   "this fraction of its maximum; the strongest is where the method puts the press")
       ->check(CLI::Range(0.01, 1.0))
       ->capture_default_str();
+  cmd->add_option("--locate", args->locate,
+                  "a press set: where an image puts its press: blob (the centroid of its "
+                  "strongest blob at --touch-threshold) | centroid (of every pixel at or above "
+                  "it, pyEIT's rule)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"blob", "centroid"}));
   cmd->add_option("--calibration", args->calibration,
                   "a press set whose presses choose the method's hyperparameter by where it puts "
                   "them (the lowest mean centre error), never the scored presses");
@@ -320,8 +327,9 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
       throw InputError("--calibration", "", "chooses the hyperparameter: no --lambda or --choose");
     mo.choose = "validation";
     auto method = make_reconstructor(args->method, problem, mo);
-    const PressTuning t = press_tuning(args->calibration, args->calibration_frames, s.data,
-                                       args->data, s.rows, grid, args->touch_threshold);
+    const PressTuning t =
+        press_tuning(args->calibration, args->calibration_frames, s.data, args->data, s.rows, grid,
+                     args->touch_threshold, args->locate == "centroid");
     method->fit(t.frames, t.labels, t.score);
     return method;
   }
@@ -397,8 +405,9 @@ std::optional<PressResult> press_result(const Args* args, const Selection& s,
   if (s.data.touches.empty()) return std::nullopt;
   std::vector<std::vector<PressTouch>> truth;
   for (int row : s.rows) truth.push_back(s.data.touches[static_cast<std::size_t>(row)]);
-  const TouchFrames found = !result.circles.empty()
-                                ? touches_of(result.circles, background)
+  const TouchFrames found = !result.circles.empty() ? touches_of(result.circles, background)
+                            : args->locate == "centroid"
+                                ? centroids_in_images(result.images, grid, args->touch_threshold)
                                 : touches_in_images(result.images, grid, args->touch_threshold);
   return PressResult{score_presses(found, truth), centre_floor(truth)};
 }
@@ -464,7 +473,13 @@ void print_summary(const Args* args, const Selection& s, const Evaluation& resul
         100 * t.count_accuracy, t.centre_error_median, t.centre_error_p90, t.missed_per_frame,
         t.phantom_per_frame);
   }
-  if (presses) print_presses(*presses, s.data.radius);
+  if (presses) {
+    print_presses(*presses, s.data.radius);
+    if (result.circles.empty())
+      fmt::print("  each press where its image puts it: the {} at {:g} x the image's maximum\n",
+                 args->locate == "centroid" ? "centroid of every pixel" : "strongest blob",
+                 args->touch_threshold);
+  }
   if (s.data.has_labels() && !result.each.empty()) {  // a mean hides one runaway frame
     const auto worst = std::max_element(result.each.begin(), result.each.end(),
                                         [](const auto& a, const auto& b) { return a.re < b.re; });

@@ -32,10 +32,11 @@ Eigen::Vector2d label_centre(const Eigen::VectorXd& label, const PixelGrid& grid
   return weight > 0 ? Eigen::Vector2d(sum / weight) : grid.box_centre();
 }
 
-ScoreFn press_score(const PixelGrid& grid, double threshold) {
-  return [grid, threshold](const Eigen::VectorXd& image, const Eigen::VectorXd& label) {
-    const Eigen::Vector2d at =
-        located_press(find_touches(image, grid, threshold), grid.box_centre());
+ScoreFn press_score(const PixelGrid& grid, double threshold, bool centroid) {
+  return [grid, threshold, centroid](const Eigen::VectorXd& image, const Eigen::VectorXd& label) {
+    const Eigen::Vector2d at = located_press(
+        centroid ? centroid_touch(image, grid, threshold) : find_touches(image, grid, threshold),
+        grid.box_centre());
     return -(at - label_centre(label, grid)).norm();
   };
 }

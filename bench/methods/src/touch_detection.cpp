@@ -73,6 +73,36 @@ std::vector<Touch> find_touches(const Eigen::VectorXd& image, const PixelGrid& g
   return touches;
 }
 
+std::vector<Touch> centroid_touch(const Eigen::VectorXd& image, const PixelGrid& grid,
+                                  double threshold) {
+  if (!(threshold > 0 && threshold <= 1))
+    throw InputError("centroid_touch", "threshold", "must lie in (0, 1]");
+  if (image.size() != grid.num_pixels())
+    throw InputError("centroid_touch", "image", "must have the grid's n^2 pixels");
+  const cv::Mat pixels = touch_pixels(image, grid, threshold);
+  const int n = grid.size();
+  BlobSums s;
+  int count = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      if (!pixels.at<unsigned char>(i, j)) continue;
+      const double v = image[i * n + j];
+      const Eigen::Vector2d c = grid.center(i, j);
+      s.weight += v, s.x += v * c.x(), s.y += v * c.y(), s.peak = std::max(s.peak, v), ++count;
+    }
+  if (count == 0) return {};
+  const double area = count * grid.pixel_width() * grid.pixel_width();
+  return {{s.x / s.weight, s.y / s.weight, std::sqrt(area / M_PI), s.peak}};
+}
+
+TouchFrames centroids_in_images(const SampleMatrix& images, const PixelGrid& grid,
+                                double threshold) {
+  TouchFrames frames;
+  for (Eigen::Index i = 0; i < images.rows(); ++i)
+    frames.push_back(centroid_touch(images.row(i).transpose(), grid, threshold));
+  return frames;
+}
+
 TouchFrames touches_in_images(const SampleMatrix& images, const PixelGrid& grid, double threshold,
                               const TouchOptions& options) {
   TouchFrames frames;

@@ -32,7 +32,8 @@ SampleMatrix press_labels(const std::vector<std::vector<PressTouch>>& touches,
 Eigen::Vector2d label_centre(const Eigen::VectorXd& label, const PixelGrid& grid);
 
 // Minus the distance from the press (the label's centre) to where the method puts it: its
-// image's strongest blob at `threshold` x the image's maximum, or the sensor's centre.
-ScoreFn press_score(const PixelGrid& grid, double threshold);
+// image's strongest blob at `threshold` x the image's maximum (or with `centroid`, the centroid of
+// every pixel there: centroid_touch), or the sensor's centre.
+ScoreFn press_score(const PixelGrid& grid, double threshold, bool centroid = false);
 
 }  // namespace eitbench

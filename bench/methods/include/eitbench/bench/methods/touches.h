@@ -49,6 +49,17 @@ std::vector<Touch> find_touches(const Eigen::VectorXd& image, const PixelGrid& g
 TouchFrames touches_in_images(const SampleMatrix& images, const PixelGrid& grid, double threshold,
                               const TouchOptions& options = {});
 
+// One touch for the whole image, where a single press is known to be: the intensity-weighted
+// centroid of every in-disk pixel >= threshold x the in-disk maximum, whatever blob it lies in
+// (pyEIT's rule for a press), the radius of the circle of their area and the maximum as the
+// contrast. Where a prior leaves spikes beside the touch (the identity prior's, at the rim), the
+// strongest blob may be a spike; the centroid weighs every pixel above the threshold instead. None
+// when the maximum is not positive. InputError as find_touches.
+std::vector<Touch> centroid_touch(const Eigen::VectorXd& image, const PixelGrid& grid,
+                                  double threshold);
+TouchFrames centroids_in_images(const SampleMatrix& images, const PixelGrid& grid,
+                                double threshold);
+
 // Circles (the data set's truth, or a method that fits circles) as touches: the contrast from the
 // conductivity, (background - sigma) / background.
 std::vector<Touch> touches_of(const std::vector<Circle>& circles, double background);
