@@ -122,6 +122,32 @@ TEST(TouchDetection, ThePressCentroidWeighsEveryPixelAboveTheThreshold) {
             "centroid_touch.threshold");
 }
 
+// The rule is chosen on labelled presses: clean discs at the presses leave both rules exact and
+// the tie to the blob; a brighter spot of 0.007 R^2 at the rim beside each press wins the blob
+// rule (which then misses the press), and the centroid, pulled only part of the way, is chosen.
+TEST(PressRule, TheRuleWithTheLowerMeanErrorOnThePressesIsChosen) {
+  const PixelGrid grid(64, 1.0);
+  const std::vector<std::pair<double, double>> at = {{-0.3, 0.1}, {0.2, -0.3}, {0.1, 0.35}};
+  std::vector<std::vector<PressTouch>> truth;
+  SampleMatrix clean(3, grid.num_pixels()), spiked(3, grid.num_pixels());
+  for (int k = 0; k < 3; ++k) {
+    const auto [x, y] = at[static_cast<std::size_t>(k)];
+    truth.push_back({{x, y, NAN}});
+    clean.row(k) = draw(grid, {touch_circle(x, y, 0.25, 0.6)}).transpose();
+    spiked.row(k) = draw(grid, {touch_circle(x, y, 0.25, 0.6), touch_circle(0.85, 0.0, 0.048, 0.9)})
+                        .transpose();
+  }
+  const PressRule plain = choose_press_rule(clean, grid, truth);
+  EXPECT_FALSE(plain.centroid);
+  EXPECT_EQ(plain.threshold, TouchOptions().thresholds.front());
+  const PressRule rule = choose_press_rule(spiked, grid, truth);
+  EXPECT_TRUE(rule.centroid);
+  const PressScores blob = score_presses(press_touches(spiked, grid, {false, 0.5}), truth);
+  const PressScores centroid = score_presses(press_touches(spiked, grid, rule), truth);
+  EXPECT_GT(blob.mean, 0.5);  // the spot, not the press
+  EXPECT_LT(centroid.mean, blob.mean);
+}
+
 TEST(TouchMatching, MissedAndPhantomTouchesAreCounted) {
   const double R = 2.0;
   const std::vector<Touch> truth = {{-0.8, 0.4, 0.3, 0.8}, {0.7, -0.6, 0.4, 0.6}};

@@ -70,4 +70,23 @@ PressScores centre_floor(const std::vector<std::vector<PressTouch>>& truth) {
   return score_presses(TouchFrames(truth.size()), truth);
 }
 
+TouchFrames press_touches(const SampleMatrix& images, const PixelGrid& grid,
+                          const PressRule& rule) {
+  return rule.centroid ? centroids_in_images(images, grid, rule.threshold)
+                       : touches_in_images(images, grid, rule.threshold);
+}
+
+PressRule choose_press_rule(const SampleMatrix& images, const PixelGrid& grid,
+                            const std::vector<std::vector<PressTouch>>& truth) {
+  PressRule chosen;
+  double best = INFINITY;
+  for (bool centroid : {false, true})
+    for (double t : TouchOptions().thresholds) {
+      const PressRule rule{centroid, t};
+      const double mean = score_presses(press_touches(images, grid, rule), truth).mean;
+      if (mean < best) best = mean, chosen = rule;
+    }
+  return chosen;
+}
+
 }  // namespace eitbench

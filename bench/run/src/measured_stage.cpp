@@ -95,6 +95,7 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
   p["methods"] = methods;
   p["scores"] = "all presses and those at new positions (0.01 R)";
   p["label-free rows"] = "one-step methods: GCV on CAL's frames, touch threshold 0.5";
+  p["press rule"] = "strongest blob or centroid, and the threshold, chosen on CAL";
   p["sensor"] = file_hash(config.sensor);  // its press fit gives rows of its own
   p["calibrated rows"] = "sensor fit; each method's affine position map on CAL";
   p["press training"] = "fine-tuned at a tenth of the peak rate; from scratch at the peak rate";
@@ -102,37 +103,39 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
 }
 
 // Where `method` puts each press of `set`, with its latency and settings. A method that gives
-// circles is located by them, the rest by their images' strongest blob at `threshold`.
+// circles is located by them, the rest by their images and `rule`.
 Located located_presses(const Reconstructor& method, const PixelGrid& grid, double background,
-                        const PressFrames& set, double threshold, int timed_frames) {
+                        const PressFrames& set, const PressRule& rule, int timed_frames) {
   SampleMatrix images;
   std::vector<std::vector<Circle>> circles;
   const ResultRow r =
       evaluate_row(method, set.frames, SampleMatrix(), grid, timed_frames, &images, &circles);
   Located located = located_in(method.finds_circles() ? touches_of(circles, background)
-                                                      : touches_in_images(images, grid, threshold));
+                                                      : press_touches(images, grid, rule));
   located.latency_median_ms = r.latency_median_ms, located.settings = r.settings;
   return located;
 }
 
-// The blob threshold with the lowest mean centre error on CAL's presses (the first wins a tie).
-// With `on_cal`, also where the method puts CAL's presses at that threshold (its position map's
-// data), from the same reconstructions; a method that gives circles needs no threshold, and is
-// located by them.
-double press_threshold(const Reconstructor& method, const PixelGrid& grid, double background,
-                       const PressFrames& cal, Located* on_cal = nullptr) {
+// The press rule (strongest blob or centroid, and its threshold) with the lowest mean centre
+// error on CAL's presses (choose_press_rule). With `on_cal`, also where the method puts CAL's
+// presses by it (its position map's data), from the same reconstructions. A method that gives
+// circles needs no rule (threshold NaN), and is located by them.
+PressRule press_rule(const Reconstructor& method, const PixelGrid& grid, double background,
+                     const PressFrames& cal, Located* on_cal = nullptr) {
   if (method.finds_circles()) {
-    if (on_cal) *on_cal = located_presses(method, grid, background, cal, NAN, 0);
-    return NAN;
+    if (on_cal) *on_cal = located_presses(method, grid, background, cal, {}, 0);
+    return {false, NAN};
   }
   const SampleMatrix images = method.reconstruct_all(cal.frames);
-  double best = INFINITY, chosen = 0.5;
-  for (double t : TouchOptions().thresholds) {
-    const double mean = score_presses(touches_in_images(images, grid, t), cal.touches).mean;
-    if (mean < best) best = mean, chosen = t;
-  }
-  if (on_cal) *on_cal = located_in(touches_in_images(images, grid, chosen));
+  const PressRule chosen = choose_press_rule(images, grid, cal.touches);
+  if (on_cal) *on_cal = located_in(press_touches(images, grid, chosen));
   return chosen;
+}
+
+// "touch threshold 0.4 (on CAL)", and the centroid rule where it was chosen.
+std::string rule_settings(const PressRule& rule, const char* how) {
+  return fmt::format("touch threshold {:g}{} ({})", rule.threshold,
+                     rule.centroid ? ", centroid of every pixel" : "", how);
 }
 
 struct StageInputs {
@@ -295,16 +298,15 @@ void model_based_rows(const StageInputs& in, const std::string& name,
     // The map is CAL's: a method tuned without labels keeps to labels it never saw.
     const bool mapped = training == std::string("calibration presses");
     Located on_cal;
-    const double threshold =
-        on_frames ? 0.5
-                  : press_threshold(*method, grid, background, in.cal, mapped ? &on_cal : nullptr);
+    const PressRule rule =
+        on_frames ? PressRule{}
+                  : press_rule(*method, grid, background, in.cal, mapped ? &on_cal : nullptr);
     const Located located =
-        located_presses(*method, grid, background, in.set, threshold, config.timed_frames);
+        located_presses(*method, grid, background, in.set, rule, config.timed_frames);
     MeasuredRow row = row_for(in, name, "-", training, located);
     row.finetune_n = static_cast<int>(tuned_on);
-    if (!std::isnan(threshold))
-      row.settings += fmt::format(", touch threshold {:g} ({})", threshold,
-                                  on_frames ? "fixed: no labels" : "on CAL");
+    if (!std::isnan(rule.threshold))
+      row.settings += ", " + rule_settings(rule, on_frames ? "fixed: no labels" : "on CAL");
     log_row(in.context, row);
     rows.push_back(row);
     push_twins(in, row, located, mapped ? &on_cal : nullptr, rows);
@@ -320,14 +322,15 @@ MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
   const auto method = make_learned_reconstructor(model);
   const PixelGrid& grid = in.reconstruction.grid;
   Located on_cal;
-  const double threshold =
-      threshold_on_cal ? press_threshold(*method, grid, 0, in.cal, twins ? &on_cal : nullptr) : 0.5;
+  const PressRule rule = threshold_on_cal
+                             ? press_rule(*method, grid, 0, in.cal, twins ? &on_cal : nullptr)
+                             : PressRule{};
   const Located located =
-      located_presses(*method, grid, 0, in.set, threshold, in.context.config.timed_frames);
+      located_presses(*method, grid, 0, in.set, rule, in.context.config.timed_frames);
   MeasuredRow row = row_for(in, "dnn", augment, training, located);
   row.finetune_n = n;
-  row.settings = fmt::format("touch threshold {:g}{}", threshold,
-                             threshold_on_cal ? " (on CAL)" : " (fixed: no presses to tune it on)");
+  row.settings =
+      rule_settings(rule, threshold_on_cal ? "on CAL" : "fixed: no presses to tune it on");
   if (training != "simulation") row.simulated_fraction_of_radius = NAN;
   log_row(in.context, row);
   if (twins) push_twins(in, row, located, &on_cal, *twins);

@@ -33,4 +33,18 @@ PressScores score_positions(const std::vector<Eigen::Vector2d>& at,
 // The floor: every frame located at the centre (0, 0).
 PressScores centre_floor(const std::vector<std::vector<PressTouch>>& truth);
 
+// How an image puts its press: the strongest blob (find_touches) or the centroid of every pixel
+// (centroid_touch), at `threshold` x the image's maximum.
+struct PressRule {
+  bool centroid = false;
+  double threshold = 0.5;
+};
+// The touches each image gives by `rule`.
+TouchFrames press_touches(const SampleMatrix& images, const PixelGrid& grid, const PressRule& rule);
+// The rule with the lowest mean centre error on labelled presses, over both kinds and the
+// thresholds of TouchOptions; the first wins a tie, the strongest blob before the centroid. The
+// identity prior's images favour the centroid, the smooth priors' the blob (docs/real-presses.md).
+PressRule choose_press_rule(const SampleMatrix& images, const PixelGrid& grid,
+                            const std::vector<std::vector<PressTouch>>& truth);
+
 }  // namespace eitbench
