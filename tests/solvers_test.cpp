@@ -191,6 +191,14 @@ TEST(Tikhonov, DiscrepancyMatchesTheResidualToTheNoise) {
     EXPECT_NE(floor.settings().find("the residual exceeds the noise at every lambda"),
               std::string::npos)
         << floor.settings();
+    // A noise above the frames themselves: the grid's largest lambda, and the settings say so.
+    tiny.noise = 10 * std::sqrt(y.squaredNorm() / static_cast<double>(y.size()));
+    Tikhonov top(s.problem, tiny);
+    top.fit(y, SampleMatrix(), nullptr);
+    EXPECT_DOUBLE_EQ(top.lambda(), top.lambda_grid().back());
+    EXPECT_NE(top.settings().find("the noise exceeds the residual at every lambda"),
+              std::string::npos)
+        << top.settings();
   }
 }
 

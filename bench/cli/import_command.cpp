@@ -14,15 +14,16 @@ namespace eitbench::cli {
 namespace {
 
 // Frames [a, b) of `d`, with what belongs to each frame; paired references give the reference
-// again as the mean of those kept (a single reference file's mean stays).
-void keep_frames(Dataset& d, std::pair<int, int> range) {
+// again as the mean of those kept (a single reference file's mean stays, and so does the mean
+// that --relative changes are in the units of).
+void keep_frames(Dataset& d, std::pair<int, int> range, bool relative) {
   const auto [a, b] = range;
   const Eigen::Index n = b - a;
   d.frames = SampleMatrix(d.frames.middleRows(a, n));
   d.differences = SampleMatrix(d.differences.middleRows(a, n));
   if (d.references.rows() > 0) {
     d.references = SampleMatrix(d.references.middleRows(a, n));
-    d.reference = d.references.colwise().mean().transpose();
+    if (!relative) d.reference = d.references.colwise().mean().transpose();
   }
   if (!d.touches.empty()) d.touches = {d.touches.begin() + a, d.touches.begin() + b};
   d.split.assign(static_cast<std::size_t>(n), Split::test);
@@ -110,7 +111,8 @@ std::function<void()> add_import_command(CLI::App& app) {
       fmt::print("  touches: one a frame from {}{}\n", args->touches.path,
                  d.touch_size.empty() ? "" : " (third column: " + d.touch_size + ")");
     }
-    if (!args->frames.empty()) keep_frames(d, parse_range(args->frames, d.size()));
+    if (!args->frames.empty())
+      keep_frames(d, parse_range(args->frames, d.size()), args->options.relative);
     if (m.reduced_input)
       fmt::print("  reciprocity: not measured ({})\n",
                  args->options.protocol && !is_adjacent(*args->options.protocol)

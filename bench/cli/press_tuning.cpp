@@ -14,7 +14,7 @@ PressTuning press_tuning(const std::string& path, const std::string& range, cons
                          const PixelGrid& grid, double touch_threshold, bool centroid) {
   const Dataset cal = read_dataset(path);
   check_press_set(path, cal, measurement_protocol(data));
-  const auto [a, b] = parse_range(range, cal.size());
+  const auto [a, b] = parse_range(range, cal.size(), "--calibration-frames");
   std::error_code same_error;
   if (std::filesystem::equivalent(path, data_path, same_error))
     for (int row : scored_rows)

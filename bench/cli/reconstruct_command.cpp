@@ -128,7 +128,8 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--noise-seed", args->noise_seed, "seed of that noise")->capture_default_str();
   cmd->add_option("--touch-threshold", args->touch_threshold,
                   "a press set (import --touches): an image's touches are its blobs at or above "
-                  "this fraction of its maximum; the strongest is where the method puts the press")
+                  "this fraction of its maximum; the strongest is where the method puts the press "
+                  "(with --locate centroid, the centroid of every pixel at or above it)")
       ->check(CLI::Range(0.01, 1.0))
       ->capture_default_str();
   cmd->add_option("--locate", args->locate,
@@ -315,6 +316,10 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
       throw InputError("--choose discrepancy", "",
                        "needs the sensor's measured noise: --sensor FILE with a noise object "
                        "(eitbench calibrate --noise SET.h5 --out FILE)");
+    if (!(s.data.reference.cwiseAbs().maxCoeff() > 0))
+      throw InputError(args->data, "reference",
+                       "is zero: the discrepancy principle scales the measured noise by the "
+                       "frames' reference (import --reference)");
     mo.noise = noise_in_units_of(*sensor->noise, s.data.reference);
     mo.discrepancy_factor = args->discrepancy_factor;
   }

@@ -243,35 +243,53 @@ double Tikhonov::choose_lcurve(const SampleMatrix& frames) {
   return lambda_;
 }
 
+namespace {
+
+// The residual's RMS at `lambda` from the frames' squared components in G's eigenbasis, summed
+// over the frames (z2): y - A x = lambda (G + lambda I)^-1 y, each component shrunk by
+// lambda / (g + lambda). U is square (G is m x m), so nothing of y lies outside it.
+double residual_rms_of(const Eigen::ArrayXd& z2, const Eigen::VectorXd& g, double lambda,
+                       double values) {
+  return std::sqrt(((lambda / (g.array() + lambda)).square() * z2).sum() / values);
+}
+
+}  // namespace
+
 double Tikhonov::residual_rms(const SampleMatrix& frames, double lambda) const {
-  // y - A x = lambda (G + lambda I)^-1 y: in G's eigenbasis each component shrinks by
-  // lambda / (g + lambda). U is square (G is m x m), so nothing of y lies outside it.
   const Eigen::MatrixXd Z = frames * U_;
-  const Eigen::ArrayXd z2 = Z.colwise().squaredNorm().transpose().array();
-  const double sum = ((lambda / (g_.array() + lambda)).square() * z2).sum();
-  return std::sqrt(sum / (static_cast<double>(frames.rows()) * frames.cols()));
+  return residual_rms_of(Z.colwise().squaredNorm().transpose().array(), g_, lambda,
+                         static_cast<double>(frames.size()));
 }
 
 double Tikhonov::choose_discrepancy(const SampleMatrix& frames) {
   check_frames_to_choose_on(frames, "the discrepancy principle");
   if (!options_.noise)
     throw InputError("TikhonovOptions", "noise", "the discrepancy principle needs a noise level");
-  // The residual grows with lambda: bisect log lambda between the grid's ends.
+  const Eigen::MatrixXd Z = frames * U_;
+  const Eigen::ArrayXd z2 = Z.colwise().squaredNorm().transpose().array();
+  const auto residual = [&](double log_lambda) {
+    return residual_rms_of(z2, g_, std::exp(log_lambda), static_cast<double>(frames.size()));
+  };
   const double target = options_.discrepancy_factor * *options_.noise;
   double lo = std::log(grid_.front()), hi = std::log(grid_.back());
-  if (residual_rms(frames, std::exp(hi)) <= target) lo = hi;
-  // A model whose own error exceeds the noise misfits the frames by more at every lambda: the
-  // settings say so rather than pass the grid's end off as a match.
-  const bool misfit = residual_rms(frames, std::exp(lo)) >= target;
-  if (misfit) hi = lo;
+  // At either end of the grid no lambda matches, and the settings say so rather than pass the
+  // end off as a match: a model whose own error exceeds the noise misfits the frames by more at
+  // every lambda (real frames, docs/real-presses.md); a noise above every residual asks for more
+  // regularisation than the grid holds.
+  if (residual(lo) >= target) {
+    set_lambda(grid_.front(), "discrepancy: the residual exceeds the noise at every lambda");
+    return lambda_;
+  }
+  if (residual(hi) <= target) {
+    set_lambda(grid_.back(), "discrepancy: the noise exceeds the residual at every lambda");
+    return lambda_;
+  }
+  // The residual grows with lambda: bisect log lambda.
   for (int k = 0; k < 60 && hi - lo > 1e-6; ++k) {
     const double mid = 0.5 * (lo + hi);
-    (residual_rms(frames, std::exp(mid)) < target ? lo : hi) = mid;
+    (residual(mid) < target ? lo : hi) = mid;
   }
-  if (misfit)
-    set_lambda(grid_.front(), "discrepancy: the residual exceeds the noise at every lambda");
-  else
-    set_lambda(std::exp(0.5 * (lo + hi)), "discrepancy");
+  set_lambda(std::exp(0.5 * (lo + hi)), "discrepancy");
   return lambda_;
 }
 

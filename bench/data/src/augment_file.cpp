@@ -39,6 +39,8 @@ long long augment_dataset_file(const std::string& in, const std::string& out,
   data.augmentation = o.elements.size() == 1 ? o.elements.front().to_string()
                       : whole                ? setup.sensor->group.name()
                                              : to_string(o.group);
+  // Paired references belong to the input's frames, one each: the expanded set has other rows.
+  data.references.resize(0, data.references.cols());
   DatasetWriter writer(out, data, data.has_labels(), !data.circles.empty());
   for (int begin = 0; begin < data.size(); begin += o.block) {
     const int end = std::min(data.size(), begin + o.block);

@@ -61,6 +61,10 @@ SensorNoise measure_sensor_noise(const Dataset& set, const std::string& path, in
   double noise2 = 0;
   for (Eigen::Index i = 0; i < d.cols(); ++i) noise2 += std::pow(robust_sd(d.col(i)), 2);
   n.noise = std::sqrt(noise2 / d.cols()) / unit;
+  if (!(n.noise > 0))
+    throw InputError(path, "references",
+                     "consecutive references are equal on most steps of every value (quantised "
+                     "or copied references): there is no noise to measure");
   // The drift: each channel's spread over the recording beyond one frame's noise.
   double drift2 = 0;
   for (Eigen::Index c = 0; c < refs.cols(); ++c) {
@@ -77,7 +81,10 @@ SensorNoise measure_sensor_noise(const Dataset& set, const std::string& path, in
 
   if (model_reference.size() == mean.size()) {
     const double scale = calibrate_to_model(mean, model_reference).scale;
-    n.gains = scale * mean.cwiseQuotient(model_reference);
+    // A channel the model puts at exactly zero has no ratio: NaN, written as null.
+    n.gains = Eigen::VectorXd::Constant(mean.size(), NAN);
+    for (Eigen::Index c = 0; c < mean.size(); ++c)
+      if (model_reference(c) != 0) n.gains(c) = scale * mean(c) / model_reference(c);
     const double floor = 0.1 * rms(model_reference);
     double spread2 = 0;
     int counted = 0;

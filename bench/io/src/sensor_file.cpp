@@ -75,6 +75,7 @@ SensorNoise read_noise(const nlohmann::json& j, const std::string& path) {
   const std::string in = "noise.";
   n.frames = optional_field<std::string>(j, path, in, "frames", "");
   n.references = optional_field(j, path, in, "references", 0);
+  if (n.references < 0) throw InputError(path, "noise.references", "must not be negative");
   for (auto [field, value] : {std::pair{"noise", &n.noise},
                               {"drift", &n.drift},
                               {"signal", &n.signal},
@@ -87,11 +88,16 @@ SensorNoise read_noise(const nlohmann::json& j, const std::string& path) {
   n.snr_db = n.signal > 0 ? 20 * std::log10(n.signal / n.noise) : -INFINITY;
   if (j.contains("gains")) {
     const auto& g = j["gains"];
-    if (!g.is_array() || g.size() > 65536) throw InputError(path, "noise.gains", "not an array");
+    if (!g.is_array() || g.size() > 65536)
+      throw InputError(path, "noise.gains", "not an array of at most 65,536 numbers");
     n.gains.resize(static_cast<Eigen::Index>(g.size()));
     for (std::size_t k = 0; k < g.size(); ++k) {
+      if (g[k].is_null()) {  // a channel the model put at zero: no ratio
+        n.gains[static_cast<Eigen::Index>(k)] = NAN;
+        continue;
+      }
       if (!g[k].is_number() || !std::isfinite(g[k].get<double>()))
-        throw InputError(path, "noise.gains", "must hold finite numbers");
+        throw InputError(path, "noise.gains", "must hold finite numbers (or null)");
       n.gains[static_cast<Eigen::Index>(k)] = g[k].get<double>();
     }
   }

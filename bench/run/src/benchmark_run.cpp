@@ -134,8 +134,9 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
     c["press_calibration"] = config.press_calibration;
     if (config.radius_mm > 0) c["radius_mm"] = fmt::format("{:g}", config.radius_mm);
     c["press_scores"] = fmt::format(
-        "centre error of each press of the measured set: its strongest blob (threshold chosen on "
-        "the calibration presses, 0.5 for models trained on presses and for rows without labels) "
+        "centre error of each press of the measured set: its strongest blob or the centroid of "
+        "every pixel above the threshold (the rule and the threshold chosen on the calibration "
+        "presses; the blob at 0.5 for models trained on presses and for rows without labels) "
         "or the centre when none; model-based methods tuned in simulation (validation CC) and on "
         "the calibration presses (mean centre error; tv, gn and the shape fits on the first {}), "
         "the one-step methods also by GCV on the calibration frames; fine-tuning: {} steps at "

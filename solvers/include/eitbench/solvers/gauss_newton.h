@@ -38,7 +38,7 @@ struct GaussNewtonOptions {
   double min_ratio = 1e-4;           // the box on sigma / sigma_0, far beyond any touch
   double max_ratio = 1e4;
   // fixed (lambda above) or validation (the candidates, by the score in fit(), on at most 20
-  // frames); gcv and lcurve are refused.
+  // frames); gcv, lcurve and discrepancy are refused.
   Criterion choice = Criterion::fixed;
   std::vector<double> candidates = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1};
 

@@ -26,7 +26,7 @@ struct GreitOptions {
   double lambda = 1e-2;
   std::uint64_t seed = 1;
   // fixed (lambda above) or validation (the candidates, by the score in fit(), on at most 500
-  // frames); gcv and lcurve are refused.
+  // frames); gcv, lcurve and discrepancy are refused.
   Criterion choice = Criterion::fixed;
   std::vector<double> candidates = {1e-5, 1e-4, 1e-3, 1e-2, 1e-1, 1.0};
 

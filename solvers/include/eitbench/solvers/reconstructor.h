@@ -29,8 +29,8 @@ const char* to_string(Criterion c);
 // fixed | validation | gcv | lcurve | discrepancy; InputError("Criterion", "name") for another.
 Criterion parse_criterion(const std::string& name);
 // For the methods that choose by validation or take a fixed value (TV, Gauss-Newton, GREIT):
-// InputError(options, "choice") for gcv or lcurve, InputError(options, "candidates") for
-// validation with no candidates or one that is not positive and finite.
+// InputError(options, "choice") for gcv, lcurve or discrepancy, InputError(options, "candidates")
+// for validation with no candidates or one that is not positive and finite.
 void check_fixed_or_validation(const char* options, Criterion choice,
                                const std::vector<double>& candidates);
 

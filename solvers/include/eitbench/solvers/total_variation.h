@@ -39,7 +39,7 @@ struct TotalVariationOptions {
   double tolerance = 1e-4;  // on ||x_k+1 - x_k|| / ||x_k+1||
   int max_iterations = 20000;
   // fixed (alpha above) or validation (the candidates, by the score in fit(), on at most 20
-  // frames: a solve costs a tenth of a second); gcv and lcurve are refused.
+  // frames: a solve costs a tenth of a second); gcv, lcurve and discrepancy are refused.
   Criterion choice = Criterion::fixed;
   std::vector<double> candidates = {1e-6, 3e-6, 1e-5, 3e-5, 1e-4, 3e-4, 1e-3};
   // pixels: isotropic TV of the image; elements: sum over interior mesh edges of

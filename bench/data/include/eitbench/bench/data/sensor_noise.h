@@ -18,8 +18,8 @@
 namespace eitbench {
 
 // From `set`'s frames first..last-1 (its paired references and its differences). Throws
-// InputError(path, "references") when the set has no paired references or fewer than 3 in the
-// range or a zero mean reference. `model_reference` (the
+// InputError(path, "references") when the set has no paired references, fewer than 3 in the
+// range, a zero mean reference, or references too equal to show any noise. `model_reference` (the
 // model's frame of the untouched sensor, the protocol's channels) may be empty: no gains.
 SensorNoise measure_sensor_noise(const Dataset& set, const std::string& path, int first, int last,
                                  const Eigen::VectorXd& model_reference);

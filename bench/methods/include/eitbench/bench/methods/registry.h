@@ -16,8 +16,7 @@ namespace eitbench {
 // What the command line and the benchmark ask of a method.
 struct MethodOptions {
   // fixed | validation | gcv | lcurve | discrepancy, or empty for the method's default_choice. A
-  // method refuses
-  // a criterion it cannot use (InputError naming its options' "choice").
+  // method refuses a criterion it cannot use (InputError naming its options' "choice").
   std::string choose;
   double lambda = 0;  // with choose == fixed; 0: the method's default value
   // With choose == discrepancy: the frames' noise, the RMS over a frame's values in the frames'
