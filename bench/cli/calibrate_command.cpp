@@ -14,7 +14,6 @@
 #include "eitbench/solvers/press_frame.h"
 #include "options.h"
 #include "press_frame_command.h"
-#include "press_tuning.h"
 
 namespace eitbench::cli {
 
@@ -78,7 +77,7 @@ SensorNoise measure_noise(const Mesh& mesh, const std::string& path, const std::
       "{}: {} references; a difference frame's noise {:.3g} of the reference's RMS, its "
       "signal {:.3g} (SNR {:.1f} dB); drift {:.3g}; channel gains against the model spread by "
       "{:.3g}\n",
-      path, n.references, n.noise, n.signal, n.snr_db, n.drift, n.gain_spread);
+      path, n.references, n.noise, n.signal, n.snr_db(), n.drift, n.gain_spread);
   return n;
 }
 

@@ -8,7 +8,6 @@
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/data/press_touches.h"
 #include "options.h"
-#include "press_tuning.h"  // parse_range
 
 namespace eitbench::cli {
 namespace {

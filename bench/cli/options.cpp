@@ -276,4 +276,22 @@ void add_shard_option(CLI::App& app, int& index, int& count) {
       ->type_name("K/N");
 }
 
+std::pair<int, int> parse_range(const std::string& text, int n, const char* flag) {
+  if (text.empty()) return {0, n};
+  const auto colon = text.find(':');
+  auto number = [&](const std::string& s, int fallback) {
+    if (s.empty()) return fallback;
+    char* end = nullptr;
+    const long v = std::strtol(s.c_str(), &end, 10);
+    if (*end != '\0') throw InputError(flag, "", "'" + text + "' is not a range A:B");
+    return static_cast<int>(v);
+  };
+  if (colon == std::string::npos) throw InputError(flag, "", "'" + text + "' is not a range A:B");
+  const int a = number(text.substr(0, colon), 0), b = number(text.substr(colon + 1), n);
+  if (a < 0 || b > n || a >= b)
+    throw InputError(flag, "",
+                     "range " + text + " is empty or outside the " + std::to_string(n) + " frames");
+  return {a, b};
+}
+
 }  // namespace eitbench::cli

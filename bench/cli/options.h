@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "eitbench/bench/data/simulate.h"
 #include "eitbench/bench/io/sensor_file.h"
@@ -53,6 +54,9 @@ void add_model_options(CLI::App& app, ModelSetup& setup);
 void apply_sensor(ModelSetup& setup, const Mesh& mesh);
 // The sensor file at `path` (none for an empty path), checked against the electrode count.
 std::optional<SensorFile> load_sensor(const std::string& path, int electrodes);
+
+// "A:B" -> frames [A, B) of n ("" for all; A or B may be left out); InputError(flag) otherwise.
+std::pair<int, int> parse_range(const std::string& text, int n, const char* flag = "--frames");
 // --protocol and --magnitude (docs/protocols.md).
 struct ProtocolChoice {
   std::string spec = "adjacent";  // adjacent | adjacent-ascending | opposite | skip-K | FILE.csv

@@ -6,6 +6,7 @@
 #include "eitbench/bench/data/press_touches.h"
 #include "eitbench/bench/methods/press_labels.h"
 #include "eitbench/jacobian/error.h"
+#include "options.h"
 
 namespace eitbench::cli {
 

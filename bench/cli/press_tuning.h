@@ -11,10 +11,6 @@
 
 namespace eitbench::cli {
 
-// "A:B" -> [A, B) within n frames ("" for all); InputError(flag) otherwise
-// (reconstruct_command.cpp).
-std::pair<int, int> parse_range(const std::string& text, int n, const char* flag = "--frames");
-
 struct PressTuning {
   SampleMatrix frames, labels;  // labels: a disc of 0.1 R at each press, where the score finds it
   ScoreFn score;                // minus the centre error of the image's strongest blob

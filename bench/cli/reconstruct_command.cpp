@@ -158,25 +158,6 @@ void add_options(CLI::App* cmd, Args* args) {
 
 }  // namespace
 
-// "A:B" -> [A, B) within n frames.
-std::pair<int, int> parse_range(const std::string& text, int n, const char* flag) {
-  if (text.empty()) return {0, n};
-  const auto colon = text.find(':');
-  auto number = [&](const std::string& s, int fallback) {
-    if (s.empty()) return fallback;
-    char* end = nullptr;
-    const long v = std::strtol(s.c_str(), &end, 10);
-    if (*end != '\0') throw InputError(flag, "", "'" + text + "' is not a range A:B");
-    return static_cast<int>(v);
-  };
-  if (colon == std::string::npos) throw InputError(flag, "", "'" + text + "' is not a range A:B");
-  const int a = number(text.substr(0, colon), 0), b = number(text.substr(colon + 1), n);
-  if (a < 0 || b > n || a >= b)
-    throw InputError(flag, "",
-                     "range " + text + " is empty or outside the " + std::to_string(n) + " frames");
-  return {a, b};
-}
-
 namespace {
 
 // The rows of `rows` whose frames have exactly `touches` true circles.
@@ -289,15 +270,17 @@ FrameSelection tuning_frames(const Args* args, const Selection& s, const std::st
   return t;
 }
 
-// A model-based method on the mesh, its hyperparameter chosen as --choose says.
+// A model-based method on the mesh (and the calibrated sensor, when given), its hyperparameter
+// chosen as --choose says.
 std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd,
                                            const Selection& s, const Mesh& mesh,
+                                           const std::optional<SensorFile>& sensor,
                                            const PixelGrid& grid, double background) {
   ForwardOptions forward;
   forward.contact_impedance = s.data.contact_impedance;
   forward.current = s.data.current;
   forward.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(s.data));
-  if (const auto sensor = load_sensor(args->sensor, mesh.num_electrodes())) {
+  if (sensor) {
     forward.contact_impedances = sensor->contact_impedances;
     forward.current = sensor->current;
   }
@@ -311,7 +294,6 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
                                      : args->choose;
   mo.lambda = args->lambda;
   if (mo.choose == "discrepancy") {
-    const auto sensor = load_sensor(args->sensor, mesh.num_electrodes());
     if (!sensor || !sensor->noise)
       throw InputError("--choose discrepancy", "",
                        "needs the sensor's measured noise: --sensor FILE with a noise object "
@@ -410,10 +392,10 @@ std::optional<PressResult> press_result(const Args* args, const Selection& s,
   if (s.data.touches.empty()) return std::nullopt;
   std::vector<std::vector<PressTouch>> truth;
   for (int row : s.rows) truth.push_back(s.data.touches[static_cast<std::size_t>(row)]);
-  const TouchFrames found = !result.circles.empty() ? touches_of(result.circles, background)
-                            : args->locate == "centroid"
-                                ? centroids_in_images(result.images, grid, args->touch_threshold)
-                                : touches_in_images(result.images, grid, args->touch_threshold);
+  const TouchFrames found =
+      !result.circles.empty()
+          ? touches_of(result.circles, background)
+          : press_touches(result.images, grid, {args->locate == "centroid", args->touch_threshold});
   return PressResult{score_presses(found, truth), centre_floor(truth)};
 }
 
@@ -520,7 +502,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     } else {
       if (!args->model.empty())
         throw InputError("--model", "", "only --method dnn takes a model file");
-      method = model_based(args.get(), *cmd, s, mesh, grid, background);
+      method = model_based(args.get(), *cmd, s, mesh, sensor, grid, background);
     }
     const double setup_s = seconds_since(t0);
     // The same loop as the benchmark's: every frame timed one at a time, after a warm-up.

@@ -183,8 +183,7 @@ void Tikhonov::fit(const SampleMatrix& frames, const SampleMatrix& labels, const
 }
 
 std::vector<double> Tikhonov::gcv_curve(const SampleMatrix& frames) const {
-  const Eigen::MatrixXd Z = frames * U_;  // frames in G's eigenbasis
-  const Eigen::VectorXd z2 = Z.colwise().squaredNorm().transpose();
+  const Eigen::ArrayXd z2 = eigen_power(frames);
   std::vector<double> out;
   for (double lambda : grid_) {
     const Eigen::ArrayXd keep = lambda / (g_.array() + lambda);  // the diagonal of I - H
@@ -217,8 +216,7 @@ double Tikhonov::choose_gcv(const SampleMatrix& frames) {
 
 double Tikhonov::choose_lcurve(const SampleMatrix& frames) {
   check_frames_to_choose_on(frames, "the L-curve");
-  const Eigen::MatrixXd Z = frames * U_;
-  const Eigen::ArrayXd z2 = Z.colwise().squaredNorm().transpose().array();
+  const Eigen::ArrayXd z2 = eigen_power(frames);
   const std::size_t n = grid_.size();
   std::vector<double> t(n), rho(n), eta(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -243,32 +241,22 @@ double Tikhonov::choose_lcurve(const SampleMatrix& frames) {
   return lambda_;
 }
 
-namespace {
-
-// The residual's RMS at `lambda` from the frames' squared components in G's eigenbasis, summed
-// over the frames (z2): y - A x = lambda (G + lambda I)^-1 y, each component shrunk by
-// lambda / (g + lambda). U is square (G is m x m), so nothing of y lies outside it.
-double residual_rms_of(const Eigen::ArrayXd& z2, const Eigen::VectorXd& g, double lambda,
-                       double values) {
-  return std::sqrt(((lambda / (g.array() + lambda)).square() * z2).sum() / values);
-}
-
-}  // namespace
-
-double Tikhonov::residual_rms(const SampleMatrix& frames, double lambda) const {
-  const Eigen::MatrixXd Z = frames * U_;
-  return residual_rms_of(Z.colwise().squaredNorm().transpose().array(), g_, lambda,
-                         static_cast<double>(frames.size()));
+Eigen::ArrayXd Tikhonov::eigen_power(const SampleMatrix& frames) const {
+  const Eigen::MatrixXd Z = frames * U_;  // frames in G's eigenbasis
+  return Z.colwise().squaredNorm().transpose().array();
 }
 
 double Tikhonov::choose_discrepancy(const SampleMatrix& frames) {
   check_frames_to_choose_on(frames, "the discrepancy principle");
   if (!options_.noise)
     throw InputError("TikhonovOptions", "noise", "the discrepancy principle needs a noise level");
-  const Eigen::MatrixXd Z = frames * U_;
-  const Eigen::ArrayXd z2 = Z.colwise().squaredNorm().transpose().array();
-  const auto residual = [&](double log_lambda) {
-    return residual_rms_of(z2, g_, std::exp(log_lambda), static_cast<double>(frames.size()));
+  // y - A x = lambda (G + lambda I)^-1 y: in G's eigenbasis each component shrinks by
+  // lambda / (g + lambda). U is square (G is m x m), so nothing of y lies outside it.
+  const Eigen::ArrayXd z2 = eigen_power(frames);
+  const double values = static_cast<double>(frames.size());
+  const auto residual = [&](double log_lambda) {  // the residual's RMS over the frames' values
+    const double lambda = std::exp(log_lambda);
+    return std::sqrt(((lambda / (g_.array() + lambda)).square() * z2).sum() / values);
   };
   const double target = options_.discrepancy_factor * *options_.noise;
   double lo = std::log(grid_.front()), hi = std::log(grid_.back());

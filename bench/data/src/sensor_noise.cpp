@@ -77,7 +77,6 @@ SensorNoise measure_sensor_noise(const Dataset& set, const std::string& path, in
   std::vector<double> power;
   for (int k = first; k < last; ++k) power.push_back(set.differences.row(k).squaredNorm());
   n.signal = std::sqrt(median(power) / set.differences.cols()) / unit;
-  n.snr_db = n.noise > 0 ? 20 * std::log10(n.signal / n.noise) : INFINITY;
 
   if (model_reference.size() == mean.size()) {
     const double scale = calibrate_to_model(mean, model_reference).scale;

@@ -85,7 +85,6 @@ SensorNoise read_noise(const nlohmann::json& j, const std::string& path) {
       throw InputError(path, in + field, "missing, negative or not finite");
   }
   if (!(n.noise > 0)) throw InputError(path, "noise.noise", "must be positive");
-  n.snr_db = n.signal > 0 ? 20 * std::log10(n.signal / n.noise) : -INFINITY;
   if (j.contains("gains")) {
     const auto& g = j["gains"];
     if (!g.is_array() || g.size() > 65536)
@@ -143,7 +142,7 @@ void write_sensor_file(const std::string& path, const SensorFile& s) {
                   {"noise", n.noise},
                   {"drift", n.drift},
                   {"signal", n.signal},
-                  {"snr_db", n.snr_db},
+                  {"snr_db", n.snr_db()},
                   {"gains", std::vector<double>(n.gains.data(), n.gains.data() + n.gains.size())},
                   {"gain_spread", n.gain_spread}};
   }

@@ -34,9 +34,8 @@ Eigen::Vector2d label_centre(const Eigen::VectorXd& label, const PixelGrid& grid
 
 ScoreFn press_score(const PixelGrid& grid, double threshold, bool centroid) {
   return [grid, threshold, centroid](const Eigen::VectorXd& image, const Eigen::VectorXd& label) {
-    const Eigen::Vector2d at = located_press(
-        centroid ? centroid_touch(image, grid, threshold) : find_touches(image, grid, threshold),
-        grid.box_centre());
+    const Eigen::Vector2d at =
+        located_press(press_touches(image, grid, {centroid, threshold}), grid.box_centre());
     return -(at - label_centre(label, grid)).norm();
   };
 }

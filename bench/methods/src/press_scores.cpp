@@ -70,10 +70,18 @@ PressScores centre_floor(const std::vector<std::vector<PressTouch>>& truth) {
   return score_presses(TouchFrames(truth.size()), truth);
 }
 
+std::vector<Touch> press_touches(const Eigen::VectorXd& image, const PixelGrid& grid,
+                                 const PressRule& rule) {
+  return rule.centroid ? centroid_touch(image, grid, rule.threshold)
+                       : find_touches(image, grid, rule.threshold);
+}
+
 TouchFrames press_touches(const SampleMatrix& images, const PixelGrid& grid,
                           const PressRule& rule) {
-  return rule.centroid ? centroids_in_images(images, grid, rule.threshold)
-                       : touches_in_images(images, grid, rule.threshold);
+  TouchFrames frames;
+  for (Eigen::Index i = 0; i < images.rows(); ++i)
+    frames.push_back(press_touches(Eigen::VectorXd(images.row(i).transpose()), grid, rule));
+  return frames;
 }
 
 PressRule choose_press_rule(const SampleMatrix& images, const PixelGrid& grid,

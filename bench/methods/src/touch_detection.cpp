@@ -25,6 +25,11 @@ cv::Mat touch_pixels(const Eigen::VectorXd& image, const PixelGrid& grid, double
 // Sums over one blob's pixels, for its weighted centroid and peak.
 struct BlobSums {
   double weight = 0, x = 0, y = 0, peak = 0;
+  void add(double v, const Eigen::Vector2d& c) {
+    weight += v, x += v * c.x(), y += v * c.y(), peak = std::max(peak, v);
+  }
+  // The touch at the weighted centroid, a circle of the pixels' `area`, the peak its contrast.
+  Touch touch(double area) const { return {x / weight, y / weight, std::sqrt(area / M_PI), peak}; }
 };
 
 }  // namespace
@@ -56,10 +61,7 @@ std::vector<Touch> find_touches(const Eigen::VectorXd& image, const PixelGrid& g
     for (int j = 0; j < n; ++j) {
       const int blob = labels.at<int>(i, j);
       if (blob == 0) continue;  // the background
-      const double v = image[i * n + j];
-      const Eigen::Vector2d c = grid.center(i, j);
-      BlobSums& s = sums[static_cast<std::size_t>(blob)];
-      s.weight += v, s.x += v * c.x(), s.y += v * c.y(), s.peak = std::max(s.peak, v);
+      sums[static_cast<std::size_t>(blob)].add(image[i * n + j], grid.center(i, j));
     }
   const double pixel_area = grid.pixel_width() * grid.pixel_width();
   const double min_area = options.min_area * grid.radius() * grid.radius();
@@ -67,8 +69,7 @@ std::vector<Touch> find_touches(const Eigen::VectorXd& image, const PixelGrid& g
   for (int blob = 1; blob < count; ++blob) {
     const double area = stats.at<int>(blob, cv::CC_STAT_AREA) * pixel_area;
     if (area < min_area) continue;
-    const BlobSums& s = sums[static_cast<std::size_t>(blob)];
-    touches.push_back({s.x / s.weight, s.y / s.weight, std::sqrt(area / M_PI), s.peak});
+    touches.push_back(sums[static_cast<std::size_t>(blob)].touch(area));
   }
   return touches;
 }
@@ -86,21 +87,10 @@ std::vector<Touch> centroid_touch(const Eigen::VectorXd& image, const PixelGrid&
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       if (!pixels.at<unsigned char>(i, j)) continue;
-      const double v = image[i * n + j];
-      const Eigen::Vector2d c = grid.center(i, j);
-      s.weight += v, s.x += v * c.x(), s.y += v * c.y(), s.peak = std::max(s.peak, v), ++count;
+      s.add(image[i * n + j], grid.center(i, j)), ++count;
     }
   if (count == 0) return {};
-  const double area = count * grid.pixel_width() * grid.pixel_width();
-  return {{s.x / s.weight, s.y / s.weight, std::sqrt(area / M_PI), s.peak}};
-}
-
-TouchFrames centroids_in_images(const SampleMatrix& images, const PixelGrid& grid,
-                                double threshold) {
-  TouchFrames frames;
-  for (Eigen::Index i = 0; i < images.rows(); ++i)
-    frames.push_back(centroid_touch(images.row(i).transpose(), grid, threshold));
-  return frames;
+  return {s.touch(count * grid.pixel_width() * grid.pixel_width())};
 }
 
 TouchFrames touches_in_images(const SampleMatrix& images, const PixelGrid& grid, double threshold,

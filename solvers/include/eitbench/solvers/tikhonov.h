@@ -74,8 +74,6 @@ class Tikhonov : public Reconstructor {
   double choose_lcurve(const SampleMatrix& frames);
   // Needs options.noise. Within the grid's range (its ends when no lambda there matches).
   double choose_discrepancy(const SampleMatrix& frames);
-  // The residual's RMS over the frames, sqrt(mean ||y - A x_lambda||^2 / m), at `lambda`.
-  double residual_rms(const SampleMatrix& frames, double lambda) const;
   double choose_validation(const SampleMatrix& frames, const SampleMatrix& labels,
                            const ScoreFn& score);
 
@@ -89,6 +87,9 @@ class Tikhonov : public Reconstructor {
   std::vector<double> gcv_curve(const SampleMatrix& frames) const;
 
  private:
+  // Per eigenvector of G, the frames' squared components along it, summed over the frames: what
+  // GCV, the L-curve and the discrepancy principle weigh each lambda by.
+  Eigen::ArrayXd eigen_power(const SampleMatrix& frames) const;
   std::shared_ptr<const LinearProblem> problem_;  // never null
   TikhonovOptions options_;
   Eigen::MatrixXd C_;  // P A^T U (n x m)

@@ -14,6 +14,7 @@
 // the noise (calibrate --noise --out): what unlabelled frames say about the real frames
 // (eitbench/bench/data/sensor_noise.h measures it).
 #include <Eigen/Core>
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -48,7 +49,8 @@ struct SensorNoise {
   double noise = 0;
   double drift = 0;   // RMS over channels of the references' slow wander beyond the noise
   double signal = 0;  // median over the frames of a difference frame's RMS
-  double snr_db = 0;  // 20 log10(signal / noise): the simulations' convention (noise.h)
+  // 20 log10(signal / noise): the simulations' convention (noise.h).
+  double snr_db() const { return 20 * std::log10(signal / noise); }
   // Per channel: the mean reference, brought to the model's units by their least-squares scale,
   // over the model's reference (1 everywhere on a perfect model), or empty; and their RMS
   // deviation from 1 over the channels the model does not put near zero (|v| above a tenth of

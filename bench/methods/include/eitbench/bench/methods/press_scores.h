@@ -39,7 +39,9 @@ struct PressRule {
   bool centroid = false;
   double threshold = 0.5;
 };
-// The touches each image gives by `rule`.
+// The touches an image gives by `rule` (find_touches or centroid_touch), and each row of `images`.
+std::vector<Touch> press_touches(const Eigen::VectorXd& image, const PixelGrid& grid,
+                                 const PressRule& rule);
 TouchFrames press_touches(const SampleMatrix& images, const PixelGrid& grid, const PressRule& rule);
 // The rule with the lowest mean centre error on labelled presses, over both kinds and the
 // thresholds of TouchOptions; the first wins a tie, the strongest blob before the centroid. The

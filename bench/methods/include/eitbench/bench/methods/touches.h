@@ -57,8 +57,6 @@ TouchFrames touches_in_images(const SampleMatrix& images, const PixelGrid& grid,
 // when the maximum is not positive. InputError as find_touches.
 std::vector<Touch> centroid_touch(const Eigen::VectorXd& image, const PixelGrid& grid,
                                   double threshold);
-TouchFrames centroids_in_images(const SampleMatrix& images, const PixelGrid& grid,
-                                double threshold);
 
 // Circles (the data set's truth, or a method that fits circles) as touches: the contrast from the
 // conductivity, (background - sigma) / background.
