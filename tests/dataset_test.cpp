@@ -16,6 +16,7 @@
 #include "eitbench/bench/data/training_data.h"
 #include "eitbench/jacobian.h"
 #include "eitbench/jacobian/error.h"
+#include "test_support.h"
 
 namespace eitbench {
 namespace {
@@ -210,6 +211,42 @@ TEST(Simulate, VariationDrawsItsRangesAndRandomisesEachSample) {
   bad = {};
   bad.snr_min_db = 50, bad.snr_max_db = 40;
   EXPECT_THROW(bad.validate(), InputError);
+}
+
+// A real sensor's measured gains and noise (--sensor-noise): every sample's change is the plain
+// set's times its channel's gain (1 where the gain is NaN) plus white noise of the measured level
+// in units of the reference's RMS; the same touches, the same on any thread count; gains of
+// another protocol's channels refused, naming the flag.
+TEST(Simulate, TheSensorsGainsAndNoiseDrawEachSampleLikeTheSensor) {
+  SimulationOptions o = tiny_options(13, MeshDensity::coarse);
+  const Dataset plain = simulate_dataset(o);
+  const Eigen::Index channels = plain.reference.size();
+  o.variation.sensor_gains = Eigen::VectorXd::LinSpaced(channels, 0.6, 1.4);
+  o.variation.sensor_gains(5) = NAN;
+  o.variation.sensor_noise = 0.002;
+  o.threads = 1;
+  const Dataset one = simulate_dataset(o);
+  o.threads = 2;
+  EXPECT_EQ(simulate_dataset(o).differences, one.differences);
+  EXPECT_EQ(one.labels, plain.labels);
+  EXPECT_NE(one.simulation_mesh.find("the sensor's noise 0.2 %"), std::string::npos)
+      << one.simulation_mesh;
+  Eigen::VectorXd gains = o.variation.sensor_gains;
+  gains(5) = 1;
+  const double sigma = 0.002 * one.reference.norm() / std::sqrt(double(channels));
+  double residual2 = 0;
+  for (int i = 0; i < one.size(); ++i) {
+    const Eigen::VectorXd own = one.frames.row(i).transpose() - one.reference;
+    const Eigen::VectorXd base = plain.frames.row(i).transpose() - plain.reference;
+    residual2 += (own - gains.cwiseProduct(base)).squaredNorm();
+  }
+  const double rms = std::sqrt(residual2 / double(one.size() * channels));
+  EXPECT_NEAR(rms / sigma, 1.0, 0.05);  // 81 samples x 208 channels: a 0.5 % standard error
+
+  o.variation.sensor_gains = Eigen::VectorXd::Ones(channels + 1);
+  EXPECT_EQ(testing::input_error_at([&] { simulate_dataset(o); }), "--sensor-noise.gains");
+  o.variation.sensor_gains = Eigen::VectorXd::Constant(channels, -1.0);
+  EXPECT_EQ(testing::input_error_at([&] { o.variation.validate(); }), "--sensor-noise.gains");
 }
 
 // Electrodes shifted per sample (--randomise-electrodes): each sample's own sensor, the same on

@@ -8,6 +8,7 @@
 
 #include "cli_fixture.h"
 #include "eitbench/bench/data/dataset_file.h"
+#include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/bench/report/efficiency.h"
 #include "eitbench/bench/report/report.h"
 #include "eitbench/bench/report/results.h"
@@ -276,6 +277,26 @@ TEST_F(RunCli, SweepAndVariationFlagsRefuseBadValues) {
       run("simulate --preset tiny --quiet --touch-radius 0.2,0.3 --out " + path("set.h5"));
   EXPECT_EQ(s.exit_code, 2) << s.output;
   EXPECT_FALSE(fs::exists(path("set.h5")));
+  // --sensor-noise needs a sensor file with a measured noise, and gains of the protocol's channels.
+  SensorFile sensor;
+  sensor.electrodes = 16, sensor.background = 0.05;
+  sensor.contact_impedances = Eigen::VectorXd::Constant(16, 0.01);
+  write_sensor_file(path("plain.json"), sensor);
+  SensorNoise noise;
+  noise.noise = 0.003, noise.signal = 0.02, noise.gains = Eigen::VectorXd::Ones(192);
+  sensor.noise = noise;
+  write_sensor_file(path("opposite.json"), sensor);
+  for (const auto& [file, message] : std::vector<std::pair<std::string, std::string>>{
+           {"plain.json", "plain.json: noise: is absent: measure it with calibrate --noise"},
+           {"opposite.json",
+            "--sensor-noise: gains: has 192 channels' gains; the adjacent "
+            "protocol has 208"}}) {
+    const Result n = run("simulate --preset tiny --quiet --sensor-noise " + path(file) + " --out " +
+                         path("set.h5"));
+    EXPECT_EQ(n.exit_code, 2) << n.output;
+    EXPECT_NE(n.output.find(message), std::string::npos) << n.output;
+    EXPECT_FALSE(fs::exists(path("set.h5")));
+  }
 }
 
 // --decay moves the learned model's schedule (its figures change, the model-based ones do not),

@@ -147,5 +147,41 @@ TEST(SensorNoise, TheSensorFileKeepsItAndRefusesANegativeLevel) {
   std::filesystem::remove_all(dir);
 }
 
+// The simulation like the sensor draws its frames with apply_sensor_noise: each value times its
+// channel's gain (1 where there is none), plus white noise at the measured level in the units of
+// the model's reference; each row from its own stream.
+TEST(SensorNoise, SimulatedFramesGetTheMeasuredGainsAndNoise) {
+  const int rows = 400, cols = 12;
+  SampleMatrix frames(rows, cols);
+  for (Eigen::Index i = 0; i < frames.size(); ++i) frames.data()[i] = std::sin(0.37 * i);
+  Eigen::VectorXd reference = Eigen::VectorXd::Constant(cols, 2.0);  // RMS 2
+  SensorNoise n;
+  n.gains = Eigen::VectorXd::LinSpaced(cols, 0.5, 1.5);
+  n.gains(3) = NAN;  // a channel the model puts at zero: no gain
+  SampleMatrix gained = frames;
+  apply_sensor_noise(gained, n, reference, 1);  // noise 0: the gains alone
+  for (int j = 0; j < cols; ++j) {
+    const double g = j == 3 ? 1.0 : n.gains(j);
+    EXPECT_TRUE(gained.col(j).isApprox(g * frames.col(j))) << j;
+  }
+  n.noise = 0.01;  // of the reference's RMS: 0.02 in the frames' units
+  SampleMatrix noisy = frames;
+  apply_sensor_noise(noisy, n, reference, 1);
+  const double rms = std::sqrt((noisy - gained).squaredNorm() / double(noisy.size()));
+  EXPECT_NEAR(rms, 0.02, 0.02 * 0.05);
+  SampleMatrix first = frames.topRows(5);
+  apply_sensor_noise(first, n, reference, 1);
+  EXPECT_EQ(first, noisy.topRows(5));  // row i's noise does not depend on the others
+  SampleMatrix other = frames;
+  apply_sensor_noise(other, n, reference, 2);
+  EXPECT_NE(other, noisy);
+  n.gains.resize(cols + 1);  // another protocol's channels: no gains at all
+  n.gains.setConstant(3.0);
+  SampleMatrix ungained = frames;
+  n.noise = 0;
+  apply_sensor_noise(ungained, n, reference, 1);
+  EXPECT_EQ(ungained, frames);
+}
+
 }  // namespace
 }  // namespace eitbench

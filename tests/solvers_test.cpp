@@ -136,6 +136,30 @@ TEST(Tikhonov, GcvAndLcurveLandWithinHalfADecadeOfTheValidationOptimum) {
   }
 }
 
+// GCV's noise estimate (Wahba: the residual's power over the trace of I - H) gives back the white
+// noise drawn onto linear frames, for each prior; the noise is known, not estimated, here.
+// Measured: 0.96-0.98 of it at 1 % and 5 % of the frames' RMS, for each prior; the bound is 10 %.
+TEST(Tikhonov, GcvEstimatesTheNoiseItWasGiven) {
+  const Reconstruction& s = medium();
+  SampleMatrix labels;
+  const SampleMatrix clean = linear_frames(s, touches(60, 3), &labels);
+  const double frames_rms = std::sqrt(clean.squaredNorm() / static_cast<double>(clean.size()));
+  for (double level : {0.01, 0.05}) {
+    const double sigma = level * frames_rms;
+    SampleMatrix y = clean;
+    std::mt19937 rng(7);
+    std::normal_distribution<double> normal(0.0, sigma);
+    for (Eigen::Index i = 0; i < y.size(); ++i) y.data()[i] += normal(rng);
+    for (auto prior : {Prior::identity, Prior::noser, Prior::laplace}) {
+      TikhonovOptions o;
+      o.prior = prior;
+      Tikhonov t(s.problem, o);
+      t.choose_gcv(y);
+      EXPECT_NEAR(t.noise_estimate(y) / sigma, 1.0, 0.10) << t.name() << " at " << level;
+    }
+  }
+}
+
 // Morozov's principle: the chosen lambda's residual, computed with A itself rather than the
 // eigenbasis the choice works in, is the factor times the noise level; more noise, or a larger
 // factor, asks for more regularisation. On frames with white noise of the level it is told it

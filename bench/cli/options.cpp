@@ -251,6 +251,22 @@ void add_variation_options(CLI::App& app, SimulationVariation& v) {
   add_range(app, "--randomise-snr", v.snr_min_db, v.snr_max_db,
             "domain randomisation: each sample's change with noise at an SNR uniform in [MIN, "
             "MAX] dB");
+  app.add_option_function<std::string>(
+         "--sensor-noise",
+         [&v](const std::string& path) {
+           try {
+             const std::optional<SensorNoise> noise = read_sensor_file(path).noise;
+             if (!noise)
+               throw InputError(path, "noise",
+                                "is absent: measure it with calibrate --noise SET --out FILE");
+             v.sensor_gains = noise->gains, v.sensor_noise = noise->noise;
+           } catch (const InputError& e) {
+             throw CLI::ValidationError("--sensor-noise", e.what());
+           }
+         },
+         "a sensor file with the real sensor's noise (calibrate --noise): every sample's change "
+         "times its measured channel gains, plus its measured noise (docs/real-presses.md)")
+      ->type_name("FILE");
 }
 
 void add_shard_option(CLI::App& app, int& index, int& count) {

@@ -241,6 +241,13 @@ double Tikhonov::choose_lcurve(const SampleMatrix& frames) {
   return lambda_;
 }
 
+double Tikhonov::noise_estimate(const SampleMatrix& frames) const {
+  check_frames_to_choose_on(frames, "the noise estimate");
+  const Eigen::ArrayXd keep = lambda_ / (g_.array() + lambda_);  // the diagonal of I - H
+  const double residual2 = (keep.square() * eigen_power(frames)).sum();
+  return std::sqrt(residual2 / (static_cast<double>(frames.rows()) * keep.sum()));
+}
+
 Eigen::ArrayXd Tikhonov::eigen_power(const SampleMatrix& frames) const {
   const Eigen::MatrixXd Z = frames * U_;  // frames in G's eigenbasis
   return Z.colwise().squaredNorm().transpose().array();

@@ -8,6 +8,7 @@
 
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/random.h"
 
 namespace eitbench {
 namespace {
@@ -96,6 +97,19 @@ SensorNoise measure_sensor_noise(const Dataset& set, const std::string& path, in
 
 double noise_in_units_of(const SensorNoise& noise, const Eigen::VectorXd& reference) {
   return noise.noise * rms(reference);
+}
+
+void apply_sensor_noise(SampleMatrix& differences, const SensorNoise& noise,
+                        const Eigen::VectorXd& model_reference, std::uint64_t seed) {
+  const double sigma = noise_in_units_of(noise, model_reference);
+  const bool gained = noise.gains.size() == differences.cols();
+  for (Eigen::Index i = 0; i < differences.rows(); ++i) {
+    RandomStream rng(seed, static_cast<std::uint64_t>(i));
+    for (Eigen::Index j = 0; j < differences.cols(); ++j) {
+      const double gain = gained && std::isfinite(noise.gains(j)) ? noise.gains(j) : 1.0;
+      differences(i, j) = gain * differences(i, j) + sigma * rng.normal();
+    }
+  }
 }
 
 }  // namespace eitbench

@@ -61,6 +61,11 @@ void SimulationVariation::validate() const {
     throw InputError("--randomise-gain", "", "must lie in [0, 0.5)");
   if (snr_max_db != 0 && !(snr_min_db > 0 && snr_min_db <= snr_max_db && snr_max_db <= 200))
     throw InputError("--randomise-snr", "", "needs 0 < MIN <= MAX <= 200 (dB)");
+  if (!(sensor_noise >= 0 && sensor_noise < 1))
+    throw InputError("--sensor-noise", "noise", "must lie in [0, 1) (of the reference's RMS)");
+  for (Eigen::Index c = 0; c < sensor_gains.size(); ++c)
+    if (!std::isnan(sensor_gains(c)) && !(std::isfinite(sensor_gains(c)) && sensor_gains(c) > 0))
+      throw InputError("--sensor-noise", "gains", "must be positive and finite (or null)");
 }
 
 std::string describe(const SimulationVariation& v) {
@@ -75,6 +80,13 @@ std::string describe(const SimulationVariation& v) {
     add(fmt::format("impedances x e^U(-{0:g}, {0:g})", v.impedance_spread));
   if (v.gain_error > 0) add(fmt::format("gains {:g} %", 100 * v.gain_error));
   if (v.snr_max_db > 0) add(fmt::format("SNR {:g}-{:g} dB", v.snr_min_db, v.snr_max_db));
+  if (v.like_sensor()) {
+    double sum = 0;  // the gains' fingerprint, so that a resumed run tells two sensors apart
+    for (Eigen::Index c = 0; c < v.sensor_gains.size(); ++c)
+      if (std::isfinite(v.sensor_gains(c))) sum += (c + 1) * v.sensor_gains(c);
+    add(fmt::format("the sensor's noise {:.4g} % and {} gains (weighted sum {:.6g})",
+                    100 * v.sensor_noise, v.sensor_gains.size(), sum));
+  }
   if (!r.empty()) out += (out.empty() ? "" : "; ") + std::string("randomised: ") + r;
   return out;
 }
@@ -189,6 +201,14 @@ Eigen::VectorXd randomised_change(const ForwardModel& nominal, const Eigen::Vect
                                 std::pow(10.0, snr / 10));
     for (auto& c : change) c += sd * rng.normal();
   }
+  if (v.like_sensor()) {
+    const double sd = v.sensor_noise * reference.norm() / std::sqrt(double(reference.size()));
+    for (Eigen::Index c = 0; c < change.size(); ++c) {
+      const bool gained =
+          v.sensor_gains.size() == change.size() && std::isfinite(v.sensor_gains(c));
+      change(c) = (gained ? v.sensor_gains(c) : 1.0) * change(c) + sd * rng.normal();
+    }
+  }
   return change;
 }
 
@@ -263,6 +283,12 @@ Dataset simulate_dataset(const SimulationOptions& o, const ProgressFn& progress)
   const PixelGrid& grid = geometry.grid;
   const auto domain = o.sensor_mesh ? std::make_unique<MeshDomain>(geometry.sensor) : nullptr;
   const MeasurementProtocol& protocol = model.measurement_protocol();
+  const Eigen::Index gains = o.variation.sensor_gains.size();
+  if (gains > 0 && gains != protocol.size())
+    throw InputError("--sensor-noise", "gains",
+                     fmt::format("has {} channels' gains; the {} protocol has {}: measure them on "
+                                 "frames read on it",
+                                 gains, protocol.name(), protocol.size()));
 
   Dataset data;
   data.electrodes = mesh.num_electrodes();

@@ -63,6 +63,48 @@ void write_ranking(std::ostream& o, const std::vector<MeasuredRow>& rows, double
   }
 }
 
+// The rows that used no label of any kind: each has its error in the simulation like the sensor.
+std::vector<const MeasuredRow*> label_free(const std::vector<MeasuredRow>& rows) {
+  std::vector<const MeasuredRow*> out;
+  for (const auto& m : rows)
+    if (!std::isnan(m.like_sensor_fraction_of_radius)) out.push_back(&m);
+  return out;
+}
+
+const MeasuredRow* lowest(const std::vector<const MeasuredRow*>& rows, double MeasuredRow::*by) {
+  const MeasuredRow* best = nullptr;
+  for (const MeasuredRow* m : rows)
+    if (!best || m->*by < best->*by) best = m;
+  return best;
+}
+
+// The pick a user without labelled presses gets, and what it costs where labels exist.
+void write_pick(std::ostream& o, const std::vector<MeasuredRow>& rows, double mm) {
+  const std::vector<const MeasuredRow*> free = label_free(rows);
+  if (free.empty()) return;
+  const MeasuredRow* pick = lowest(free, &MeasuredRow::like_sensor_fraction_of_radius);
+  const MeasuredRow* best_free = lowest(free, &MeasuredRow::centre_error_median);
+  std::vector<const MeasuredRow*> all;
+  for (const auto& m : rows) all.push_back(&m);
+  const MeasuredRow* best = lowest(all, &MeasuredRow::centre_error_median);
+  o << "\n### A pick without labels\n\nThe rows that use no label of any kind, each tuned as "
+       "its training says, scored first in the simulation like the sensor (simulated presses "
+       "with the noise and channel gains measured on the calibration set's references, "
+       "docs/real-presses.md), then on the real presses; median centre error.\n\n"
+       "| method | tuned on | simulation like the sensor | real presses |\n|---|---|---|---|\n";
+  for (const MeasuredRow* m : free)
+    o << fmt::format("| {}{} | {} | {} | {} |\n", m == pick ? "**pick:** " : "", name(*m),
+                     m->training, length(m->like_sensor_fraction_of_radius, mm),
+                     length(m->centre_error_median, mm));
+  o << fmt::format(
+      "\nThe pick is **{}** ({}): {} median on the real presses. Regret against the best row "
+      "without labels ({}, {}): **{}**; against the best row of all ({}, {}, {}): {}.\n",
+      name(*pick), pick->training, length(pick->centre_error_median, mm), name(*best_free),
+      best_free->training, length(pick->centre_error_median - best_free->centre_error_median, mm),
+      name(*best), best->training, length(best->centre_error_median, mm),
+      length(pick->centre_error_median - best->centre_error_median, mm));
+}
+
 const MeasuredRow* find(const std::vector<MeasuredRow>& rows, const std::string& augment,
                         const std::string& training, int n) {
   for (const auto& m : rows)
@@ -177,6 +219,7 @@ void write_press_section(std::ostream& o, const RunResults& r) {
       mm > 0 ? fmt::format(", with millimetres for R = {:g} mm", mm) : "", first.calibration,
       first.novel_frames);
   write_ranking(o, r.measured, mm);
+  write_pick(o, r.measured, mm);
   write_finetune(o, r.measured, mm);
 }
 

@@ -225,7 +225,8 @@ json to_json(const MeasuredRow& m) {
           {"novel_centre_error_mean", number(m.novel_centre_error_mean)},
           {"latency_median_ms", number(m.latency_median_ms)},
           {"settings", m.settings},
-          {"simulated_fraction_of_radius", number(m.simulated_fraction_of_radius)}};
+          {"simulated_fraction_of_radius", number(m.simulated_fraction_of_radius)},
+          {"like_sensor_fraction_of_radius", number(m.like_sensor_fraction_of_radius)}};
 }
 
 MeasuredRow measured_row_from_json(const json& j) {
@@ -249,6 +250,9 @@ MeasuredRow measured_row_from_json(const json& j) {
   m.latency_median_ms = number(j.at("latency_median_ms"));
   m.settings = j.at("settings").get<std::string>();
   m.simulated_fraction_of_radius = number(j.at("simulated_fraction_of_radius"));
+  // Absent from records made before the simulation like the sensor.
+  if (j.contains("like_sensor_fraction_of_radius"))
+    m.like_sensor_fraction_of_radius = number(j.at("like_sensor_fraction_of_radius"));
   return m;
 }
 

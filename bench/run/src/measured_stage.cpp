@@ -95,6 +95,9 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
   p["methods"] = methods;
   p["scores"] = "all presses and those at new positions (0.01 R)";
   p["label-free rows"] = "one-step methods: GCV on CAL's frames, touch threshold 0.5";
+  p["like the sensor"] =
+      "200 + 200 one-touch simulated frames with CAL's reference noise and gains; lambda and "
+      "rule there";
   p["press rule"] = "strongest blob or centroid, and the threshold, chosen on CAL";
   p["sensor"] = file_hash(config.sensor);  // its press fit gives rows of its own
   p["calibrated rows"] = "sensor fit; each method's affine position map on CAL";
@@ -146,6 +149,7 @@ struct StageInputs {
   const RunResults& simulated;
   // The sensor file's press fit (calibrate --presses on CAL), when it has one.
   const std::optional<SensorPressFit>& press_fit;
+  const std::optional<LikeSensor>& like;  // the simulation like the sensor, when CAL allows it
 };
 
 // Positions on the model back in the recorded frame, by the inverse of the sensor's press fit.
@@ -185,11 +189,15 @@ MeasuredRow row_for(const StageInputs& in, const std::string& method, const std:
 void log_row(const Context& context, const MeasuredRow& row) {
   context.say(fmt::format(
       "{:>12} {:>9} {:>19} n={:<4}: centre error median {:.3f} R, mean {:.3f} R, p90 {:.3f} R; "
-      "new positions {:.3f} / {:.3f} R{}",
+      "new positions {:.3f} / {:.3f} R{}{}",
       row.method, row.augment, row.training, row.finetune_n, row.centre_error_fraction_of_radius,
       row.centre_error_mean, row.centre_error_p90, row.novel_centre_error_median,
       row.novel_centre_error_mean,
-      row.none_found > 0 ? fmt::format(" ({} without a touch)", row.none_found) : ""));
+      row.none_found > 0 ? fmt::format(" ({} without a touch)", row.none_found) : "",
+      std::isnan(row.like_sensor_fraction_of_radius)
+          ? ""
+          : fmt::format("; like the sensor in simulation {:.3f} R",
+                        row.like_sensor_fraction_of_radius)));
 }
 
 // `row` again, scored at `moved` (its positions corrected by `how`, named in its training and
@@ -261,6 +269,25 @@ void push_twins(const StageInputs& in, const MeasuredRow& row, const Located& lo
 
 // The label-free tuning on real frames: GCV on CAL's frames, their positions unread.
 constexpr const char* kOnFrames = "calibration frames (GCV)";
+// The label-free tuning in simulation: lambda and the press rule on the simulated validation
+// frames drawn with CAL's measured noise and gains (like_sensor.cpp).
+constexpr const char* kLikeSensor = "simulation like the sensor";
+
+// A row without labels: its hyperparameter and press rule chosen as the row chose them, on the
+// simulation like the sensor (GCV on its validation frames for a row tuned by GCV on CAL's, the
+// validation CC and the rule on its labelled validation frames for a row tuned there), then its
+// median centre error on that simulation's test frames: what the report picks by.
+double like_sensor_score(const StageInputs& in, const std::string& name, bool by_gcv,
+                         Reconstructor* tuned, const PressRule& rule) {
+  if (!in.like) return NAN;
+  const PixelGrid& grid = in.reconstruction.grid;
+  if (!by_gcv) return like_sensor_median(*tuned, grid, *in.like, rule);
+  MethodOptions mo;
+  mo.choose = "gcv";
+  auto method = make_reconstructor(name, in.reconstruction.problem, mo);
+  method->fit(in.like->validation_frames, SampleMatrix(), nullptr);
+  return like_sensor_median(*method, grid, *in.like, rule);
+}
 
 // A model-based method tuned two ways: in simulation (noise-free validation CC, as the main row
 // at infinite SNR) and on CAL's presses (the lowest mean centre error); the one-step Tikhonov
@@ -272,15 +299,24 @@ void model_based_rows(const StageInputs& in, const std::string& name,
   const MethodSpec& spec = find_method(name);
   const PixelGrid& grid = in.reconstruction.grid;
   const double background = in.reconstruction.problem->background;
-  for (const std::string training : {"simulation", kOnFrames, "calibration presses"}) {
-    const bool on_frames = training == kOnFrames;
+  for (const std::string training : {"simulation", kOnFrames, kLikeSensor, "calibration presses"}) {
+    const bool on_frames = training == kOnFrames, like = training == kLikeSensor;
     if (on_frames && spec.default_choice != "gcv") continue;  // GCV is the one-step methods'
-    Eigen::Index tuned_on = 0;                                // real presses
+    // The iterative methods and the shape fit would sweep on few frames: left to the others.
+    if (like && (!in.like || spec.sweep_on_subset)) continue;
+    Eigen::Index tuned_on = 0;  // real presses
     MethodOptions mo;
     mo.choose = on_frames ? "gcv" : "validation";
     auto method = make_reconstructor(name, in.reconstruction.problem, mo);
+    if (like && method->finds_circles()) continue;
+    PressRule like_rule;  // the row's press rule in the simulation like the sensor
     if (on_frames) {
       method->fit(in.cal.frames, SampleMatrix(), nullptr);
+    } else if (like) {
+      fit_on_validation(*method, name, config, in.like->validation_frames,
+                        in.like->validation_labels, grid);
+      like_rule = choose_press_rule(method->reconstruct_all(in.like->validation_frames), grid,
+                                    in.like->validation_touches);
     } else if (training == std::string("simulation")) {
       fit_on_validation(*method, name, config, in.data.validation.frames, in.data.validation.labels,
                         grid);
@@ -298,15 +334,25 @@ void model_based_rows(const StageInputs& in, const std::string& name,
     // The map is CAL's: a method tuned without labels keeps to labels it never saw.
     const bool mapped = training == std::string("calibration presses");
     Located on_cal;
-    const PressRule rule =
-        on_frames ? PressRule{}
-                  : press_rule(*method, grid, background, in.cal, mapped ? &on_cal : nullptr);
+    const PressRule rule = on_frames || like ? like_rule
+                                             : press_rule(*method, grid, background, in.cal,
+                                                          mapped ? &on_cal : nullptr);
     const Located located =
         located_presses(*method, grid, background, in.set, rule, config.timed_frames);
     MeasuredRow row = row_for(in, name, "-", training, located);
     row.finetune_n = static_cast<int>(tuned_on);
+    if (on_frames || like)
+      row.like_sensor_fraction_of_radius =
+          like_sensor_score(in, name, on_frames, method.get(), rule) / grid.radius();
     if (!std::isnan(rule.threshold))
-      row.settings += ", " + rule_settings(rule, on_frames ? "fixed: no labels" : "on CAL");
+      row.settings += ", " + rule_settings(rule, on_frames ? "fixed: no labels"
+                                                 : like    ? "on the simulation like the sensor"
+                                                           : "on CAL");
+    if (like)
+      row.settings += fmt::format(
+          "; simulated with CAL's noise ({:.3g} % of the reference) and "
+          "gains (spread {:.2f})",
+          100 * in.like->noise.noise, in.like->noise.gain_spread);
     log_row(in.context, row);
     rows.push_back(row);
     push_twins(in, row, located, mapped ? &on_cal : nullptr, rows);
@@ -334,6 +380,23 @@ MeasuredRow learned_row(const StageInputs& in, const LearnedModel& model,
   if (training != "simulation") row.simulated_fraction_of_radius = NAN;
   log_row(in.context, row);
   if (twins) push_twins(in, row, located, &on_cal, *twins);
+  return row;
+}
+
+// The learned model trained in simulation, its press rule chosen on the simulation like the
+// sensor instead of on CAL's presses: a row without labels. No candidate for the pick: the
+// simulation's one-touch frames were among its training samples.
+MeasuredRow learned_like_row(const StageInputs& in, const LearnedModel& model,
+                             const std::string& augment) {
+  const auto method = make_learned_reconstructor(model);
+  const PixelGrid& grid = in.reconstruction.grid;
+  const PressRule rule = choose_press_rule(method->reconstruct_all(in.like->validation_frames),
+                                           grid, in.like->validation_touches);
+  const Located located =
+      located_presses(*method, grid, 0, in.set, rule, in.context.config.timed_frames);
+  MeasuredRow row = row_for(in, "dnn", augment, "simulation, rule like the sensor", located);
+  row.settings = rule_settings(rule, "on the simulation like the sensor");
+  log_row(in.context, row);
   return row;
 }
 
@@ -448,6 +511,7 @@ std::vector<MeasuredRow> measured_rows(const StageInputs& in, const LearnedSetup
     std::vector<MeasuredRow> twins;
     rows.push_back(learned_row(in, models.back(), augment, "simulation", 0, true, &twins));
     rows.insert(rows.end(), twins.begin(), twins.end());
+    if (in.like) rows.push_back(learned_like_row(in, models.back(), augment));
     // Fine-tuning starts from the model trained with the whole group when there is one.
     if (!base || augment == "d16") base = &models.back();
   }
@@ -509,7 +573,9 @@ std::vector<MeasuredRow> run_measured(const Context& context, const RunData& dat
         "it",
         press_fit->presses, press_fit->scale, press_fit->rotate_degrees,
         press_fit->mirror ? " after the mirror" : ""));
-  const StageInputs in{context, data, reconstruction, set, cal, simulated, press_fit};
+  const std::optional<LikeSensor> like =
+      like_sensor(context, data, reconstruction.problem, cal.frames);
+  const StageInputs in{context, data, reconstruction, set, cal, simulated, press_fit, like};
   rows = measured_rows(in, setup, augments);
   nlohmann::json j = nlohmann::json::array();
   for (const MeasuredRow& r : rows) j.push_back(to_json(r));

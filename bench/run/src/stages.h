@@ -15,6 +15,7 @@
 #include "eitbench/bench/data/dataset.h"
 #include "eitbench/bench/data/measurements.h"
 #include "eitbench/bench/io/sensor_file.h"
+#include "eitbench/bench/methods/press_scores.h"
 #include "eitbench/bench/methods/touch_signal.h"
 #include "eitbench/bench/report/results.h"
 #include "eitbench/bench/run/config.h"
@@ -130,6 +131,24 @@ std::vector<MeasuredRow> run_measured(const Context& context, const RunData& dat
                                       const LearnedSetup& setup,
                                       const std::vector<std::string>& augments,
                                       const RunResults& simulated);
+// The simulation like the sensor (like_sensor.cpp): simulated frames that hold one touch, split
+// in two (one to tune on, one to score), with the channel gains and noise measured on the
+// calibration set's repeated references; none (said in the log) when that set has no paired
+// references.
+struct LikeSensor {
+  SampleMatrix validation_frames, validation_labels, test_frames;
+  std::vector<std::vector<PressTouch>> validation_touches, test_touches;
+  SensorNoise noise;  // measured on the references
+  double misfit = 0;  // the real frames' misfit to the model, over the reference's RMS
+  double signal = 0;  // the test frames' median RMS over the reference's RMS, as noise.signal
+};
+std::optional<LikeSensor> like_sensor(const Context& context, const RunData& data,
+                                      const std::shared_ptr<const LinearProblem>& problem,
+                                      const SampleMatrix& cal_frames);
+// The median centre error of `method` on the test frames like the sensor, its presses put by
+// `rule`.
+double like_sensor_median(const Reconstructor& method, const PixelGrid& grid,
+                          const LikeSensor& like, const PressRule& rule);
 // The press fit of the run's sensor file (calibrate --presses --out), if it has one; InputError
 // when it was fitted on the scored presses. Checked before the simulated stages too.
 std::optional<SensorPressFit> sensor_press_fit(const RunConfig& config);

@@ -85,6 +85,10 @@ class Tikhonov : public Reconstructor {
   const std::vector<double>& lambda_grid() const { return grid_; }
   // Per lambda of the grid: GCV function, residual norm and seminorm (sums over frames).
   std::vector<double> gcv_curve(const SampleMatrix& frames) const;
+  // The frames' noise as GCV estimates it at the current lambda (Wahba): the residual's power
+  // over the trace of I - H, an RMS per value. On real frames it holds the model's own error
+  // beside the noise: what the method has to regularise against.
+  double noise_estimate(const SampleMatrix& frames) const;
 
  private:
   // Per eigenvector of G, the frames' squared components along it, summed over the frames: what

@@ -10,6 +10,7 @@
 // references also wander (temperature, the skin settling): what their spread holds beyond the
 // noise is the drift. Every level is given relative to the RMS of the mean reference, so that it
 // holds in any units the frames are later brought to.
+#include <cstdint>
 #include <string>
 
 #include "eitbench/bench/data/dataset.h"
@@ -27,5 +28,12 @@ SensorNoise measure_sensor_noise(const Dataset& set, const std::string& path, in
 // The noise's RMS per input in the units of frames whose mean reference is `reference` (those
 // units, whatever scale they were brought to).
 double noise_in_units_of(const SensorNoise& noise, const Eigen::VectorXd& reference);
+
+// Difference frames of the model (the protocol's inputs, in the units of `model_reference`) as
+// the sensor would give them: each value times its channel's measured gain (a channel without a
+// gain, or gains of another length, keeps 1), plus white Gaussian noise of the measured level.
+// Row i draws from RandomStream(seed, i): the same for any thread count or subset of rows.
+void apply_sensor_noise(SampleMatrix& differences, const SensorNoise& noise,
+                        const Eigen::VectorXd& model_reference, std::uint64_t seed);
 
 }  // namespace eitbench

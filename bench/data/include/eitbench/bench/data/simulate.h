@@ -30,10 +30,18 @@ struct SimulationVariation {
   double gain_error = 0;
   // Each sample's change with white noise at an SNR uniform in [min, max] dB (max 0: none).
   double snr_min_db = 0, snr_max_db = 0;
+  // A real sensor's measured channel gains (one a channel of the protocol; NaN: none) and noise
+  // (each value's RMS over the reference frame's RMS), as calibrate --noise measures them on its
+  // unlabelled frames (docs/real-presses.md): every sample's change times the gains, plus that
+  // noise, after the draws above. Empty and 0: off.
+  Eigen::VectorXd sensor_gains;
+  double sensor_noise = 0;
 
   bool touches_set() const { return radius_max > 0; }
+  bool like_sensor() const { return sensor_gains.size() > 0 || sensor_noise > 0; }
   bool randomised() const {
-    return electrode_shift_deg > 0 || impedance_spread > 0 || gain_error > 0 || snr_max_db > 0;
+    return electrode_shift_deg > 0 || impedance_spread > 0 || gain_error > 0 || snr_max_db > 0 ||
+           like_sensor();
   }
   // InputError naming the flag (--touch-radius, --touch-contrast, --randomise-...) of a bad value
   // (the electrode shift's bound, which depends on the mesh, is checked where it is simulated).

@@ -133,6 +133,10 @@ struct MeasuredRow {
   // The same method's median centre error on the simulated test split (noise-free), x R: the
   // simulated-to-real drop is the real fraction against it. NaN where no simulated row exists.
   double simulated_fraction_of_radius = NAN;
+  // A row that uses no label: its median centre error, x R, on the simulated test frames with one
+  // touch drawn with the calibration set's measured noise and channel gains, tuned as the row is
+  // (docs/real-presses.md#a-pick-without-labels). The report picks the lowest. NaN elsewhere.
+  double like_sensor_fraction_of_radius = NAN;
 };
 nlohmann::json to_json(const MeasuredRow& row);
 MeasuredRow measured_row_from_json(const nlohmann::json& j);
