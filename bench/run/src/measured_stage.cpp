@@ -1,9 +1,10 @@
 // Stage 6: real presses (run --measured SET --calibration CAL). Every method of the run is scored
 // on where it puts each press of SET. Each model-based method twice: tuned in simulation as the
 // main rows are, and tuned on CAL's presses (the one-step methods a third time, by GCV on CAL's
-// frames without their positions); the learned models as trained in simulation; each of
-// these again through its own position map fitted on CAL and through the sensor's press fit; floors
-// from predicting the centre and from a fingerprint of CAL's labelled frames; and, with
+// frames without their positions; with CAL's references, the one-step methods and GREIT again in
+// the simulation like the sensor, like_sensor.cpp); the learned models as trained in simulation;
+// each of these again through its own position map fitted on CAL and through the sensor's press
+// fit; floors from predicting the centre and from a fingerprint of CAL's labelled frames; and, with
 // --finetune, the learned model fine-tuned on CAL's first n presses beside the same network trained
 // on them alone. Nothing is tuned or trained on SET.
 #include <fmt/core.h>
@@ -292,7 +293,9 @@ double like_sensor_score(const StageInputs& in, const std::string& name, bool by
 // A model-based method tuned two ways: in simulation (noise-free validation CC, as the main row
 // at infinite SNR) and on CAL's presses (the lowest mean centre error); the one-step Tikhonov
 // family a third way, by GCV on CAL's frames without their positions, the touch threshold fixed
-// at 0.5: no label of any kind (docs/real-presses.md#lambda-without-labels).
+// at 0.5: no label of any kind (docs/real-presses.md#lambda-without-labels); and, with the
+// simulation like the sensor, each method that does not sweep on a subset a fourth way, lambda
+// and the press rule chosen there (docs/real-presses.md#a-pick-without-labels).
 void model_based_rows(const StageInputs& in, const std::string& name,
                       std::vector<MeasuredRow>& rows) {
   const RunConfig& config = in.context.config;
