@@ -37,10 +37,12 @@ class Cli : public ::testing::Test {
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
-  Result run(const std::string& args) const {
+  Result run(const std::string& args) const { return run_after("", args); }
+  // The tool run by `prefix` (an environment, taskset, timeout: "env A=1 ").
+  Result run_after(const std::string& prefix, const std::string& args) const {
     const std::string log = path("log.txt");
-    const int status =
-        std::system((std::string(EITBENCH_CLI) + " " + args + " > " + log + " 2>&1").c_str());
+    const int status = std::system(
+        (prefix + std::string(EITBENCH_CLI) + " " + args + " > " + log + " 2>&1").c_str());
     std::ifstream in(log);
     std::stringstream text;
     text << in.rdbuf();
@@ -63,9 +65,9 @@ class Cli : public ::testing::Test {
   bool kill_when(const std::string& args, const std::function<bool()>& ready) const {
     const std::string pid_file = path("pid");
     fs::remove(pid_file);
-    if (std::system((std::string(EITBENCH_CLI) + " " + args + " > /dev/null 2>&1 & echo $! > " +
-                     pid_file)
-                        .c_str()) != 0)
+    if (std::system(
+            (std::string(EITBENCH_CLI) + " " + args + " > /dev/null 2>&1 & echo $! > " + pid_file)
+                .c_str()) != 0)
       return false;
     pid_t pid = 0;
     for (int k = 0; k < 500 && pid == 0; ++k) {

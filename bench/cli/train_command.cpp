@@ -197,6 +197,8 @@ std::function<void()> add_train_command(CLI::App& app) {
     const ModelSize size = parse_model_size(args->model, "--model");
     const TrainingOptions o = training_options(*args, *cmd, size);
     set_torch_threads(args->threads);
+    if (const std::string warning = thread_layout().warning(); !warning.empty())
+      fmt::print(stderr, "warning: {}\n", warning);
 
     const Dataset data = read_dataset(args->data);
     if (!data.has_labels())

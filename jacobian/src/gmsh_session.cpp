@@ -1,6 +1,7 @@
 #include "gmsh_session.h"
 
 #include <gmsh.h>
+#include <omp.h>
 
 #include <stdexcept>
 
@@ -11,7 +12,7 @@ std::mutex& gmsh_mutex() {
   return m;
 }
 
-GmshSession::GmshSession() {
+GmshSession::GmshSession() : openmp_threads_(omp_get_max_threads()) {
   gmsh::initialize(0, nullptr, false);
   gmsh::option::setNumber("General.Terminal", 0);
   gmsh::option::setNumber("General.Verbosity", 0);
@@ -19,6 +20,7 @@ GmshSession::GmshSession() {
 
 GmshSession::~GmshSession() {
   gmsh::finalize();
+  omp_set_num_threads(openmp_threads_);
 }
 
 int distance_threshold(const std::vector<double>& curves, const std::vector<double>& points,

@@ -1,6 +1,9 @@
 #pragma once
 // Gmsh keeps global state: one mesher at a time in the process, always initialised quietly and
 // finalised. Every mesher holds gmsh_lock() for as long as it holds a GmshSession.
+// Gmsh also sets this thread's OpenMP thread count (its General.NumThreads, 1 by default) and
+// leaves it so: a session gives the caller's back, or a mesh made before training would halve
+// LibTorch's threads, and with them change the learned figures.
 #include <mutex>
 #include <vector>
 
@@ -15,6 +18,9 @@ struct GmshSession {
   ~GmshSession();
   GmshSession(const GmshSession&) = delete;
   GmshSession& operator=(const GmshSession&) = delete;
+
+ private:
+  int openmp_threads_;  // this thread's OpenMP thread count before Gmsh set its own
 };
 
 // Element sizes of a density, for a sensor of unit size (the disk's radius).

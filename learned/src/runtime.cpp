@@ -1,10 +1,14 @@
 #include "eitbench/learned/runtime.h"
 
+#include <dlfcn.h>
+#include <omp.h>
+#include <sched.h>
 #include <torch/torch.h>
 #include <torch/version.h>
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "eitbench/jacobian/error.h"
@@ -36,11 +40,65 @@ std::string resolve_device(const std::string& name, const std::string& source) {
 }
 
 void set_torch_threads(int threads) {
-  if (threads > 0) torch::set_num_threads(threads);
+  if (threads <= 0) return;
+  // The limit is the environment's (OMP_THREAD_LIMIT); omp_set_num_threads cannot raise it.
+  if (omp_get_thread_limit() < threads)
+    throw InputError("OMP_THREAD_LIMIT", "",
+                     std::to_string(omp_get_thread_limit()) + " is below the " +
+                         std::to_string(threads) +
+                         " threads asked for: OpenMP would run fewer, the figures would change and "
+                         "OpenBLAS would wait for the missing ones for ever; raise or unset it, or "
+                         "ask for fewer threads");
+  // LibTorch trains and evaluates on this thread: its OpenMP teams, and OpenBLAS's under them,
+  // follow this thread's setting.
+  omp_set_dynamic(0);
+  torch::set_num_threads(threads);
 }
 
 int torch_threads() {
   return torch::get_num_threads();
+}
+
+namespace {
+
+// OpenBLAS's openblas_get_config where it is the BLAS loaded ("OpenBLAS 0.3.21 DYNAMIC_ARCH
+// NO_AFFINITY Zen MAX_THREADS=64"), else what the dynamic linker resolved sgemm_ from.
+std::string blas_description() {
+  using Config = char* (*)();
+  if (const auto config = reinterpret_cast<Config>(dlsym(RTLD_DEFAULT, "openblas_get_config")))
+    return config();
+  Dl_info info{};
+  if (void* sgemm = dlsym(RTLD_DEFAULT, "sgemm_"); sgemm && dladdr(sgemm, &info) && info.dli_fname)
+    return info.dli_fname;
+  return "unknown";
+}
+
+}  // namespace
+
+ThreadLayout thread_layout() {
+  ThreadLayout layout;
+  layout.threads = torch_threads();
+  layout.dynamic = omp_get_dynamic() != 0;
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  layout.cpus = sched_getaffinity(0, sizeof allowed, &allowed) == 0 ? CPU_COUNT(&allowed) : 0;
+  layout.blas = blas_description();
+  return layout;
+}
+
+std::string ThreadLayout::describe() const {
+  return std::to_string(threads) + (threads == 1 ? " thread" : " threads") + ", OpenMP dynamic " +
+         (dynamic ? "on" : "off") + ", " + std::to_string(cpus) + (cpus == 1 ? " CPU" : " CPUs") +
+         " allowed; " + blas;
+}
+
+std::string ThreadLayout::warning() const {
+  if (cpus <= 0 || threads <= cpus) return "";
+  return std::to_string(threads) + " threads on " + std::to_string(cpus) +
+         (cpus == 1 ? " CPU" : " CPUs") +
+         " this process may use (a launcher's binding or taskset): the figures are the "
+         "same, the training far slower; bind each process to as many cores as threads "
+         "(mpirun --bind-to none, or --map-by slot:PE=N) or ask for fewer threads";
 }
 
 double time_matmul(int n, int repeats) {

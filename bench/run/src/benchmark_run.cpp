@@ -31,6 +31,15 @@ void Context::say(const std::string& line) const {
 
 namespace {
 
+// LibTorch's threads, fixed whatever the launcher's environment (before anything is written: the
+// environment may refuse them). A layout that makes them wait for a core is said even under
+// --quiet: the run is then far slower, not wrong.
+void fix_threads(const RunConfig& config) {
+  set_torch_threads(config.threads);
+  const std::string warning = thread_layout().warning();
+  if (!warning.empty()) fmt::print(stderr, "warning: {}\n", warning);
+}
+
 fs::path output_folder(const RunConfig& config) {
   const fs::path out(config.out);
   if (fs::exists(out) && !fs::is_directory(out))
@@ -285,13 +294,13 @@ std::vector<WorkUnit> shard_work(const RunConfig& c, const std::vector<std::stri
 // set-up and each unit took.
 RunResults run_shard(const RunConfig& whole) {
   const auto t_start = std::chrono::steady_clock::now();
+  fix_threads(whole);
   RunConfig config = whole;
   config.out = run_shard_folder(whole.out, whole.shard_index, whole.shard_count).string();
   const fs::path out = output_folder(config);
   const FolderLock lock(out.string());
   fs::remove(out / "shard.json");
   const Context context = context_for(config, out);
-  set_torch_threads(config.threads);
   const double gemm_flops = gemm_peak(config);
   const RunData data = load_data(context);
   const Reconstruction reconstruction = set_up_reconstruction(context, data);
@@ -340,11 +349,11 @@ RunResults run_benchmark(const RunConfig& config) {
   using namespace run;
   if (config.shard_count > 1) return run_shard(config);
   const auto t_start = std::chrono::steady_clock::now();
+  fix_threads(config);
   const fs::path out = output_folder(config);
   const FolderLock lock(out.string());  // one writer per output folder
   const std::string shards = config.merge_shards ? gather_shards(config) : "";
   const Context context = context_for(config, out);
-  set_torch_threads(config.threads);
   const double gemm_flops = gemm_peak(config);
 
   const RunData data = load_data(context);

@@ -37,6 +37,7 @@ std::map<std::string, std::string> describe_machine() {
       std::filesystem::canonical("/usr/lib/x86_64-linux-gnu/libblas.so.3", error).string();
   m["blas"] = error ? "unknown" : blas;
   m["torch_threads"] = std::to_string(torch_threads());
+  m["thread_layout"] = thread_layout().describe();
   m["gpu"] = cuda_available() ? "cuda" : "none";
   return m;
 }
