@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "eitbench/augment.h"
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/matlab.h"
 #include "eitbench/bench/ktc/ktc_method.h"
@@ -126,6 +127,42 @@ TEST(KtcData, TheTrainingFilesAreKtcsProtocol) {
     EXPECT_TRUE(m.voltages.allFinite()) << s.data;  // the training data lack nothing
     const ClassImage truth = read_ktc_truth(s.truth);
     EXPECT_GT((truth.array() > 0).count(), 2000) << s.truth;
+  }
+}
+
+// The tank's symmetry on its real frames: the measured patterns, each at its own amplitude, keep
+// the quarter turns and their mirrors, the identity acts as the identity (KTC drives some pairs
+// twice, and each stays itself), and the empty tank's frame moved by each element differs from
+// itself by the tank's systematic electrode-to-electrode scatter (docs/ktc.md: 9-11 % of the frame,
+// more than the smallest target's change): augment difference frames, in which it cancels, not raw
+// ones.
+TEST(KtcData, TheTanksRealPatternsKeepTheQuarterTurnsAndTheirMirrors) {
+  if (!fs::exists(ktc_folder() + "/ref.mat"))
+    GTEST_SKIP() << "no " << ktc_folder() << " (not committed)";
+  const KtcFolder folder = scan_ktc_folder(ktc_folder());
+  const KtcMeasurement ref = read_ktc_measurement(folder.reference);
+  const MeasurementProtocol protocol("ktc", ref.patterns);
+  const auto kept = protocol_elements(protocol, group_elements(AugmentGroup::dihedral, 32));
+  ASSERT_EQ(kept.size(), 8u);
+  double smallest_change = INFINITY;
+  for (const auto& s : folder.samples)
+    smallest_change =
+        std::min(smallest_change, (read_ktc_measurement(s.data).voltages - ref.voltages).norm());
+  const Eigen::VectorXd same = pattern_action(ref.patterns, kept[0]).apply(ref.voltages);
+  EXPECT_LT((same - ref.voltages).norm(), 1e-12 * ref.voltages.norm());
+  for (const GroupElement& g : kept) {
+    const PatternAction a = pattern_action(ref.patterns, g);
+    std::vector<int> sources = a.source;
+    std::sort(sources.begin(), sources.end());
+    EXPECT_EQ(std::unique(sources.begin(), sources.end()), sources.end()) << g.to_string();
+    for (double scale : a.scale) {  // amplitude ratios: each is 1.4-1.55 (above)
+      EXPECT_GT(std::abs(scale), 1.4 / 1.55) << g.to_string();
+      EXPECT_LT(std::abs(scale), 1.55 / 1.4) << g.to_string();
+    }
+    const double moved = (a.apply(ref.voltages) - ref.voltages).norm();
+    std::printf("%s: |g ref - ref| = %.3f of |ref|, %.2f of the smallest sample's change\n",
+                g.to_string().c_str(), moved / ref.voltages.norm(), moved / smallest_change);
+    EXPECT_LT(moved / ref.voltages.norm(), 0.15) << g.to_string();
   }
 }
 

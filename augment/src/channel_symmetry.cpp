@@ -2,6 +2,7 @@
 
 #include <numeric>
 
+#include "eitbench/augment/pattern_symmetry.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
@@ -18,12 +19,12 @@ Eigen::VectorXd SignedPermutation::apply(const Eigen::VectorXd& frame) const {
 
 SignedPermutation channel_action(const MeasurementProtocol& protocol, const GroupElement& g,
                                  bool over_channels) {
-  // Current patterns move by a linear map, not a permutation of channels: not handled here.
+  // Current patterns move by a linear map, not a permutation of channels: pattern_action.
   if (protocol.has_patterns())
     throw InputError("protocol", "patterns",
                      "the " + protocol.name() +
                          " protocol is given by current patterns; its symmetry acts on them "
-                         "linearly, which the channel action does not cover");
+                         "linearly (pattern_action), not as a permutation of channels");
   const int L = protocol.electrodes();
   // P undoes g's move of the electrodes: v'(c) = v(P(c)), as FrameSymmetry's p(d) = d + s.
   std::vector<int> P(L);
@@ -70,7 +71,10 @@ std::vector<GroupElement> protocol_elements(const MeasurementProtocol& protocol,
                                             const std::vector<GroupElement>& candidates) {
   std::vector<GroupElement> out;
   for (const GroupElement& g : candidates) try {
-      channel_action(protocol, g);
+      if (protocol.has_patterns())
+        pattern_action(protocol.patterns(), g);
+      else
+        channel_action(protocol, g);
       out.push_back(g);
     } catch (const InputError&) {
       // g breaks the protocol: not in its subgroup

@@ -5,5 +5,6 @@
 #include "eitbench/augment/channel_symmetry.h"
 #include "eitbench/augment/impedance_map.h"
 #include "eitbench/augment/label_transform.h"
+#include "eitbench/augment/pattern_symmetry.h"
 #include "eitbench/augment/sensor_group.h"
 #include "eitbench/augment/symmetry.h"

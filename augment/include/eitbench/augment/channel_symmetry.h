@@ -35,7 +35,8 @@ std::vector<SignedPermutation> channel_actions(const MeasurementProtocol& protoc
                                                const std::vector<GroupElement>& elements);
 
 // The elements among `candidates` that map the protocol onto itself, in their order: the subgroup
-// a protocol read from a file keeps (all of D_L for adjacent, opposite and skip-K on the disk).
+// a protocol read from a file keeps (all of D_L for adjacent, opposite and skip-K on the disk; the
+// quarter turns and four mirrors for KTC2023's current patterns, by pattern_action).
 std::vector<GroupElement> protocol_elements(const MeasurementProtocol& protocol,
                                             const std::vector<GroupElement>& candidates);
 
