@@ -1,0 +1,183 @@
+// Simulated tanks like KTC2023's: the targets' geometry, the labels' grid and orientation, the
+// frames against the forward model, the noise asked for and its measurement from repeated
+// patterns, and (where ../shared has the challenge's files) the real frames' noise and size.
+#include <gtest/gtest.h>
+
+#include <tbb/global_control.h>
+#include <filesystem>
+#include <random>
+
+#include "eitbench/bench/ktc/tank_simulation.h"
+#include "ktc_synthetic.h"
+
+namespace eitbench {
+namespace {
+
+constexpr double kR = 0.115;
+
+TEST(KtcSimulation, TargetsLieInsideTheTankApartAndWithinTheirSizes) {
+  KtcSimulationOptions o;
+  std::mt19937_64 rng(4);
+  int polygons = 0, blobs = 0, discs = 0, classes[3] = {0, 0, 0};
+  for (int n = 0; n < 300; ++n) {
+    const auto targets = draw_ktc_targets(rng, o, kR);
+    ASSERT_GE(targets.size(), 1u);
+    ASSERT_LE(targets.size(), 3u);
+    for (std::size_t a = 0; a < targets.size(); ++a) {
+      const KtcTarget& t = targets[a];
+      EXPECT_GE(t.radius, o.smallest * kR);
+      EXPECT_LE(t.radius, o.largest * kR);
+      ++classes[t.cls];
+      (t.corners ? polygons : t.harmonics.empty() ? discs : blobs)++;
+      for (int k = 0; k < 360; ++k) {  // the boundary inside 0.9 R, outside every other target
+        const double angle = k * 3.14159265358979 / 180;
+        const Eigen::Vector2d p =
+            t.centre + t.boundary(angle) * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+        EXPECT_LT(p.norm(), 0.9 * kR + 1e-12);
+        for (std::size_t b = 0; b < targets.size(); ++b) {
+          if (b != a) {
+            EXPECT_FALSE(targets[b].contains(p));
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(polygons, 100);
+  EXPECT_GT(blobs, 100);
+  EXPECT_GT(discs, 100);
+  EXPECT_GT(classes[1], 200);
+  EXPECT_GT(classes[2], 200);
+}
+
+// A square of circumradius 1 covers 2, a hexagon 3 sqrt(3) / 2: counted on a fine grid.
+TEST(KtcSimulation, APolygonTargetIsThatPolygon) {
+  for (int corners : {4, 6}) {
+    KtcTarget t;
+    t.radius = 1, t.corners = corners, t.phase = 0.3;
+    int inside = 0;
+    const int n = 1000;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        inside += t.contains({-1 + (i + 0.5) * 2.0 / n, -1 + (j + 0.5) * 2.0 / n});
+    const double area = inside * 4.0 / (n * n);
+    EXPECT_NEAR(area, corners == 4 ? 2.0 : 3 * std::sqrt(3.0) / 2, 0.01) << corners;
+    EXPECT_NEAR(t.boundary(0.3), 1.0, 1e-12);  // a corner
+  }
+}
+
+// The labels lie on KTC's image grid (row 0 at the top) where the orientation puts the targets.
+TEST(KtcSimulation, LabelsFollowTheOrientationOfTheImage) {
+  KtcSimulationOptions o;
+  o.grid = 128;
+  for (bool clockwise : {false, true}) {
+    o.orientation.clockwise = clockwise;
+    const Eigen::Vector2d image_point(0.05, 0.04);  // right of and above the centre
+    KtcTarget t;
+    t.centre = o.orientation.to_model(image_point), t.radius = 0.02, t.cls = 2;
+    const ClassImage labels = ktc_labels({t}, kR, o);
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    int count = 0;
+    const double w = 2 * kR / o.grid;
+    for (int i = 0; i < o.grid; ++i)
+      for (int j = 0; j < o.grid; ++j)
+        if (labels(i, j) == 2)
+          sum += Eigen::Vector2d(-kR + (j + 0.5) * w, kR - (i + 0.5) * w), ++count;
+    EXPECT_NEAR(count * w * w, 3.14159265 * 0.02 * 0.02, 0.05 * 3.14159265 * 0.02 * 0.02);
+    EXPECT_LT((sum / count - image_point).norm(), 0.5 * w) << clockwise;  // a rasterised disc
+    EXPECT_EQ((labels.array() == 1).count(), 0);
+  }
+}
+
+// A synthetic tank (KTC's patterns on a coarse mesh, uniform contact impedance).
+KtcTank synthetic_tank() {
+  KtcMeasurement reference;
+  reference.path = "synthetic";
+  reference.patterns = testing::ktc_patterns();
+  reference.voltages = Eigen::VectorXd::Ones(76 * 31);
+  KtcTankOptions o;
+  o.density = MeshDensity::coarse;
+  return ktc_tank_at(reference, o, 0.8, Eigen::VectorXd::Constant(32, 5e-4));
+}
+
+TEST(KtcSimulation, FramesAreTheModelsChangeWithTheNoiseAskedForOnAnyThreads) {
+  const KtcTank tank = synthetic_tank();
+  KtcSimulationOptions o;
+  o.samples = 12;
+  const KtcSimulatedSet clean = simulate_ktc_tanks(tank, o);
+  const Eigen::VectorXd empty =
+      tank.model->measured(Eigen::VectorXd::Constant(tank.mesh.num_triangles(), 0.8));
+  for (int n = 0; n < o.samples; ++n) {
+    const Eigen::VectorXd v =
+        tank.model->measured(ktc_conductivity(tank.mesh, 0.8, clean.targets[n], o)) - empty;
+    EXPECT_LT((clean.frames.row(n).transpose() - v).norm(), 1e-12 * v.norm()) << n;
+    EXPECT_GT(v.norm(), 1e-4 * empty.norm()) << n;  // every tank holds a target it sees
+    EXPECT_GT((clean.labels[n].array() > 0).count(), 0) << n;
+  }
+  o.noise = 1e-3;
+  const KtcSimulatedSet noisy = simulate_ktc_tanks(tank, o);
+  const Eigen::MatrixXd added = noisy.frames - clean.frames;
+  EXPECT_NEAR(std::sqrt(added.squaredNorm() / added.size()), 1e-3, 0.03e-3);
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  EXPECT_EQ(simulate_ktc_tanks(tank, o).frames, noisy.frames);
+  o.resistive = 2;
+  EXPECT_THROW(simulate_ktc_tanks(tank, o), InputError);
+}
+
+// Gaussian noise of a known level, measured back from the 8 pairs KTC drives twice.
+TEST(KtcSimulation, RepeatedPatternsMeasureTheNoise) {
+  const KtcTank tank = synthetic_tank();
+  Eigen::VectorXd frame =
+      tank.model->measured(Eigen::VectorXd::Constant(tank.mesh.num_triangles(), 0.8));
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> noise(0, 2e-4);
+  for (auto& v : frame) v += noise(rng);
+  EXPECT_NEAR(repeated_pattern_noise(frame, tank.protocol->patterns()), 2e-4, 0.3e-4);
+  CurrentPatterns once = testing::ktc_patterns();
+  once.injection = once.injection.leftCols(16).eval();  // the odd pairs alone: none repeated
+  EXPECT_THROW(repeated_pattern_noise(Eigen::VectorXd::Zero(16 * 31), once), InputError);
+}
+
+std::string ktc_folder() {
+  return std::string(EITBENCH_SOURCE_DIR) + "/../shared/data/ktc2023";
+}
+
+// The real frames: their noise from the repeated pairs, and the size of a sample's change against
+// the simulated tanks' (default contrasts, the calibrated tank).
+TEST(KtcSimulation, TheRealFramesNoiseAndChangeBesideTheSimulatedOnes) {
+  if (!std::filesystem::exists(ktc_folder() + "/ref.mat"))
+    GTEST_SKIP() << "no " << ktc_folder() << " (not committed)";
+  const KtcFolder folder = scan_ktc_folder(ktc_folder());
+  const KtcMeasurement ref = read_ktc_measurement(folder.reference);
+  const double noise = repeated_pattern_noise(ref.voltages, ref.patterns);
+  std::vector<double> changes;
+  for (const auto& s : folder.samples) {
+    const KtcMeasurement m = read_ktc_measurement(s.data);
+    changes.push_back((m.voltages - ref.voltages).norm());
+    const double own = repeated_pattern_noise(m.voltages, m.patterns);
+    std::printf("%s: noise %.3g V, change %.3g V\n", s.data.c_str(), own, changes.back());
+    EXPECT_GT(own, noise / 1.5) << s.data;  // the same noise in every frame (docs/ktc.md)
+    EXPECT_LT(own, noise * 1.5) << s.data;
+  }
+  const double rms = ref.voltages.norm() / std::sqrt(ref.voltages.size());
+  std::printf("reference: noise %.3g V (%.2g of its rms)\n", noise, noise / rms);
+  EXPECT_LT(noise, 1e-3 * rms);
+  std::sort(changes.begin(), changes.end());
+  KtcTankOptions to;
+  to.density = MeshDensity::coarse;
+  const KtcTank tank = calibrate_ktc_tank(ref, to);
+  KtcSimulationOptions o;
+  o.samples = 40, o.noise = noise;
+  const KtcSimulatedSet set = simulate_ktc_tanks(tank, o);
+  std::vector<double> simulated;
+  for (int n = 0; n < o.samples; ++n) simulated.push_back(set.frames.row(n).norm());
+  std::sort(simulated.begin(), simulated.end());
+  std::printf("simulated change: %.3g / %.3g / %.3g V (10th, 50th, 90th percentile)\n",
+              simulated[4], simulated[20], simulated[36]);
+  // The simulated tanks change the frame as much as the real targets do, within a factor of 2.
+  const double real_median = (changes[1] + changes[2]) / 2;
+  EXPECT_GT(simulated[20], real_median / 2);
+  EXPECT_LT(simulated[20], real_median * 2);
+}
+
+}  // namespace
+}  // namespace eitbench
