@@ -160,8 +160,9 @@ double repeated_pattern_noise(const Eigen::VectorXd& frame, const CurrentPattern
         if (std::isfinite(v)) squares += v * v / (1 + s * s), ++count;
     }
   if (count == 0)
-    throw InputError("frame", "patterns",
-                     "no pattern is driven twice in the same direction: the noise is not measurable");
+    throw InputError(
+        "frame", "patterns",
+        "no pattern is driven twice in the same direction: the noise is not measurable");
   return std::sqrt(squares / static_cast<double>(count));
 }
 
