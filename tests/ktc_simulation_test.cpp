@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <random>
 
+#include "eitbench/bench/ktc/tank_augmentation.h"
 #include "eitbench/bench/ktc/tank_simulation.h"
 #include "ktc_synthetic.h"
 
@@ -137,12 +138,87 @@ TEST(KtcSimulation, RepeatedPatternsMeasureTheNoise) {
   EXPECT_THROW(repeated_pattern_noise(Eigen::VectorXd::Zero(16 * 31), once), InputError);
 }
 
+// Two discs in the tank, and the same discs moved by each of KTC's 8 elements: the augmented
+// set's frames and labels are the moved tank's, as the forward model and the label grid give them.
+TEST(KtcAugmentation, AMovedSampleIsTheMovedTanksFrameAndLabels) {
+  const KtcTank tank = synthetic_tank();
+  const CurrentPatterns& patterns = tank.protocol->patterns();
+  const std::vector<GroupElement> group = ktc_group(patterns);
+  ASSERT_EQ(group.size(), 8u);
+  KtcSimulationOptions o;
+  const Eigen::VectorXd empty =
+      tank.model->measured(Eigen::VectorXd::Constant(tank.mesh.num_triangles(), 0.8));
+  auto sample = [&](const std::vector<KtcTarget>& targets, KtcSimulatedSet& set) {
+    const Eigen::VectorXd v =
+        tank.model->measured(ktc_conductivity(tank.mesh, 0.8, targets, o)) - empty;
+    set.frames.conservativeResize(set.frames.rows() + 1, v.size());
+    set.frames.bottomRows(1) = v.transpose();
+    set.labels.push_back(ktc_labels(targets, kR, o));
+  };
+  KtcTarget a, b;
+  a.centre = {0.04, 0.03}, a.radius = 0.02, a.cls = 1;
+  b.centre = {-0.05, -0.01}, b.radius = 0.025, b.cls = 2;
+  KtcSimulatedSet one;
+  sample({a, b}, one);
+  const KtcSimulatedSet augmented = augment_ktc_set(one, patterns, group, o.orientation);
+  ASSERT_EQ(augmented.frames.rows(), 8);
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    KtcTarget ga = a, gb = b;
+    ga.centre = transform_point(a.centre, group[k], 32);
+    gb.centre = transform_point(b.centre, group[k], 32);
+    KtcSimulatedSet moved;
+    sample({ga, gb}, moved);
+    const Eigen::VectorXd got = augmented.frames.row(k).transpose();
+    const Eigen::VectorXd want = moved.frames.row(0).transpose();
+    EXPECT_LT((got - want).norm(), 1e-9 * want.norm()) << group[k].to_string();
+    EXPECT_EQ(augmented.labels[k], moved.labels[0]) << group[k].to_string();
+  }
+  EXPECT_NE(augmented.labels[1], augmented.labels[0]);  // the labels did move
+  // An eighth turn does not map the grid onto itself, nor a mirror with electrode 1 off the axes.
+  EXPECT_THROW(move_ktc_labels(one.labels[0], {4, false}, o.orientation), InputError);
+  KtcOrientation tilted;
+  tilted.first_electrode_angle = 0.3;
+  EXPECT_NO_THROW(move_ktc_labels(one.labels[0], {8, false}, tilted));
+  EXPECT_THROW(move_ktc_labels(one.labels[0], {0, true}, tilted), InputError);
+}
+
+// Each sample's change from the empty tank, and its truth.
+std::pair<std::vector<Eigen::VectorXd>, std::vector<ClassImage>> labelled_changes(
+    const KtcFolder& folder, const KtcMeasurement& ref) {
+  std::vector<Eigen::VectorXd> changes;
+  std::vector<ClassImage> truths;
+  for (const auto& s : folder.samples) {
+    changes.push_back(read_ktc_measurement(s.data).voltages - ref.voltages);
+    truths.push_back(read_ktc_truth(s.truth));
+  }
+  return {changes, truths};
+}
+
+// Tanks written with known contrasts (0.05 resistive, 20 conductive: ktc_synthetic.h) give them
+// back from their truths, to the grid's step (a factor of 1.74).
+TEST(KtcSimulation, TheContrastsFitBackFromLabelledTanks) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("eitbench_contrasts_" + std::to_string(::getpid()));
+  testing::write_synthetic_ktc(dir, {{{0.03, 0.04, 0.025, 1}}, {{-0.04, -0.02, 0.03, 2}}});
+  const KtcFolder folder = scan_ktc_folder(dir.string());
+  const KtcMeasurement ref = read_ktc_measurement(folder.reference);
+  KtcTankOptions to;  // the synthetic files' own tank
+  const KtcTank tank = ktc_tank_at(ref, to, 0.8, Eigen::VectorXd::Constant(32, 5e-4));
+  const auto [changes, truths] = labelled_changes(folder, ref);
+  const KtcContrasts c = fit_ktc_contrasts(tank, changes, truths, {});
+  std::filesystem::remove_all(dir);
+  EXPECT_NEAR(std::log10(c.resistive), std::log10(0.05), 0.25) << c.resistive;
+  EXPECT_NEAR(std::log10(c.conductive), std::log10(20.0), 0.25) << c.conductive;
+  EXPECT_LT(c.relative_residual, 0.1);
+  EXPECT_THROW(fit_ktc_contrasts(tank, changes, {}, {}), InputError);
+}
+
 std::string ktc_folder() {
   return std::string(EITBENCH_SOURCE_DIR) + "/../shared/data/ktc2023";
 }
 
-// The real frames: their noise from the repeated pairs, and the size of a sample's change against
-// the simulated tanks' (default contrasts, the calibrated tank).
+// The real frames: their noise from the repeated pairs, the targets' contrasts fitted to the four
+// truths, and the size of a sample's change against the simulated tanks' at those contrasts.
 TEST(KtcSimulation, TheRealFramesNoiseAndChangeBesideTheSimulatedOnes) {
   if (!std::filesystem::exists(ktc_folder() + "/ref.mat"))
     GTEST_SKIP() << "no " << ktc_folder() << " (not committed)";
@@ -165,8 +241,14 @@ TEST(KtcSimulation, TheRealFramesNoiseAndChangeBesideTheSimulatedOnes) {
   KtcTankOptions to;
   to.density = MeshDensity::coarse;
   const KtcTank tank = calibrate_ktc_tank(ref, to);
+  const auto [measured, truths] = labelled_changes(folder, ref);
+  const KtcContrasts fitted = fit_ktc_contrasts(tank, measured, truths, {});
+  std::printf("contrasts: resistive %.3g, conductive %.3g, residual %.3f of the changes\n",
+              fitted.resistive, fitted.conductive, fitted.relative_residual);
+  EXPECT_LT(fitted.relative_residual, 0.6);  // the truths explain most of each change
   KtcSimulationOptions o;
   o.samples = 40, o.noise = noise;
+  o.resistive = fitted.resistive, o.conductive = fitted.conductive;
   const KtcSimulatedSet set = simulate_ktc_tanks(tank, o);
   std::vector<double> simulated;
   for (int n = 0; n < o.samples; ++n) simulated.push_back(set.frames.row(n).norm());

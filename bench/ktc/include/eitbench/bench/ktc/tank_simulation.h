@@ -65,6 +65,18 @@ ClassImage ktc_labels(const std::vector<KtcTarget>& targets, double tank_radius,
 // The same set for a seed, on any thread count.
 KtcSimulatedSet simulate_ktc_tanks(const KtcTank& tank, const KtcSimulationOptions& options);
 
+// The targets' contrasts measured on labelled tanks (KTC's training samples): the resistive and
+// conductive conductivity ratios whose simulated changes, on each truth's classes moved onto the
+// tank's mesh, come nearest the measured ones (least squares over every sample's difference
+// frame, on a log grid of `steps` ratios each way).
+struct KtcContrasts {
+  double resistive = 0, conductive = 0;
+  double relative_residual = 0;  // ||simulated - measured|| / ||measured|| over the changes
+};
+KtcContrasts fit_ktc_contrasts(const KtcTank& tank, const std::vector<Eigen::VectorXd>& changes,
+                               const std::vector<ClassImage>& truths,
+                               const KtcOrientation& orientation, int steps = 13);
+
 // Each value's noise from a frame's repeated patterns: KTC drives four patterns twice with the same
 // currents (the pair 7-9 and "9 against 7"), so the two frames differ by noise and drift alone.
 // Returns the standard deviation of one value (V); InputError("frame", "patterns") when no pattern
