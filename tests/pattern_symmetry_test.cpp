@@ -85,5 +85,30 @@ TEST(PatternSymmetry, AnAsymmetricProtocolIsRefusedNamingThePatternOrDifference)
                InputError);
 }
 
+// Training on current patterns: the group none is the identity; a larger group is refused (the set
+// is expanded by pattern_action beforehand: bench/ktc/tank_augmentation.h).
+TEST(PatternSymmetry, ALearnedSetOnCurrentPatternsTakesTheIdentityOnly) {
+  AugmentSetup setup;
+  setup.group = AugmentGroup::none;
+  setup.electrodes = 32, setup.image_size = 8;
+  setup.protocol = std::make_shared<MeasurementProtocol>("ktc", testing::ktc_patterns());
+  LabelledFrames set;
+  set.frames = SampleMatrix::Random(3, 76 * 31);
+  set.labels = SampleMatrix::Random(3, 64);
+  const LabelledFrames same = expand_by_group(set, setup);
+  EXPECT_EQ(same.frames, set.frames);
+  // The labels as they were, inside the disk (the pixels outside are masked to 0).
+  EXPECT_EQ((same.labels.array() == set.labels.array() || same.labels.array() == 0).count(),
+            set.labels.size());
+  EXPECT_GT((same.labels.array() == set.labels.array()).count(), set.labels.size() / 2);
+  setup.group = AugmentGroup::dihedral;
+  try {
+    expand_by_group(set, setup);
+    ADD_FAILURE() << "D32 taken as permutations of current patterns";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "group") << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace eitbench

@@ -1,9 +1,10 @@
 #include "eitbench/augment/augmented_set.h"
 
-#include <cmath>
-#include <stdexcept>
-
 #include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
 
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/random.h"
@@ -76,6 +77,18 @@ int frame_width(const AugmentSetup& setup) {
 
 std::vector<SignedPermutation> frame_actions(const AugmentSetup& setup) {
   const auto elements = augment_elements(setup);
+  if (setup.protocol && setup.protocol->has_patterns()) {
+    // Current patterns move linearly (pattern_action), not by a permutation: only the identity
+    // is one. Their augmented sets are expanded beforehand (bench/ktc/tank_augmentation.h).
+    if (elements.size() != 1 || elements[0] != GroupElement{})
+      throw InputError("AugmentSetup", "group",
+                       "the " + setup.protocol->name() +
+                           " protocol is given by current patterns: train it with the group none "
+                           "on a set expanded by the group beforehand");
+    std::vector<int> same(static_cast<std::size_t>(setup.protocol->input_size()));
+    std::iota(same.begin(), same.end(), 0);
+    return {{same, std::vector<double>(same.size(), 1.0)}};
+  }
   if (setup.protocol && !is_adjacent(*setup.protocol))
     return channel_actions(*setup.protocol, elements);
   const FrameLayout layout = setup.protocol ? FrameLayout::reduced : setup.layout;
