@@ -89,19 +89,8 @@ TEST(KtcSimulation, LabelsFollowTheOrientationOfTheImage) {
   }
 }
 
-// A synthetic tank (KTC's patterns on a coarse mesh, uniform contact impedance).
-KtcTank synthetic_tank() {
-  KtcMeasurement reference;
-  reference.path = "synthetic";
-  reference.patterns = testing::ktc_patterns();
-  reference.voltages = Eigen::VectorXd::Ones(76 * 31);
-  KtcTankOptions o;
-  o.density = MeshDensity::coarse;
-  return ktc_tank_at(reference, o, 0.8, Eigen::VectorXd::Constant(32, 5e-4));
-}
-
 TEST(KtcSimulation, FramesAreTheModelsChangeWithTheNoiseAskedForOnAnyThreads) {
-  const KtcTank tank = synthetic_tank();
+  const KtcTank tank = testing::ktc_coarse_tank();
   KtcSimulationOptions o;
   o.samples = 12;
   const KtcSimulatedSet clean = simulate_ktc_tanks(tank, o);
@@ -126,7 +115,7 @@ TEST(KtcSimulation, FramesAreTheModelsChangeWithTheNoiseAskedForOnAnyThreads) {
 
 // Gaussian noise of a known level, measured back from the 8 pairs KTC drives twice.
 TEST(KtcSimulation, RepeatedPatternsMeasureTheNoise) {
-  const KtcTank tank = synthetic_tank();
+  const KtcTank tank = testing::ktc_coarse_tank();
   Eigen::VectorXd frame =
       tank.model->measured(Eigen::VectorXd::Constant(tank.mesh.num_triangles(), 0.8));
   std::mt19937_64 rng(9);
@@ -141,7 +130,7 @@ TEST(KtcSimulation, RepeatedPatternsMeasureTheNoise) {
 // Two discs in the tank, and the same discs moved by each of KTC's 8 elements: the augmented
 // set's frames and labels are the moved tank's, as the forward model and the label grid give them.
 TEST(KtcAugmentation, AMovedSampleIsTheMovedTanksFrameAndLabels) {
-  const KtcTank tank = synthetic_tank();
+  const KtcTank tank = testing::ktc_coarse_tank();
   const CurrentPatterns& patterns = tank.protocol->patterns();
   const std::vector<GroupElement> group = ktc_group(patterns);
   ASSERT_EQ(group.size(), 8u);

@@ -13,6 +13,7 @@
 #include "eitbench/bench/io/matlab.h"
 #include "eitbench/bench/ktc/score.h"
 #include "eitbench/bench/ktc/segmentation.h"
+#include "eitbench/bench/ktc/tank.h"
 #include "eitbench/jacobian.h"
 
 namespace eitbench::testing {
@@ -29,6 +30,17 @@ inline CurrentPatterns ktc_patterns(double amplitude = 1.5) {
   p.measurement = Eigen::MatrixXd::Zero(32, 31);
   for (int m = 0; m < 31; ++m) p.measurement(m, m) = 1, p.measurement(m + 1, m) = -1;
   return p;
+}
+
+// A tank of KTC's patterns on a coarse mesh at a uniform contact impedance, without calibration.
+inline KtcTank ktc_coarse_tank() {
+  KtcMeasurement reference;
+  reference.path = "synthetic";
+  reference.patterns = ktc_patterns();
+  reference.voltages = Eigen::VectorXd::Ones(76 * 31);
+  KtcTankOptions o;
+  o.density = MeshDensity::coarse;
+  return ktc_tank_at(reference, o, 0.8, Eigen::VectorXd::Constant(32, 5e-4));
 }
 
 inline detail::MatMatrix mat(const std::string& name, const Eigen::MatrixXd& m) {

@@ -1,0 +1,43 @@
+#pragma once
+// A learned reconstructor for the tank (docs/ktc.md#a-learned-reconstructor): eitbench's network
+// from a difference frame (every value, a level's missing ones as 0) to the signed classes on a
+// grid (+1 conductive, -1 resistive, 0 water), trained on simulated tanks, each at a random level,
+// with or without the tank's symmetry group.
+#include <cstdint>
+
+#include "eitbench/augment/augmented_set.h"
+#include "eitbench/bench/ktc/tank_simulation.h"
+#include "eitbench/learned/learned_model.h"
+#include "eitbench/learned/network_options.h"
+
+namespace eitbench {
+
+struct KtcNetworkOptions {
+  bool group = true;       // every training tank under the tank's 8 elements as well
+  long long steps = 6000;  // optimiser steps; the model kept is the best on validation
+  int batch_size = 64;
+  double learning_rate = 3e-3;          // the cosine schedule's peak
+  long long validate_every = 64 * 200;  // training samples between validations
+  double threshold = 0.5;               // an output at or beyond +-threshold is that class
+  ModelSize size = ModelSize::small;
+  std::uint64_t seed = 1;
+
+  // InputError("KtcNetworkOptions", field) for a value out of range.
+  void validate() const;
+};
+
+// `tanks` as the network learns them: each expanded by the group when asked (pattern_action and
+// the labels moved), then each row at a level drawn from 1 ... 7 (seeded), its missing values 0.
+LabelledFrames ktc_network_frames(const KtcSimulatedSet& tanks, const CurrentPatterns& patterns,
+                                  bool group, std::uint64_t seed);
+
+// Trains on `train`, keeps the best model on `validation` (both simulated, labels on one grid).
+LearnedModel train_ktc_network(const KtcSimulatedSet& train, const KtcSimulatedSet& validation,
+                               const CurrentPatterns& patterns, const KtcNetworkOptions& options);
+
+// The classes on KTC's 256 x 256 grid of a change (a frame minus the empty tank's; NaN where a
+// level removed the value).
+ClassImage ktc_network_classes(const LearnedModel& model, const Eigen::VectorXd& change,
+                               double threshold);
+
+}  // namespace eitbench
