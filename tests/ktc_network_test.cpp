@@ -2,6 +2,9 @@
 // signed labels) and a short training on simulated tanks that must beat the empty answer.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <set>
+
 #include "eitbench/bench/ktc/tank_network.h"
 #include "eitbench/learned/runtime.h"
 #include "ktc_synthetic.h"
