@@ -127,6 +127,17 @@ TEST(KtcSimulation, RepeatedPatternsMeasureTheNoise) {
   EXPECT_THROW(repeated_pattern_noise(Eigen::VectorXd::Zero(16 * 31), once), InputError);
 }
 
+// to_image undoes to_model, mirrored or not.
+TEST(KtcSimulation, AnOrientationsImagePointIsItsModelPointsInverse) {
+  for (bool clockwise : {false, true}) {
+    KtcOrientation o;
+    o.clockwise = clockwise, o.first_electrode_angle = 0.7;
+    const Eigen::Vector2d p(0.03, -0.05);
+    EXPECT_LT((o.to_image(o.to_model(p)) - p).norm(), 1e-15) << clockwise;
+    EXPECT_LT((o.to_model(o.to_image(p)) - p).norm(), 1e-15) << clockwise;
+  }
+}
+
 // Two discs in the tank, and the same discs moved by each of KTC's 8 elements: the augmented
 // set's frames and labels are the moved tank's, as the forward model and the label grid give them.
 TEST(KtcAugmentation, AMovedSampleIsTheMovedTanksFrameAndLabels) {

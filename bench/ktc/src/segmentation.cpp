@@ -16,6 +16,14 @@ Eigen::Vector2d KtcOrientation::to_model(const Eigen::Vector2d& p) const {
   return {std::cos(a) * q.x() - std::sin(a) * q.y(), std::sin(a) * q.x() + std::cos(a) * q.y()};
 }
 
+Eigen::Vector2d KtcOrientation::to_image(const Eigen::Vector2d& p) const {
+  // to_model rotates by a after the mirror: turn back by a, then mirror again.
+  const double a = clockwise ? first_electrode_angle : -first_electrode_angle;
+  const Eigen::Vector2d q(std::cos(a) * p.x() + std::sin(a) * p.y(),
+                          -std::sin(a) * p.x() + std::cos(a) * p.y());
+  return {q.x(), clockwise ? -q.y() : q.y()};
+}
+
 Eigen::MatrixXd to_ktc_grid(const Eigen::VectorXd& image, const PixelGrid& grid,
                             const KtcOrientation& orientation) {
   if (image.size() != grid.num_pixels())

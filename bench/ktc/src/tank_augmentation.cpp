@@ -1,6 +1,6 @@
 #include "eitbench/bench/ktc/tank_augmentation.h"
 
-#include <Eigen/Dense>
+#include <Eigen/Core>
 #include <cmath>
 
 #include "eitbench/augment/channel_symmetry.h"
@@ -17,18 +17,14 @@ std::vector<GroupElement> ktc_group(const CurrentPatterns& patterns) {
 ClassImage move_ktc_labels(const ClassImage& labels, const GroupElement& g,
                            const KtcOrientation& orientation) {
   const int n = static_cast<int>(labels.rows());
-  // The image point of a model point: to_model is a rotation (mirrored or not), its inverse its
-  // transpose.
-  Eigen::Matrix2d to_model;
-  to_model << orientation.to_model({1, 0}), orientation.to_model({0, 1});
-  const Eigen::Matrix2d to_image = to_model.transpose();
   const GroupElement back = inverse(g, 32);
   const double w = 2.0 / n;  // the unit square's pixels: the tank's size cancels
   ClassImage moved(labels.rows(), labels.cols());
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const Eigen::Vector2d q(-1 + (j + 0.5) * w, 1 - (i + 0.5) * w);
-      const Eigen::Vector2d q0 = to_image * transform_point(orientation.to_model(q), back, 32);
+      const Eigen::Vector2d q0 =
+          orientation.to_image(transform_point(orientation.to_model(q), back, 32));
       const double r = (1 - q0.y()) / w - 0.5, c = (q0.x() + 1) / w - 0.5;
       const long ri = std::lround(r), ci = std::lround(c);
       if (std::abs(r - ri) > 1e-6 || std::abs(c - ci) > 1e-6 || ri < 0 || ci < 0 || ri >= n ||

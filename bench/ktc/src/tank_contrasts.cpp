@@ -1,5 +1,5 @@
 // The contrasts of KTC's targets, measured on its labelled training samples.
-#include <Eigen/Dense>
+#include <Eigen/Core>
 #include <cmath>
 
 #include "eitbench/bench/ktc/tank_simulation.h"
@@ -11,14 +11,11 @@ namespace {
 // Each element's class: the truth's pixel under its centroid (KTC's 256 x 256 over [-R, R]^2).
 std::vector<std::uint8_t> element_classes(const Mesh& mesh, const ClassImage& truth, double R,
                                           const KtcOrientation& orientation) {
-  Eigen::Matrix2d to_model;
-  to_model << orientation.to_model({1, 0}), orientation.to_model({0, 1});
-  const Eigen::Matrix2d to_image = to_model.transpose();
   const int n = static_cast<int>(truth.rows());
   const double w = 2 * R / n;
   std::vector<std::uint8_t> classes(mesh.num_triangles(), 0);
   for (int t = 0; t < mesh.num_triangles(); ++t) {
-    const Eigen::Vector2d q = to_image * triangle_centroid(mesh, t);
+    const Eigen::Vector2d q = orientation.to_image(triangle_centroid(mesh, t));
     const int i = static_cast<int>(std::floor((R - q.y()) / w));
     const int j = static_cast<int>(std::floor((q.x() + R) / w));
     if (i >= 0 && j >= 0 && i < n && j < n) classes[t] = truth(i, j);

@@ -22,6 +22,8 @@ struct KtcOrientation {
 
   // The model's point under image point (x, y).
   Eigen::Vector2d to_model(const Eigen::Vector2d& image_point) const;
+  // The image point over a model point: to_model's inverse.
+  Eigen::Vector2d to_image(const Eigen::Vector2d& model_point) const;
 };
 
 // The image (grid.num_pixels() values on `grid`, a disk grid of the tank's radius R) on KTC's
