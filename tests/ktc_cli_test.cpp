@@ -1,8 +1,11 @@
 // `eitbench ktc` and `eitbench run --ktc` on a synthetic KTC folder (the challenge's layout and
 // protocol, frames from the forward model): the challenge's files written and read back, the
 // targets found, and every bad input refused with exit 2 and nothing written.
+#include <fmt/core.h>
 #include <filesystem>
+
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "cli_fixture.h"
 #include "eitbench/bench/io/atomic_file.h"
@@ -32,6 +35,13 @@ class KtcCli : public Cli {
   }
   // The flags that keep a test short: the coarse tank, a small grid.
   static std::string fast() { return " --density coarse --pixels 32"; }
+  // `args` exits 2 with a message that says `says`, and writes no OUT.
+  void refused(const std::string& args, const std::string& says) {
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
+    EXPECT_NE(r.output.find(says), std::string::npos) << args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(path("out"))) << args;
+  }
 };
 
 TEST_F(KtcCli, WritesTheChallengesFilesAndFindsTheTargets) {
@@ -74,12 +84,6 @@ TEST_F(KtcCli, WritesTheChallengesFilesAndFindsTheTargets) {
 
 TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
   make_folder();
-  auto refused = [&](const std::string& args, const std::string& says) {
-    const Result r = run(args);
-    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
-    EXPECT_NE(r.output.find(says), std::string::npos) << args << "\n" << r.output;
-    EXPECT_FALSE(fs::exists(path("out"))) << args;
-  };
   refused("ktc " + path("in") + " " + path("out") + " 0" + fast(), "level");
   refused("ktc " + path("in") + " " + path("out") + " 8" + fast(), "level");
   refused("ktc " + path("in") + " " + path("in") + " 1" + fast(), "INPUT_FOLDER");
@@ -121,8 +125,9 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
 TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   make_folder();
   // Every method at level 7 (the fewest values: the quickest), then each applied by ktc --from.
-  const Result r = run("run --ktc " + path("in") + " --out " + path("run") +
-                       " --methods tikhonov,noser,laplace,greit,tv,gn --levels 7" + fast());
+  const Result r =
+      run("run --ktc " + path("in") + " --out " + path("run") +
+          " --methods tikhonov,noser,laplace,greit,tv,gn --levels 7 --ktc-tanks 0" + fast());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* file : {"results.json", "report.md"})
     EXPECT_TRUE(fs::exists(path("run/") + file)) << file;
@@ -159,10 +164,65 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   EXPECT_EQ(mixed.exit_code, 2) << mixed.output;
   fs::remove(path("in/true2.mat"));
   const Result no_truth = run("run --ktc " + path("in") + " --out " + path("run3") +
-                              " --methods noser --levels 1" + fast());
+                              " --methods noser --levels 1 --ktc-tanks 0" + fast());
   EXPECT_EQ(no_truth.exit_code, 2) << no_truth.output;
   EXPECT_NE(no_truth.output.find("true2.mat"), std::string::npos) << no_truth.output;
   EXPECT_FALSE(fs::exists(path("run3")));
+}
+
+// The learned rows: run --ktc trains none and group on simulated tanks and scores them beside the
+// model-based methods; ktc --method dnn --from RUN applies the run's model files and scores
+// each sample as the run did.
+TEST_F(KtcCli, TheRunTrainsTheLearnedModelsAndKtcAppliesThem) {
+  make_folder();
+  const Result r =
+      run("run --ktc " + path("in") + " --out " + path("run") +
+          " --methods noser --levels 1,7 --ktc-tanks 40 --ktc-steps 20 --doublings 0" + fast());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto results = nlohmann::json::parse(read_file_bytes(path("run/results.json")));
+  const auto& arms = results.at("learned").at("arms");
+  ASSERT_EQ(arms.size(), 2u);
+  std::stringstream report;
+  report << std::ifstream(path("run/report.md")).rdbuf();
+  EXPECT_NE(report.str().find("## The learned models"), std::string::npos);
+  for (const auto& arm : arms) {
+    const std::string name = arm.at("arm");
+    EXPECT_NE(report.str().find("| dnn " + name + " |"), std::string::npos) << name;
+    EXPECT_TRUE(fs::exists(path("run/ktc_dnn_" + name + ".model"))) << name;
+    EXPECT_EQ(arm.at("end"), "budget");  // 20 steps, no doubling: the report says so
+    EXPECT_EQ(arm.at("training_frames"), name == "group" ? 8 * 32 : 32);
+    const auto& scores = arm.at("scores");  // [level][sample]
+    ASSERT_EQ(scores.size(), 2u);
+    // The challenge's convention on the run's model: each sample's score as the run had it.
+    for (int l = 0; l < 2; ++l) {
+      const std::string level = l == 0 ? "1" : "7";
+      const Result k = run("ktc " + path("in") + " " + path("dnn_" + name + level) + " " + level +
+                           " --method dnn --augment " + name + " --from " + path("run"));
+      ASSERT_EQ(k.exit_code, 0) << k.output;
+      for (int s = 0; s < 2; ++s) {
+        EXPECT_TRUE(fs::exists(path("dnn_" + name + level + "/" + std::to_string(s + 1) + ".mat")));
+        const std::string score = fmt::format("score {:.6f}", scores[l][s].get<double>());
+        EXPECT_NE(k.output.find(std::to_string(s + 1) + ": "), std::string::npos);
+        EXPECT_NE(k.output.find(score), std::string::npos) << score << "\n" << k.output;
+      }
+    }
+  }
+  // dnn needs a run; --augment goes with dnn; a KTC run trains none and group only.
+  refused("ktc " + path("in") + " " + path("out") + " 1 --method dnn", "--from");
+  refused("ktc " + path("in") + " " + path("out") + " 1 --method noser --augment group" + fast(),
+          "--augment");
+  refused("ktc " + path("in") + " " + path("out") + " 1 --method dnn --lambda 0.1 --from " +
+              path("run"),
+          "--lambda");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --augment d16" + fast(),
+          "--augment");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --ktc-tanks 5" + fast(),
+          "--ktc-tanks");
+  // A run whose model file is gone: the file named.
+  fs::remove(path("run/ktc_dnn_none.model"));
+  refused("ktc " + path("in") + " " + path("out") + " 1 --method dnn --augment none --from " +
+              path("run"),
+          "ktc_dnn_none.model");
 }
 
 }  // namespace

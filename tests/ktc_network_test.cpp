@@ -82,5 +82,26 @@ TEST(KtcNetwork, AShortTrainingBeatsTheEmptyAnswerOnUnseenTanks) {
   EXPECT_THROW(train_ktc_network(train, validation, patterns, o), InputError);
 }
 
+// A model of a current-pattern protocol keeps its patterns in its file: read back, it has the
+// same injection and measurement matrices and gives the same images; patterns of another size
+// than the network's inputs are refused.
+TEST(KtcNetwork, AModelFileKeepsItsCurrentPatterns) {
+  const CurrentPatterns patterns = testing::ktc_patterns(1.47);
+  LearnedModel model(NetworkOptions::preset(ModelSize::small, patterns.size(), 16), 32, 4);
+  model.info().protocol = std::make_shared<const MeasurementProtocol>("ktc", patterns);
+  const LearnedModel back = LearnedModel::from_bytes(model.to_bytes(), "test.model");
+  ASSERT_TRUE(back.protocol().has_patterns());
+  EXPECT_TRUE(back.protocol().patterns() == patterns);
+  EXPECT_EQ(back.protocol().name(), "ktc");
+  const SampleMatrix frames = SampleMatrix::Random(3, patterns.size());
+  EXPECT_EQ(model.reconstruct(frames), back.reconstruct(frames));
+  // Patterns of another size than the network's inputs: refused on reading.
+  CurrentPatterns fewer = patterns;
+  fewer.measurement = patterns.measurement.leftCols(30);
+  LearnedModel other = model;
+  other.info().protocol = std::make_shared<const MeasurementProtocol>("ktc", fewer);
+  EXPECT_THROW(LearnedModel::from_bytes(other.to_bytes(), "other.model"), InputError);
+}
+
 }  // namespace
 }  // namespace eitbench

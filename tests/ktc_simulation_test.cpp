@@ -50,6 +50,55 @@ TEST(KtcSimulation, TargetsLieInsideTheTankApartAndWithinTheirSizes) {
   EXPECT_GT(classes[2], 200);
 }
 
+// A band of contrasts: each target's drawn log-uniformly within its class's band, the mesh's
+// conductivity following it; a spread of 1 leaves the targets drawn as without one.
+TEST(KtcSimulation, ABandOfContrastsDrawsEachTargetWithinIt) {
+  KtcSimulationOptions o;
+  o.resistive = std::sqrt(0.01 * 0.1), o.conductive = std::sqrt(10.0 * 100),
+  o.contrast_spread = std::sqrt(10.0);
+  std::mt19937_64 rng(9);
+  double log_sum = 0;
+  int count = 0, low = 0, high = 0;
+  for (int n = 0; n < 300; ++n)
+    for (const KtcTarget& t : draw_ktc_targets(rng, o, kR)) {
+      const double centre = t.cls == 1 ? o.resistive : o.conductive;
+      const double u = std::log10(t.contrast / centre);  // uniform in [-0.5, 0.5]
+      ASSERT_GE(u, -0.5 - 1e-12);
+      ASSERT_LE(u, 0.5 + 1e-12);
+      log_sum += u, ++count;
+      low += u<-0.4, high += u> 0.4;
+    }
+  EXPECT_NEAR(log_sum / count, 0.0, 0.05);  // sd of the mean 0.29 / sqrt(600)
+  EXPECT_GT(low, count / 20);               // both ends of the band reached (10 % each)
+  EXPECT_GT(high, count / 20);
+  // The conductivity of an element inside a target is the target's own.
+  const Mesh mesh = testing::ktc_coarse_tank().mesh;
+  std::mt19937_64 one(3);
+  const auto targets = draw_ktc_targets(one, o, kR);
+  const Eigen::VectorXd sigma = ktc_conductivity(mesh, 0.8, targets, o);
+  int inside = 0;
+  for (int e = 0; e < mesh.num_triangles(); ++e)
+    for (const KtcTarget& t : targets)
+      if (t.contains(triangle_centroid(mesh, e))) {
+        EXPECT_DOUBLE_EQ(sigma[e], 0.8 * t.contrast);
+        ++inside;
+      }
+  EXPECT_GT(inside, 0);
+  // Without a spread, the same targets as ever and no contrast of their own.
+  KtcSimulationOptions plain;
+  std::mt19937_64 a(5), b(5);
+  const auto with = draw_ktc_targets(a, plain, kR);
+  for (const KtcTarget& t : with) EXPECT_EQ(t.contrast, 0.0);
+  o.contrast_spread = 1;
+  const auto without = draw_ktc_targets(b, o, kR);
+  ASSERT_EQ(with.size(), without.size());
+  for (std::size_t k = 0; k < with.size(); ++k) EXPECT_EQ(with[k].centre, without[k].centre);
+  o.contrast_spread = 0.5;
+  EXPECT_THROW(o.validate(), InputError);
+  o.contrast_spread = 40;  // 0.0316 * 40 > 1: no longer resistive
+  EXPECT_THROW(o.validate(), InputError);
+}
+
 // A square of circumradius 1 covers 2, a hexagon 3 sqrt(3) / 2: counted on a fine grid.
 TEST(KtcSimulation, APolygonTargetIsThatPolygon) {
   for (int corners : {4, 6}) {
@@ -206,7 +255,19 @@ TEST(KtcSimulation, TheContrastsFitBackFromLabelledTanks) {
   const KtcTank tank = ktc_tank_at(ref, to, 0.8, Eigen::VectorXd::Constant(32, 5e-4));
   const auto [changes, truths] = labelled_changes(folder, ref);
   const KtcContrasts c = fit_ktc_contrasts(tank, changes, truths, {});
+  // Held out: each sample left out in turn, the fit on the other alone; the first sample's
+  // resistive disc alone still gives its contrast, the second's conductive one its own.
+  const KtcContrastFits fits = fit_ktc_contrasts_held_out(tank, changes, truths, {});
+  const KtcContrasts first = fit_ktc_contrasts(tank, {changes[0]}, {truths[0]}, {});
+  const KtcContrasts second = fit_ktc_contrasts(tank, {changes[1]}, {truths[1]}, {});
   std::filesystem::remove_all(dir);
+  EXPECT_EQ(fits.all.resistive, c.resistive);
+  EXPECT_EQ(fits.all.conductive, c.conductive);
+  ASSERT_EQ(fits.without.size(), 2u);
+  EXPECT_EQ(fits.without[1].resistive, first.resistive);
+  EXPECT_EQ(fits.without[0].conductive, second.conductive);
+  EXPECT_NEAR(std::log10(first.resistive), std::log10(0.05), 0.25);
+  EXPECT_NEAR(std::log10(second.conductive), std::log10(20.0), 0.25);
   EXPECT_NEAR(std::log10(c.resistive), std::log10(0.05), 0.25) << c.resistive;
   EXPECT_NEAR(std::log10(c.conductive), std::log10(20.0), 0.25) << c.conductive;
   EXPECT_LT(c.relative_residual, 0.1);

@@ -7,13 +7,16 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 
 #include "commands.h"
 #include "eitbench/bench/io/content_hash.h"
+#include "eitbench/bench/ktc/ktc_learned.h"
 #include "eitbench/bench/ktc/ktc_method.h"
 #include "eitbench/bench/ktc/ktc_report.h"
+#include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/support/timing.h"
 #include "eitbench/jacobian/error.h"
 
@@ -21,7 +24,8 @@ namespace eitbench::cli {
 namespace {
 
 struct Args {
-  std::string input, output, method = "noser", from, segmentation, density = "medium";
+  std::string input, output, method = "noser", from, segmentation, density = "medium",
+                             augment = "group";
   int level = 1, pixels = 64;
   double lambda = 0, resistive = 0, conductive = 0, coverage = KtcTankOptions().electrode_coverage;
   KtcNoise noise;
@@ -54,9 +58,104 @@ KtcTank tank_for(const KtcMeasurement& reference, const std::string& ref_path,
   return calibrate_ktc_tank(reference, run ? run->tank : options);
 }
 
+// Every input read and checked before anything is written.
+struct Inputs {
+  KtcFolder folder;
+  KtcMeasurement reference;
+  std::vector<KtcMeasurement> data;
+  std::vector<std::optional<ClassImage>> truths;
+};
+
+Inputs read_inputs(const Args& a) {
+  Inputs in;
+  in.folder = scan_ktc_folder(a.input);
+  in.reference = read_ktc_measurement(in.folder.reference);
+  for (const auto& s : in.folder.samples) {
+    in.data.push_back(read_ktc_measurement(s.data));
+    check_same_patterns(in.data.back(), in.reference.patterns);
+    in.truths.push_back(s.truth.empty() ? std::nullopt : std::optional(read_ktc_truth(s.truth)));
+    const Eigen::VectorXd level =
+        ktc_level_frame(in.data.back().voltages, in.reference.patterns, a.level);
+    if (!level.array().isFinite().any())
+      throw InputError(s.data, "Uel", "has no value level " + std::to_string(a.level) + " keeps");
+  }
+  return in;
+}
+
+// Writes OUTPUT/N.mat for every sample (classes(k) its segmentation), timed, scored where the
+// folder has the truth; then the summary line `what`.
+void write_all(const Args& a, const Inputs& in,
+               const std::function<ClassImage(std::size_t)>& classes, const std::string& what) {
+  std::error_code error;
+  std::filesystem::create_directories(a.output, error);
+  if (error) throw InputError(a.output, "", "cannot create the folder: " + error.message());
+  double total = 0;
+  int scored = 0;
+  for (std::size_t k = 0; k < in.data.size(); ++k) {
+    const int number = in.folder.samples[k].number;
+    const auto start = std::chrono::steady_clock::now();
+    const ClassImage c = classes(k);
+    const double ms = 1e3 * seconds_since(start);
+    const std::string path =
+        (std::filesystem::path(a.output) / (std::to_string(number) + ".mat")).string();
+    write_ktc_reconstruction(path, c);
+    std::string line = fmt::format("{}: {} ({:.1f} ms)", number, path, ms);
+    if (in.truths[k]) {
+      const double score = ktc_score(*in.truths[k], c).total();
+      total += score, ++scored;
+      line += fmt::format(", score {:.6f}", score);
+    }
+    if (!a.quiet) fmt::print("{}\n", line);
+  }
+  if (!a.quiet) {
+    fmt::print("{}\n", what);
+    if (scored > 0)
+      fmt::print("score {:.3f} over {} samples (mean {:.3f}; the challenge sums 3 a level)\n",
+                 total, scored, total / scored);
+  }
+}
+
+// --method dnn: a learned model of the run, on the differences from ref.mat.
+void run_learned(const Args& a, const CLI::App& cmd) {
+  if (a.from.empty())
+    throw InputError("--method", "",
+                     "dnn is a model a KTC run trained: add --from RUN (eitbench run --ktc)");
+  for (const char* flag :
+       {"--lambda", "--segmentation", "--resistive", "--conductive", "--noise-relative",
+        "--noise-floor", "--pixels", "--electrode-coverage", "--density"})
+    if (cmd.count(flag) > 0)
+      throw InputError(flag, "",
+                       "does not apply to --method dnn (the run's model segments itself)");
+  if (a.augment != "none" && a.augment != "group")
+    throw InputError("--augment", "", "'" + a.augment + "': none or group");
+  check_folders(a);
+  const KtcRunSettings settings = read_ktc_settings(a.from);
+  const auto it = settings.models.find(a.augment);
+  if (it == settings.models.end())
+    throw InputError("--from", "", settings.path + " trained no dnn " + a.augment + " model");
+  const LearnedModel model = read_model_file(it->second);
+  const double threshold = ktc_model_threshold(model, it->second);
+  const Inputs in = read_inputs(a);
+  const MeasurementProtocol protocol = model.protocol();
+  if (!protocol.has_patterns() || !(protocol.patterns() == in.reference.patterns))
+    throw InputError(it->second, "protocol",
+                     "was trained on other current patterns than " + in.folder.reference + "'s");
+  std::vector<Eigen::VectorXd> changes;
+  for (const auto& d : in.data)
+    changes.push_back(
+        ktc_level_frame(d.voltages - in.reference.voltages, in.reference.patterns, a.level));
+  write_all(
+      a, in, [&](std::size_t k) { return ktc_network_classes(model, changes[k], threshold); },
+      fmt::format("dnn {} at level {}: {}, threshold {:.2g}", a.augment, a.level, it->second,
+                  threshold));
+}
+
 void run(const Args& a, const CLI::App& cmd) {
   ktc_removed_electrodes(a.level);  // 1 ... 7, before anything is read
-  ktc_candidates(a.method);         // a method KTC's frames can be reconstructed by
+  if (a.method == "dnn") return run_learned(a, cmd);
+  if (cmd.count("--augment") > 0)
+    throw InputError("--augment", "", "goes with --method dnn (the run's learned models)");
+  ktc_candidates(a.method);  // a method KTC's frames can be reconstructed by
   check_folders(a);
   std::optional<KtcRunSettings> settings;
   if (!a.from.empty()) settings = read_ktc_settings(a.from);
@@ -92,56 +191,22 @@ void run(const Args& a, const CLI::App& cmd) {
   rule.validate();
   noise.validate();
   check_ktc_grid(pixels);
-  // Every input read and checked before anything is written.
-  const KtcFolder folder = scan_ktc_folder(a.input);
-  const KtcMeasurement reference = read_ktc_measurement(folder.reference);
-  std::vector<KtcMeasurement> data;
-  std::vector<std::optional<ClassImage>> truths;
-  for (const auto& s : folder.samples) {
-    data.push_back(read_ktc_measurement(s.data));
-    check_same_patterns(data.back(), reference.patterns);
-    truths.push_back(s.truth.empty() ? std::nullopt : std::optional(read_ktc_truth(s.truth)));
-    const Eigen::VectorXd level =
-        ktc_level_frame(data.back().voltages, reference.patterns, a.level);
-    if (!level.array().isFinite().any())
-      throw InputError(s.data, "Uel", "has no value level " + std::to_string(a.level) + " keeps");
-  }
+  const Inputs in = read_inputs(a);
   const auto t0 = std::chrono::steady_clock::now();
   const KtcSetup setup = make_ktc_setup(
-      tank_for(reference, folder.reference, settings, tank_options, a.quiet), pixels, noise);
+      tank_for(in.reference, in.folder.reference, settings, tank_options, a.quiet), pixels, noise);
   const std::unique_ptr<MissingValues> method = make_ktc_method(setup, a.method, lambda);
   std::vector<Eigen::VectorXd> frames;
-  for (const auto& d : data) frames.push_back(ktc_difference(d, setup, a.level));
+  for (const auto& d : in.data) frames.push_back(ktc_difference(d, setup, a.level));
   for (const auto& f : frames) method->method_for(method->present_values(f));  // built, untimed
   const double setup_seconds = seconds_since(t0);
-  std::error_code error;
-  std::filesystem::create_directories(a.output, error);
-  if (error) throw InputError(a.output, "", "cannot create the folder: " + error.message());
-  double total = 0;
-  int scored = 0;
-  for (std::size_t k = 0; k < data.size(); ++k) {
-    const int number = folder.samples[k].number;
-    const auto start = std::chrono::steady_clock::now();
-    const ClassImage classes = segment(ktc_image(setup, method->reconstruct(frames[k])), rule);
-    const double ms = 1e3 * seconds_since(start);
-    const std::string path =
-        (std::filesystem::path(a.output) / (std::to_string(number) + ".mat")).string();
-    write_ktc_reconstruction(path, classes);
-    std::string line = fmt::format("{}: {} ({:.1f} ms)", number, path, ms);
-    if (truths[k]) {
-      const double score = ktc_score(*truths[k], classes).total();
-      total += score, ++scored;
-      line += fmt::format(", score {:.6f}", score);
-    }
-    if (!a.quiet) fmt::print("{}\n", line);
-  }
-  if (!a.quiet) {
-    fmt::print("{} at level {}: {}, {}; set-up {:.1f} s\n", a.method, a.level, method->settings(),
-               rule.to_string(), setup_seconds);
-    if (scored > 0)
-      fmt::print("score {:.3f} over {} samples (mean {:.3f}; the challenge sums 3 a level)\n",
-                 total, scored, total / scored);
-  }
+  write_all(
+      a, in,
+      [&](std::size_t k) {
+        return segment(ktc_image(setup, method->reconstruct(frames[k])), rule);
+      },
+      fmt::format("{} at level {}: {}, {}; set-up {:.1f} s", a.method, a.level, method->settings(),
+                  rule.to_string(), setup_seconds));
 }
 
 }  // namespace
@@ -160,7 +225,13 @@ std::function<void()> add_ktc_command(CLI::App& app) {
   cmd->add_option("LEVEL", a->level,
                   "difficulty 1 ... 7: level k leaves out electrodes 1 ... 2(k-1)")
       ->required();
-  cmd->add_option("--method", a->method, "tikhonov | noser | laplace | greit | tv | gn")
+  cmd->add_option("--method", a->method,
+                  "tikhonov | noser | laplace | greit | tv | gn | dnn (a learned model of the run "
+                  "--from names)")
+      ->capture_default_str();
+  cmd->add_option("--augment", a->augment,
+                  "with --method dnn: the run's model trained with the tank's symmetry group "
+                  "(group) or without (none)")
       ->capture_default_str();
   cmd->add_option("--from", a->from,
                   "a KTC run's folder (eitbench run --ktc): its tank, and the method's "

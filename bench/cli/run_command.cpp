@@ -21,6 +21,7 @@
 #include "eitbench/bench/support/timing.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/learned/runtime.h"
 #include "eitbench/learned/schedule.h"
 #include "options.h"
 #include "world.h"
@@ -162,12 +163,14 @@ struct KtcArgs {
   int pixels = 64;
   double coverage = KtcTankOptions().electrode_coverage;
   KtcNoise noise;
+  KtcLearnedOptions learned;  // tanks and steps here; arms, doublings and patience from run's
 };
 
 void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
   const char* group = "KTC2023 (--ktc)";
   cmd.add_option("--ktc", k.folder,
-                 "rank the model-based methods on KTC2023's training samples instead: a folder of "
+                 "rank the model-based methods and learned models on KTC2023's training samples "
+                 "instead: a folder of "
                  "ref.mat, dataN.mat and trueN.mat (docs/ktc.md)")
       ->group(group);
   cmd.add_option("--levels", k.levels, "with --ktc: the difficulty levels (default 1 ... 7)")
@@ -190,18 +193,47 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
   cmd.add_option("--noise-floor", k.noise.floor, "... and this share of the largest")
       ->capture_default_str()
       ->group(group);
+  cmd.add_option("--ktc-tanks", k.learned.tanks,
+                 "with --ktc: simulated tanks the learned models (--augment none,group) train, "
+                 "validate and test on (0: no learned rows)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 200000))
+      ->group(group);
+  cmd.add_option("--ktc-steps", k.learned.network.steps,
+                 "with --ktc: each learned model's budget in optimiser steps (batch 64), before "
+                 "the doublings (--doublings, default 3 with --ktc)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000000))
+      ->group(group);
 }
 
-void run_ktc_benchmark(const KtcArgs& k, const std::vector<std::string>& methods,
-                       const std::string& out, bool quiet, const CLI::App& cmd) {
+// The run command's own flags that a KTC run also reads (the learned rows').
+struct KtcRunFlags {
+  std::vector<std::string> methods, augments;
+  std::string out;
+  int doublings = -1, patience = -1, threads = 2;
+  double doubling_tolerance = -1;
+  bool quiet = false;
+  std::string device;  // empty: the CPU
+};
+
+void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
   for (const char* other : {"--data", "--reference", "--measured", "--mesh", "--preset", "--sensor",
-                            "--augment", "--shard", "--protocol", "--magnitude"})
+                            "--shard", "--protocol", "--magnitude", "--epochs", "--lr", "--decay"})
     if (cmd.count(other) > 0)
       throw InputError("--ktc", "",
-                       std::string("ranks the model-based methods on KTC's data: "
-                                   "leave out ") +
-                           other);
+                       std::string("ranks the methods on KTC's data: leave out ") + other);
   if (world().parallel()) throw InputError("--ktc", "", "runs as one process: leave out mpirun");
+  const std::vector<std::string>& methods = f.methods;
+  const std::string& out = f.out;
+  const bool quiet = f.quiet;
+  if (!f.augments.empty()) k.learned.arms = f.augments;
+  if (k.learned.tanks == 0) k.learned.arms.clear();
+  if (f.doublings >= 0) k.learned.rule.max_doublings = f.doublings;
+  if (f.doubling_tolerance >= 0) k.learned.rule.tolerance = f.doubling_tolerance;
+  if (f.patience >= 0) k.learned.network.patience = f.patience;
+  if (!f.device.empty()) k.learned.network.device = f.device;
+  if (!k.learned.arms.empty()) set_torch_threads(f.threads);
   KtcRunOptions o;
   o.data = k.folder;
   o.out = out.empty() ? "out/ktc" : out;
@@ -211,6 +243,7 @@ void run_ktc_benchmark(const KtcArgs& k, const std::vector<std::string>& methods
   o.tank.density = parse_density(k.density);
   o.noise = k.noise;
   o.grid = k.pixels;
+  o.learned = k.learned;
   o.quiet = quiet;
   const KtcInputs inputs = load_ktc_inputs(o);  // every file read and checked first
   if (std::filesystem::exists(o.out) && !std::filesystem::is_directory(o.out))
@@ -229,6 +262,9 @@ void run_ktc_benchmark(const KtcArgs& k, const std::vector<std::string>& methods
     fmt::print("| {} | {:.2f} | {:.2f} | lambda {:.3g}, {} | {:.1f} |\n", m.method,
                ktc_total(m.held_out), ktc_total(m.held_out_otsu), m.best.lambda,
                m.best.rule.to_string(), m.median_ms);
+  for (const auto& a : results.learned.arms)
+    fmt::print("| dnn {} | {:.2f} | — | trained in simulation ({}, {} steps) | {:.1f} |\n", a.arm,
+               ktc_total(a.scores), to_string(a.end), a.steps, a.median_ms);
   fmt::print("\nwrote {}/report.md and results.json in {:.0f} s\n", o.out, seconds_since(t0));
 }
 
@@ -311,8 +347,8 @@ std::function<void()> add_run_command(CLI::App& app) {
       ->check(CLI::IsMember(model_based_method_names()));
   cmd->add_option("--augment", args->augments,
                   "augmentations of the learned reconstructor (default: the preset's; quick: "
-                  "none,d16,paper, the others none,rotations,d16,paper; with --mesh none,group: "
-                  "group is the sensor's whole symmetry group)")
+                  "none,d16,paper, the others none,rotations,d16,paper; with --mesh or --ktc "
+                  "none,group: group is the sensor's whole symmetry group)")
       ->delimiter(',')
       ->check(CLI::IsMember({"none", "rotations", "d16", "paper", "mirror", "group"}));
   cmd->add_option("--epochs", args->epochs,
@@ -357,9 +393,13 @@ std::function<void()> add_run_command(CLI::App& app) {
   cmd->add_flag("--merge-shards", args->merge_shards)->group("");
   return [args, cmd, ktc] {
     if (cmd->count("--ktc") > 0)
-      return run_ktc_benchmark(*ktc, args->methods, args->out, args->quiet, *cmd);
+      return run_ktc_benchmark(
+          *ktc,
+          {args->methods, args->augments, args->out, args->doublings, args->patience, args->threads,
+           args->doubling_tolerance, args->quiet, args->device},
+          *cmd);
     for (const char* flag : {"--levels", "--electrode-coverage", "--density", "--pixels",
-                             "--noise-relative", "--noise-floor"})
+                             "--noise-relative", "--noise-floor", "--ktc-tanks", "--ktc-steps"})
       if (cmd->count(flag) > 0) throw InputError(flag, "", "goes with --ktc");
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;

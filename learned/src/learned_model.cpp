@@ -1,4 +1,5 @@
 #include <ATen/CPUGeneratorImpl.h>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -18,6 +19,39 @@ std::vector<std::pair<std::string, std::vector<long>>> shapes(const Network& net
     out.emplace_back(p.key(), p.value().sizes().vec());
   for (const auto& b : net->named_buffers(true)) out.emplace_back(b.key(), b.value().sizes().vec());
   return out;
+}
+
+// A matrix as rows of numbers (current patterns' injection and measurement matrices), and back:
+// InputError(source, "meta") for anything but equal rows of finite numbers, at most 1024 x 4096.
+nlohmann::json matrix_json(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    std::vector<double> row(static_cast<std::size_t>(m.cols()));
+    for (Eigen::Index j = 0; j < m.cols(); ++j) row[static_cast<std::size_t>(j)] = m(i, j);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+Eigen::MatrixXd matrix_from_json(const nlohmann::json& rows, const std::string& source) {
+  const auto bad = [&] {
+    return InputError(source, "meta", "a protocol matrix is not rows of finite numbers");
+  };
+  if (!rows.is_array() || rows.empty() || rows.size() > 1024 || !rows[0].is_array() ||
+      rows[0].empty() || rows[0].size() > 4096)
+    throw bad();
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(rows.size()),
+                    static_cast<Eigen::Index>(rows[0].size()));
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    const auto& row = rows[static_cast<std::size_t>(i)];
+    if (!row.is_array() || row.size() != static_cast<std::size_t>(m.cols())) throw bad();
+    for (Eigen::Index j = 0; j < m.cols(); ++j) {
+      const auto& v = row[static_cast<std::size_t>(j)];
+      if (!v.is_number() || !std::isfinite(v.get<double>())) throw bad();
+      m(i, j) = v.get<double>();
+    }
+  }
+  return m;
 }
 
 }  // namespace
@@ -126,7 +160,12 @@ std::string LearnedModel::to_bytes() const {
   nlohmann::json meta = {{"electrodes", i.electrodes},
                          {"augment", i.augment},
                          {"training", nlohmann::json::parse(i.training)}};
-  if (i.protocol) {
+  if (i.protocol && i.protocol->has_patterns()) {
+    const CurrentPatterns& c = i.protocol->patterns();
+    meta["protocol"] = {{"name", i.protocol->name()},
+                        {"injection", matrix_json(c.injection)},
+                        {"measurement", matrix_json(c.measurement)}};
+  } else if (i.protocol) {
     nlohmann::json channels = nlohmann::json::array();
     for (const Channel& c : i.protocol->channels())
       channels.push_back({c.drive_plus, c.drive_minus, c.meas_plus, c.meas_minus});
@@ -174,7 +213,13 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
     impl->info.electrodes = j.at("electrodes").get<int>();
     impl->info.augment = j.at("augment").get<std::string>();
     impl->info.training = j.at("training").dump();
-    if (j.contains("protocol")) {
+    if (j.contains("protocol") && j.at("protocol").contains("injection")) {
+      const auto& p = j.at("protocol");
+      CurrentPatterns c{matrix_from_json(p.at("injection"), source),
+                        matrix_from_json(p.at("measurement"), source)};
+      impl->info.protocol = std::make_shared<const MeasurementProtocol>(
+          p.at("name").get<std::string>(), std::move(c), source + ": protocol");
+    } else if (j.contains("protocol")) {
       const auto& p = j.at("protocol");
       std::vector<Channel> channels;
       for (const auto& c : p.at("channels")) {

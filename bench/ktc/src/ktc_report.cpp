@@ -84,6 +84,50 @@ json method_json(const KtcMethodResult& m) {
           {"setup_seconds", m.setup_seconds}};
 }
 
+json contrasts_json(const KtcContrasts& c) {
+  return {{"resistive", c.resistive},
+          {"conductive", c.conductive},
+          {"relative_residual", c.relative_residual}};
+}
+
+json learned_json(const KtcLearnedResults& l) {
+  json without = json::array(), arms = json::array();
+  for (const auto& c : l.contrasts.without) without.push_back(contrasts_json(c));
+  for (const KtcLearnedArm& a : l.arms)
+    arms.push_back({{"arm", a.arm},
+                    {"model_file", std::filesystem::path(a.model_file).filename().string()},
+                    {"training_frames", a.training_frames},
+                    {"end", to_string(a.end)},
+                    {"converged", converged(a.end)},
+                    {"steps", a.steps},
+                    {"doublings", a.doublings},
+                    {"stage_best_validation_mse", a.stage_best},
+                    {"training_seconds", a.training_seconds},
+                    {"simulated_test", {{"cc", a.test_cc}, {"score", a.test_score}}},
+                    {"scores", a.scores},
+                    {"total", ktc_total(a.scores)},
+                    {"median_ms", a.median_ms}});
+  const KtcNetworkOptions& n = l.options.network;
+  return {{"contrast_band",
+           {{"resistive", {l.options.resistive_low, l.options.resistive_high}},
+            {"conductive", {l.options.conductive_low, l.options.conductive_high}},
+            {"best_fit_inside", contrasts_json(l.in_band)}}},
+          {"contrasts_fitted", contrasts_json(l.contrasts.all)},
+          {"contrasts_fitted_without_each_sample", without},
+          {"noise", l.noise},
+          {"simulated", {{"train", l.train}, {"validation", l.validation}, {"test", l.test}}},
+          {"simulation_seconds", l.simulation_seconds},
+          {"threshold", n.threshold},
+          {"training",
+           {{"steps", n.steps},
+            {"batch_size", n.batch_size},
+            {"learning_rate", n.learning_rate},
+            {"patience", n.patience},
+            {"max_doublings", l.options.rule.max_doublings},
+            {"doubling_tolerance", l.options.rule.tolerance}}},
+          {"arms", arms}};
+}
+
 json results_json(const KtcRunResults& r) {
   const KtcTankOptions& t = r.tank.options;
   json methods = json::array();
@@ -108,13 +152,73 @@ json results_json(const KtcRunResults& r) {
             {"relative_residual", r.tank.relative_residual},
             {"reference_hash", r.reference_hash},
             {"calibration_seconds", r.calibration_seconds}}},
-          {"methods", methods}};
+          {"methods", methods},
+          {"learned", learned_json(r.learned)}};
+}
+
+// The learned rows' section: how they were trained, how each training ended, the simulated test
+// split, and what the group changed.
+std::string learned_markdown(const KtcLearnedResults& l) {
+  std::ostringstream o;
+  o << "\n## The learned models\n\n";
+  const KtcLearnedOptions& b = l.options;
+  o << fmt::format(
+      "eitbench's network, trained on {} simulated tanks ({} to validate on, {} to test on) drawn "
+      "on the calibrated tank: one to three resistive or conductive discs, polygons or blobs, "
+      "each target's conductivity {:.3g}-{:.3g} times the water's (resistive) or {:.3g}-{:.3g} "
+      "times (conductive), log-uniformly, with the noise of the reference's repeated patterns "
+      "({:.2g} V a value); simulated in {:.0f} s. Each training frame is shown at a level drawn "
+      "from 1 to 7, its missing values as 0: one network serves every level. \"group\" also "
+      "trains on each tank under the tank's 8 symmetry elements, applied to full frames before "
+      "the level's values are removed. The output is segmented at +-{:.2g}, fixed beforehand. "
+      "Nothing is tuned on the samples.\n\n",
+      l.train, l.validation, l.test, b.resistive_low, b.resistive_high, b.conductive_low,
+      b.conductive_high, l.noise, l.simulation_seconds, b.network.threshold);
+  o << fmt::format(
+      "The contrasts measured on the samples (their truths on the tank's mesh, the ratios whose "
+      "simulated changes come nearest the measured ones): {:.3g} resistive and {:.3g} "
+      "conductive (residual {:.0f} %)",
+      l.contrasts.all.resistive, l.contrasts.all.conductive,
+      100 * l.contrasts.all.relative_residual);
+  if (!l.contrasts.without.empty()) {
+    o << "; without each sample in turn";
+    for (std::size_t k = 0; k < l.contrasts.without.size(); ++k)
+      o << fmt::format("{} {:.3g} / {:.3g}", k == 0 ? "" : ",", l.contrasts.without[k].resistive,
+                       l.contrasts.without[k].conductive);
+  }
+  o << fmt::format(
+      ". A target's effect saturates far from the water's conductivity, so the fits scatter; "
+      "inside the band the best pair ({:.3g} / {:.3g}) leaves {:.0f} % of the changes "
+      "unexplained, against {:.0f} % at the best anywhere.\n\n",
+      l.in_band.resistive, l.in_band.conductive, 100 * l.in_band.relative_residual,
+      100 * l.contrasts.all.relative_residual);
+  o << "| model | training frames | steps | ended | converged | best validation MSE per stage | "
+       "training (s) | simulated test: CC | simulated test: KTC score | total on the samples "
+       "|\n|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const KtcLearnedArm& a : l.arms) {
+    std::string stages;
+    for (double v : a.stage_best) stages += (stages.empty() ? "" : ", ") + fmt::format("{:.4g}", v);
+    o << fmt::format("| dnn {} | {} | {} | {} | {} | {} | {:.0f} | {:.3f} | {:.3f} | {:.2f} |\n",
+                     a.arm, a.training_frames, a.steps, to_string(a.end),
+                     converged(a.end) ? "yes" : "**no**", stages, a.training_seconds, a.test_cc,
+                     a.test_score, ktc_total(a.scores));
+  }
+  const KtcLearnedArm* none = nullptr;
+  const KtcLearnedArm* group = nullptr;
+  for (const KtcLearnedArm& a : l.arms) (a.arm == "none" ? none : group) = &a;
+  if (none && group)
+    o << fmt::format(
+        "\nThe group's effect: total {:+.2f} on the samples ({:.2f} to {:.2f}), CC {:+.3f} on "
+        "the simulated test split ({:.3f} to {:.3f}).\n",
+        ktc_total(group->scores) - ktc_total(none->scores), ktc_total(none->scores),
+        ktc_total(group->scores), group->test_cc - none->test_cc, none->test_cc, group->test_cc);
+  return o.str();
 }
 
 std::string report_markdown(const KtcRunResults& r) {
   std::ostringstream o;
   const std::size_t S = r.samples.size();
-  o << "# KTC2023: model-based methods on the challenge's training samples\n\n";
+  o << "# KTC2023: reconstructions of the challenge's training samples\n\n";
   std::string levels;
   for (int l : r.options.levels) levels += (levels.empty() ? "" : ", ") + std::to_string(l);
   const auto machine = describe_machine();
@@ -140,21 +244,36 @@ std::string report_markdown(const KtcRunResults& r) {
        "frame | set-up a level (s) |\n|---";
   for (std::size_t l = 0; l < r.options.levels.size() + 6; ++l) o << "|---";
   o << "|\n";
-  std::vector<const KtcMethodResult*> order;
-  for (const auto& m : r.methods) order.push_back(&m);
-  std::sort(order.begin(), order.end(),
-            [](auto* a, auto* b) { return ktc_total(a->held_out) > ktc_total(b->held_out); });
-  for (const KtcMethodResult* m : order) {
-    o << "| " << m->method;
-    for (const auto& level : m->held_out) o << fmt::format(" | {:.2f}", ktc_level_total(level));
+  struct Row {
+    double total;
+    std::string text;
+  };
+  std::vector<Row> rows;
+  for (const KtcMethodResult& m : r.methods) {
+    std::string t = "| " + m.method;
+    for (const auto& level : m.held_out) t += fmt::format(" | {:.2f}", ktc_level_total(level));
     double setup = 0;
-    for (double s : m->setup_seconds) setup += s;
-    o << fmt::format(
-        " | **{:.2f}** | {:.2f} | {:.2f} | lambda {:.3g}{}, {} | {:.1f} | {:.1f} |\n",
-        ktc_total(m->held_out), ktc_total(m->held_out_otsu), ktc_total(m->in_sample),
-        m->best.lambda, on_the_edge(*m) ? " (edge)" : "", m->best.rule.to_string(), m->median_ms,
-        setup / static_cast<double>(std::max<std::size_t>(1, m->setup_seconds.size())));
+    for (double s : m.setup_seconds) setup += s;
+    t += fmt::format(" | **{:.2f}** | {:.2f} | {:.2f} | lambda {:.3g}{}, {} | {:.1f} | {:.1f} |\n",
+                     ktc_total(m.held_out), ktc_total(m.held_out_otsu), ktc_total(m.in_sample),
+                     m.best.lambda, on_the_edge(m) ? " (edge)" : "", m.best.rule.to_string(),
+                     m.median_ms,
+                     setup / static_cast<double>(std::max<std::size_t>(1, m.setup_seconds.size())));
+    rows.push_back({ktc_total(m.held_out), t});
   }
+  for (const KtcLearnedArm& a : r.learned.arms) {  // nothing tuned on the samples: one figure
+    std::string t = "| dnn " + a.arm;
+    for (const auto& level : a.scores) t += fmt::format(" | {:.2f}", ktc_level_total(level));
+    t += fmt::format(
+        " | **{:.2f}** | — | {:.2f} | trained in simulation{}, threshold {:.2g} | "
+        "{:.1f} | — |\n",
+        ktc_total(a.scores), ktc_total(a.scores), a.arm == "group" ? " with the group" : "",
+        r.learned.options.network.threshold, a.median_ms);
+    rows.push_back({ktc_total(a.scores), t});
+  }
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const Row& a, const Row& b) { return a.total > b.total; });
+  for (const Row& row : rows) o << row.text;
   o << "\nThe challenge's published totals, on its evaluation set (other targets, scored blind; "
        "these samples are its training set):\n\n| entry | total of 21 |\n|---|---|\n";
   for (const Anchor& a : kAnchors) o << fmt::format("| {} | {:.2f} |\n", a.who, a.total);
@@ -163,6 +282,7 @@ std::string report_markdown(const KtcRunResults& r) {
        "the setting), and building the method on a level's values once (seconds), each timed "
        "while another level ran beside it, one a core. \"(edge)\": the setting lies on its "
        "candidates' first or last value, and a wider grid might do better.\n";
+  if (!r.learned.arms.empty()) o << learned_markdown(r.learned);
   if (can_draw_figures()) {
     o << "\n## Segmentations\n\nEach method with its setting tuned on every sample (water dark, "
          "resistive green, conductive yellow), the truth on top.\n\n";
@@ -191,6 +311,11 @@ void draw_level(const KtcRunResults& r, std::size_t l, const std::string& path) 
       row.images.push_back(as_vector(segment(to_ktc_grid(image, grid, {}), m.best.rule)));
     rows.push_back(row);
   }
+  for (const KtcLearnedArm& a : r.learned.arms) {
+    ImageRow row{"dnn " + a.arm, {}, 0, 2};
+    for (const ClassImage& c : a.classes[l]) row.images.push_back(as_vector(c));
+    rows.push_back(row);
+  }
   draw_image_grid_png(rows, ktc.mask(),
                       fmt::format("KTC level {}: samples {} ... {}", r.options.levels[l],
                                   r.samples.front(), r.samples.back()),
@@ -205,7 +330,7 @@ void write_ktc_run(const KtcRunResults& r) {
                         [&](std::ostream& s) { s << results_json(r).dump(1) << '\n'; });
   write_text_atomically((out / "report.md").string(),
                         [&](std::ostream& s) { s << report_markdown(r); });
-  if (!can_draw_figures() || r.methods.empty()) return;
+  if (!can_draw_figures() || (r.methods.empty() && r.learned.arms.empty())) return;
   for (std::size_t l = 0; l < r.options.levels.size(); ++l)
     draw_level(r, l, (out / fmt::format("ktc_level{}.png", r.options.levels[l])).string());
 }
@@ -274,6 +399,20 @@ KtcRunSettings parse_settings(const json& j, const std::string& path) {
     method.rule.conductive = number(seg, "conductive", where + "segmentation.");
     method.rule.validate();
     s.methods[name] = method;
+  }
+  if (j.contains("learned")) {  // runs before the learned rows have none
+    const json& arms = need(need(j, "learned", ""), "arms", "learned.");
+    if (!arms.is_array()) throw InputError(path, "learned.arms", "must be a list");
+    for (const json& a : arms) {
+      const std::string arm = text(a, "arm", "learned.arms[].");
+      const std::string file = text(a, "model_file", "learned.arms[" + arm + "].");
+      if (arm != "none" && arm != "group")
+        throw InputError(path, "learned.arms[].arm", "'" + arm + "' is none or group");
+      if (file.empty() || std::filesystem::path(file).filename().string() != file)
+        throw InputError(path, "learned.arms[" + arm + "].model_file",
+                         "must be a file name in the run's folder");
+      s.models[arm] = (std::filesystem::path(path).parent_path() / file).string();
+    }
   }
   s.tank.validate();
   s.noise.validate();

@@ -166,7 +166,8 @@ void KtcRunOptions::validate() const {
     if (std::count(levels.begin(), levels.begin() + static_cast<std::ptrdiff_t>(k), levels[k]))
       throw InputError("--levels", "", "lists level " + std::to_string(levels[k]) + " twice");
   }
-  if (methods.empty()) throw InputError("--methods", "", "needs at least one method");
+  if (methods.empty() && learned.arms.empty())
+    throw InputError("--methods", "", "needs at least one method");
   for (std::size_t k = 0; k < methods.size(); ++k) {
     if (std::find(ktc_method_names().begin(), ktc_method_names().end(), methods[k]) ==
         ktc_method_names().end())
@@ -177,6 +178,7 @@ void KtcRunOptions::validate() const {
   check_ktc_grid(grid);
   tank.validate();
   noise.validate();
+  learned.validate();
 }
 
 KtcInputs load_ktc_inputs(const KtcRunOptions& options) {
@@ -276,6 +278,12 @@ KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
     out.methods.push_back(sweep(setup, m, samples, options.levels, scorers, progress, done));
   progress.finish();
   out.tank = setup.tank;
+  if (!options.learned.arms.empty()) {
+    std::vector<KtcMeasurement> measurements;
+    for (const Sample& s : samples) measurements.push_back(s.measurement);
+    out.learned = run_ktc_learned(setup, measurements, out.truths, options.levels, options.learned,
+                                  options.out, options.quiet);
+  }
   return out;
 }
 

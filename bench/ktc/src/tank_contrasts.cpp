@@ -25,40 +25,85 @@ std::vector<std::uint8_t> element_classes(const Mesh& mesh, const ClassImage& tr
 
 }  // namespace
 
-KtcContrasts fit_ktc_contrasts(const KtcTank& tank, const std::vector<Eigen::VectorXd>& changes,
-                               const std::vector<ClassImage>& truths,
-                               const KtcOrientation& orientation, int steps) {
+KtcContrastFits fit_ktc_contrasts_held_out(const KtcTank& tank,
+                                           const std::vector<Eigen::VectorXd>& changes,
+                                           const std::vector<ClassImage>& truths,
+                                           const KtcOrientation& orientation, int steps) {
   if (changes.size() != truths.size() || changes.empty())
     throw InputError("fit_ktc_contrasts", "truths", "one truth a measured change, at least one");
   if (steps < 2) throw InputError("fit_ktc_contrasts", "steps", "must be at least 2");
   const double s0 = tank.background;
   const Eigen::VectorXd empty =
       tank.model->measured(Eigen::VectorXd::Constant(tank.mesh.num_triangles(), s0));
+  const std::size_t S = truths.size();
   std::vector<std::vector<std::uint8_t>> classes;
-  double measured = 0;
-  for (std::size_t k = 0; k < truths.size(); ++k) {
+  std::vector<double> measured;
+  for (std::size_t k = 0; k < S; ++k) {
     classes.push_back(element_classes(tank.mesh, truths[k], tank.options.radius, orientation));
-    measured += changes[k].squaredNorm();
+    measured.push_back(changes[k].squaredNorm());
   }
-  // Ratios 10^-3 ... 10^-0.1 resistive and 10^0.1 ... 10^3 conductive, log-spaced.
+  // Ratios 10^-3 ... 10^-0.1 resistive and 10^0.1 ... 10^3 conductive, log-spaced; each sample's
+  // misfit at each pair once, so that any subset's fit is a sum over it.
   auto ratio = [&](int i, double low, double high) {
     return std::pow(10.0, low + (high - low) * i / (steps - 1));
   };
-  KtcContrasts best;
-  double best_misfit = INFINITY;
+  KtcContrastFits fits;
+  fits.measured = measured;
   for (int a = 0; a < steps; ++a)
     for (int b = 0; b < steps; ++b) {
-      const double r = ratio(a, -3, -0.1), c = ratio(b, 0.1, 3);
-      double misfit = 0;
-      for (std::size_t k = 0; k < truths.size(); ++k) {
+      KtcContrastFits::Point p{ratio(a, -3, -0.1), ratio(b, 0.1, 3), {}};
+      for (std::size_t k = 0; k < S; ++k) {
         Eigen::VectorXd sigma(tank.mesh.num_triangles());
         for (int t = 0; t < sigma.size(); ++t)
-          sigma[t] = s0 * (classes[k][t] == 1 ? r : classes[k][t] == 2 ? c : 1.0);
-        misfit += (tank.model->measured(sigma) - empty - changes[k]).squaredNorm();
+          sigma[t] = s0 * (classes[k][t] == 1   ? p.resistive
+                           : classes[k][t] == 2 ? p.conductive
+                                                : 1.0);
+        p.misfit.push_back((tank.model->measured(sigma) - empty - changes[k]).squaredNorm());
       }
-      if (misfit < best_misfit) best_misfit = misfit, best = {r, c, std::sqrt(misfit / measured)};
+      fits.grid.push_back(std::move(p));
     }
+  auto best_without = [&](std::size_t left_out) {  // S: none left out
+    KtcContrasts best;
+    double best_misfit = INFINITY, norm = 0;
+    for (std::size_t k = 0; k < S; ++k)
+      if (k != left_out) norm += measured[k];
+    for (const auto& p : fits.grid) {
+      double misfit = 0;
+      for (std::size_t k = 0; k < S; ++k)
+        if (k != left_out) misfit += p.misfit[k];
+      if (misfit < best_misfit)
+        best_misfit = misfit, best = {p.resistive, p.conductive, std::sqrt(misfit / norm)};
+    }
+    return best;
+  };
+  fits.all = best_without(S);
+  if (S > 1)
+    for (std::size_t k = 0; k < S; ++k) fits.without.push_back(best_without(k));
+  return fits;
+}
+
+KtcContrasts KtcContrastFits::best_within(double r_low, double r_high, double c_low,
+                                          double c_high) const {
+  KtcContrasts best;
+  best.relative_residual = INFINITY;
+  double norm = 0;
+  for (double m : measured) norm += m;
+  for (const Point& p : grid) {
+    if (p.resistive < r_low || p.resistive > r_high || p.conductive < c_low ||
+        p.conductive > c_high)
+      continue;
+    double misfit = 0;
+    for (double m : p.misfit) misfit += m;
+    const double residual = std::sqrt(misfit / norm);
+    if (residual < best.relative_residual) best = {p.resistive, p.conductive, residual};
+  }
   return best;
+}
+
+KtcContrasts fit_ktc_contrasts(const KtcTank& tank, const std::vector<Eigen::VectorXd>& changes,
+                               const std::vector<ClassImage>& truths,
+                               const KtcOrientation& orientation, int steps) {
+  return fit_ktc_contrasts_held_out(tank, changes, truths, orientation, steps).all;
 }
 
 }  // namespace eitbench

@@ -12,17 +12,6 @@ namespace {
 
 constexpr int kLevels = 7;
 
-// The set-up the trainer checks the frames against: the tank's protocol, no group (the set is
-// expanded beforehand: current patterns move linearly).
-AugmentSetup network_setup(const CurrentPatterns& patterns, int grid) {
-  AugmentSetup setup;
-  setup.group = AugmentGroup::none;
-  setup.electrodes = patterns.electrodes();
-  setup.image_size = grid;
-  setup.protocol = std::make_shared<MeasurementProtocol>("ktc", patterns);
-  return setup;
-}
-
 }  // namespace
 
 void KtcNetworkOptions::validate() const {
@@ -34,6 +23,7 @@ void KtcNetworkOptions::validate() const {
   if (!(learning_rate > 0) || !std::isfinite(learning_rate))
     fail("learning_rate", "must be positive");
   if (validate_every < 1) fail("validate_every", "must be at least 1");
+  if (patience < 0) fail("patience", "must not be negative");
   if (!(threshold > 0 && threshold < 1)) fail("threshold", "must lie in (0, 1)");
 }
 
@@ -64,21 +54,39 @@ LabelledFrames ktc_network_frames(const KtcSimulatedSet& tanks, const CurrentPat
   return out;
 }
 
-LearnedModel train_ktc_network(const KtcSimulatedSet& train, const KtcSimulatedSet& validation,
-                               const CurrentPatterns& patterns, const KtcNetworkOptions& o) {
-  o.validate();
-  const LabelledFrames t = ktc_network_frames(train, patterns, o.group, o.seed);
-  const LabelledFrames v = ktc_network_frames(validation, patterns, false, o.seed + 1);
-  const int grid = static_cast<int>(train.labels.at(0).rows());
-  const NetworkOptions network =
-      NetworkOptions::preset(o.size, static_cast<int>(t.frames.cols()), grid);
+AugmentSetup ktc_network_setup(const CurrentPatterns& patterns, int grid) {
+  AugmentSetup setup;
+  setup.group = AugmentGroup::none;
+  setup.electrodes = patterns.electrodes();
+  setup.image_size = grid;
+  setup.protocol = std::make_shared<MeasurementProtocol>("ktc", patterns);
+  return setup;
+}
+
+NetworkOptions ktc_network_options(const KtcNetworkOptions& o, int inputs, int grid) {
+  return NetworkOptions::preset(o.size, inputs, grid);
+}
+
+TrainingOptions ktc_training_options(const KtcNetworkOptions& o) {
   TrainingOptions training;
   training.steps = o.steps;
   training.batch_size = o.batch_size;
   training.learning_rate = o.learning_rate;
   training.validate_every = o.validate_every;
   training.seed = o.seed;
-  Trainer trainer(network, training, t, v, network_setup(patterns, grid));
+  training.patience = o.patience;
+  training.device = o.device;
+  return training;
+}
+
+LearnedModel train_ktc_network(const KtcSimulatedSet& train, const KtcSimulatedSet& validation,
+                               const CurrentPatterns& patterns, const KtcNetworkOptions& o) {
+  o.validate();
+  const LabelledFrames t = ktc_network_frames(train, patterns, o.group, o.seed);
+  const LabelledFrames v = ktc_network_frames(validation, patterns, false, o.seed + 1);
+  const int grid = static_cast<int>(train.labels.at(0).rows());
+  Trainer trainer(ktc_network_options(o, static_cast<int>(t.frames.cols()), grid),
+                  ktc_training_options(o), t, v, ktc_network_setup(patterns, grid));
   while (!trainer.done()) trainer.run_round();
   return trainer.best_model();
 }

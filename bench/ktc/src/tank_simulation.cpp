@@ -35,6 +35,9 @@ KtcTarget draw_target(std::mt19937_64& rng, const KtcSimulationOptions& o, doubl
   const double r = 0.9 * R - reach(t);
   const double rho = r * std::sqrt(u(rng)), angle = 2 * kPi * u(rng);  // uniform in the disc
   t.centre = {rho * std::cos(angle), rho * std::sin(angle)};
+  if (o.contrast_spread > 1)  // drawn last: a set without a spread keeps its numbers
+    t.contrast =
+        (t.cls == 1 ? o.resistive : o.conductive) * std::pow(o.contrast_spread, 2 * u(rng) - 1);
   return t;
 }
 
@@ -70,6 +73,10 @@ void KtcSimulationOptions::validate() const {
     fail("largest", "target radii need 0 < smallest <= largest <= 0.45 of the tank's");
   if (!(resistive > 0 && resistive < 1)) fail("resistive", "must lie in (0, 1)");
   if (!(conductive > 1) || !std::isfinite(conductive)) fail("conductive", "must exceed 1");
+  if (!(contrast_spread >= 1) || !(resistive * contrast_spread < 1) ||
+      !(conductive / contrast_spread > 1))
+    fail("contrast_spread",
+         "must be at least 1 and keep resistive targets below the background, conductive above");
   if (!(noise >= 0) || !std::isfinite(noise)) fail("noise", "must be finite and >= 0");
   if (grid < 8 || grid > 1024) fail("grid", "must be 8 ... 1024");
 }
@@ -97,7 +104,10 @@ Eigen::VectorXd ktc_conductivity(const Mesh& mesh, double background,
   for (int e = 0; e < mesh.num_triangles(); ++e) {
     const Eigen::Vector2d c = triangle_centroid(mesh, e);
     for (const KtcTarget& t : targets)
-      if (t.contains(c)) sigma[e] = background * (t.cls == 1 ? o.resistive : o.conductive);
+      if (t.contains(c))
+        sigma[e] = background * (t.contrast > 0 ? t.contrast
+                                 : t.cls == 1   ? o.resistive
+                                                : o.conductive);
   }
   return sigma;
 }

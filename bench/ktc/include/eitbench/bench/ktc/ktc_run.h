@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "eitbench/bench/ktc/ktc_learned.h"
 #include "eitbench/bench/ktc/ktc_method.h"
 
 namespace eitbench {
@@ -87,11 +88,12 @@ struct KtcRunOptions {
   KtcTankOptions tank;
   KtcNoise noise;
   int grid = 64;
+  KtcLearnedOptions learned;  // the learned rows (none without arms)
   bool quiet = false;
 
   // InputError naming the flag: the data folder (ref.mat, and dataN.mat each with its trueN.mat),
   // a level outside 1 ... 7 or given twice, a method that is no KTC one or given twice, the grid,
-  // the tank, the noise.
+  // the tank, the noise, the learned rows' options.
   void validate() const;
 };
 
@@ -115,12 +117,14 @@ struct KtcRunResults {
   std::string reference_hash;  // of ref.mat's bytes (content_hash.h)
   double calibration_seconds = 0;
   std::vector<KtcMethodResult> methods;
+  KtcLearnedResults learned;       // its arms empty when none were asked
   std::vector<ClassImage> truths;  // per sample
   std::vector<int> samples;        // KTC's sample numbers
 };
 
-// The whole run on the loaded inputs: calibrate, sweep every method, tune, hold out. Writes
-// nothing. Each reconstruction is timed while another level runs beside it (one a core).
+// The whole run on the loaded inputs: calibrate, sweep every method, tune, hold out, then train
+// and score the learned models (their model files the only thing written, into options.out).
+// Each model-based reconstruction is timed while another level runs beside it (one a core).
 KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& inputs);
 
 }  // namespace eitbench

@@ -23,6 +23,7 @@ struct KtcTarget {
   int corners = 0;  // a polygon's, 0 otherwise
   double phase = 0;
   std::vector<double> harmonics;  // a blob's: cos and sin amplitudes of harmonics 2, 3, ...
+  double contrast = 0;  // its conductivity / the background's; 0: the options' for its class
 
   double boundary(double angle) const;  // radius * shape(angle)
   bool contains(const Eigen::Vector2d& point) const;
@@ -31,11 +32,14 @@ struct KtcTarget {
 struct KtcSimulationOptions {
   int samples = 100;
   unsigned seed = 1;
-  int max_targets = 3;         // 1 ... max_targets a tank, uniformly
-  double smallest = 0.08;      // target radius, as a fraction of the tank's
-  double largest = 0.33;       // about a third of the tank, as KTC's largest
-  double resistive = 0.01;     // a resistive target's conductivity / the background's
-  double conductive = 100;     // a conductive target's
+  int max_targets = 3;      // 1 ... max_targets a tank, uniformly
+  double smallest = 0.08;   // target radius, as a fraction of the tank's
+  double largest = 0.33;    // about a third of the tank, as KTC's largest
+  double resistive = 0.01;  // a resistive target's conductivity / the background's
+  double conductive = 100;  // a conductive target's
+  // Each target's contrast drawn as its class's times spread^u, u uniform in [-1, 1]: a band of
+  // contrasts (log-uniform) rather than one. 1: every target at its class's.
+  double contrast_spread = 1;
   double noise = 0;            // V, each value's standard deviation (repeated_pattern_noise)
   int grid = 64;               // label pixels across the tank's square
   KtcOrientation orientation;  // the labels' (KTC's, docs/ktc.md#orientation)
@@ -76,6 +80,29 @@ struct KtcContrasts {
 KtcContrasts fit_ktc_contrasts(const KtcTank& tank, const std::vector<Eigen::VectorXd>& changes,
                                const std::vector<ClassImage>& truths,
                                const KtcOrientation& orientation, int steps = 13);
+// The same fit on every sample, and on every sample but each one in turn (none for one sample):
+// whether the fit, and so a model trained at its contrasts, would change with a sample held out.
+struct KtcContrastFits {
+  KtcContrasts all;
+  std::vector<KtcContrasts> without;  // [k]: fitted without sample k
+  // The grid: each pair of ratios with its misfit on each sample (squared), and each sample's
+  // measured change (squared), so that other subsets or bounds need no new simulation.
+  struct Point {
+    double resistive, conductive;
+    std::vector<double> misfit;
+  };
+  std::vector<Point> grid;
+  std::vector<double> measured;
+
+  // The best pair over every sample with both ratios inside [low, high] (a band); a residual of
+  // infinity when no grid pair lies inside.
+  KtcContrasts best_within(double resistive_low, double resistive_high, double conductive_low,
+                           double conductive_high) const;
+};
+KtcContrastFits fit_ktc_contrasts_held_out(const KtcTank& tank,
+                                           const std::vector<Eigen::VectorXd>& changes,
+                                           const std::vector<ClassImage>& truths,
+                                           const KtcOrientation& orientation, int steps = 13);
 
 // Each value's noise from a frame's repeated patterns: KTC drives four patterns twice with the same
 // currents (the pair 7-9 and "9 against 7"), so the two frames differ by noise and drift alone.

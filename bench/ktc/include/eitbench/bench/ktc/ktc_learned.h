@@ -1,0 +1,95 @@
+#pragma once
+// The learned rows of a KTC run (docs/ktc.md#the-learned-models): eitbench's network trained on
+// simulated tanks like the challenge's (the calibrated tank, the targets' contrasts in a band that
+// holds those measured on the training samples, the frames' measured noise), without and with the
+// tank's symmetry group, then scored on the training samples at every level as the model-based
+// methods are. Nothing of the network is tuned on the samples: its segmentation threshold is
+// fixed beforehand.
+#include <string>
+#include <vector>
+
+#include "eitbench/bench/ktc/ktc_method.h"
+#include "eitbench/bench/ktc/tank_network.h"
+#include "eitbench/bench/ktc/tank_simulation.h"
+#include "eitbench/bench/methods/budget_rule.h"
+
+namespace eitbench {
+
+// The memory a KTC run's learned rows may take (the machine this is sized for has 24 GiB).
+constexpr double kKtcLearnedMemoryBudget = 12.0 * (1 << 30);
+
+struct KtcLearnedOptions {
+  // The models trained: "none" (the simulated tanks as drawn) and "group" (each also under the
+  // tank's 8 symmetry elements). Empty: no learned rows.
+  std::vector<std::string> arms{"none", "group"};
+  int tanks = 4000;  // simulated: 80 % to train on, 10 % to validate, 10 % to test
+  // Each target's conductivity ratio to the water, drawn log-uniformly in a band fixed
+  // beforehand: plastic 10-100 times below the water, metal 10-100 times above. The contrasts
+  // fitted to the samples are a check of the band (the residual inside it), not an input:
+  // nothing of the samples enters the training data.
+  double resistive_low = 0.01, resistive_high = 0.1;
+  double conductive_low = 10, conductive_high = 100;
+  int grid = 64;  // the labels' pixels across the tank's square
+  // steps: the budget before the rule's doublings; group: set per arm. Early stopping after 6
+  // validations (1,200 steps) without a gain.
+  KtcNetworkOptions network = [] {
+    KtcNetworkOptions n;
+    n.patience = 6;
+    return n;
+  }();
+  BudgetRule rule{3, 0.01};  // up to three doublings while the last lowered validation by > 1 %
+
+  // InputError naming the flag (--augment, --ktc-tanks, --ktc-steps) or the options' field;
+  // --ktc-tanks when the training frames (with the group, 8 a tank), their labels and the
+  // trainer's copies would pass kKtcLearnedMemoryBudget.
+  void validate() const;
+  double training_bytes() const;  // the estimate checked against the budget
+};
+
+// One learned model's row.
+struct KtcLearnedArm {
+  std::string arm;         // none | group
+  std::string model_file;  // in the run's folder: ktc_dnn_<arm>.model
+  long long training_frames = 0;
+  TrainingEnd end = TrainingEnd::budget;
+  long long steps = 0;  // the budget at the end (doubled each stage)
+  int doublings = 0;
+  std::vector<double> stage_best;  // the best validation MSE after each stage
+  double training_seconds = 0;
+  // On the simulated test split, each tank at a level drawn as in training: the correlation of
+  // the output with the signed classes (mean over tanks) and the KTC score (mean).
+  double test_cc = 0, test_score = 0;
+  std::vector<std::vector<double>> scores;       // [level][sample] on the real samples
+  std::vector<std::vector<ClassImage>> classes;  // [level][sample], for the figures
+  double median_ms = 0;                          // per frame, on this machine's CPU
+};
+
+struct KtcLearnedResults {
+  KtcLearnedOptions options;
+  // Fitted to the samples, and without each one: the band's check. A target's effect on the
+  // frame saturates far from the water's conductivity, so the fits scatter; what tells whether
+  // the band is like the samples is the best residual inside it against the best anywhere.
+  KtcContrastFits contrasts;
+  KtcContrasts in_band;  // the best fit inside the band
+  double noise = 0;      // V a value, from the reference's repeated patterns
+  double simulation_seconds = 0;
+  int train = 0, validation = 0, test = 0;  // simulated tanks in each split
+  std::vector<KtcLearnedArm> arms;
+};
+
+// Simulates, trains every arm into <out>/ktc_dnn_<arm>.model (with its loss curves) and scores
+// it on `samples` at `levels`. The model files record the protocol (the patterns), the tank, the
+// contrasts, the level handling and the threshold.
+KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMeasurement>& samples,
+                                  const std::vector<ClassImage>& truths,
+                                  const std::vector<int>& levels, const KtcLearnedOptions& options,
+                                  const std::string& out, bool quiet);
+
+// The model file of an arm in a run's folder.
+std::string ktc_model_path(const std::string& run, const std::string& arm);
+
+// A trained model's KTC record (its training JSON's "ktc" block): the threshold it segments at.
+// InputError(source, "ktc") for a model that is not a KTC run's.
+double ktc_model_threshold(const LearnedModel& model, const std::string& source);
+
+}  // namespace eitbench
