@@ -177,9 +177,11 @@ TEST_F(KtcCli, TheRunTrainsTheLearnedModelsAndKtcAppliesThem) {
   make_folder();
   const Result r =
       run("run --ktc " + path("in") + " --out " + path("run") +
-          " --methods noser --levels 1,7 --ktc-tanks 40 --ktc-steps 20 --doublings 0" + fast());
+          " --methods noser --levels 1,7 --ktc-tanks 40 --ktc-steps 20 --doublings 0 --seed 3" +
+          fast());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto results = nlohmann::json::parse(read_file_bytes(path("run/results.json")));
+  EXPECT_EQ(results.at("learned").at("training").at("seed"), 3);  // --seed reaches the training
   const auto& arms = results.at("learned").at("arms");
   ASSERT_EQ(arms.size(), 2u);
   std::stringstream report;

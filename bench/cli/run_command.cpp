@@ -214,7 +214,8 @@ struct KtcRunFlags {
   int doublings = -1, patience = -1, threads = 2;
   double doubling_tolerance = -1;
   bool quiet = false;
-  std::string device;  // empty: the CPU
+  std::string device;      // empty: the CPU
+  std::uint64_t seed = 1;  // the simulated tanks' and the learned models'
 };
 
 void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
@@ -233,6 +234,7 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
   if (f.doubling_tolerance >= 0) k.learned.rule.tolerance = f.doubling_tolerance;
   if (f.patience >= 0) k.learned.network.patience = f.patience;
   if (!f.device.empty()) k.learned.network.device = f.device;
+  k.learned.network.seed = f.seed;
   if (!k.learned.arms.empty()) set_torch_threads(f.threads);
   KtcRunOptions o;
   o.data = k.folder;
@@ -396,7 +398,7 @@ std::function<void()> add_run_command(CLI::App& app) {
       return run_ktc_benchmark(
           *ktc,
           {args->methods, args->augments, args->out, args->doublings, args->patience, args->threads,
-           args->doubling_tolerance, args->quiet, args->device},
+           args->doubling_tolerance, args->quiet, args->device, args->seed},
           *cmd);
     for (const char* flag : {"--levels", "--electrode-coverage", "--density", "--pixels",
                              "--noise-relative", "--noise-floor", "--ktc-tanks", "--ktc-steps"})

@@ -123,6 +123,7 @@ json learned_json(const KtcLearnedResults& l) {
             {"batch_size", n.batch_size},
             {"learning_rate", n.learning_rate},
             {"patience", n.patience},
+            {"seed", n.seed},
             {"max_doublings", l.options.rule.max_doublings},
             {"doubling_tolerance", l.options.rule.tolerance}}},
           {"arms", arms}};
@@ -171,9 +172,9 @@ std::string learned_markdown(const KtcLearnedResults& l) {
       "from 1 to 7, its missing values as 0: one network serves every level. \"group\" also "
       "trains on each tank under the tank's 8 symmetry elements, applied to full frames before "
       "the level's values are removed. The output is segmented at +-{:.2g}, fixed beforehand. "
-      "Nothing is tuned on the samples.\n\n",
+      "Nothing is tuned on the samples. Seed {} (`--seed`: the tanks and the training).\n\n",
       l.train, l.validation, l.test, b.resistive_low, b.resistive_high, b.conductive_low,
-      b.conductive_high, l.noise, l.simulation_seconds, b.network.threshold);
+      b.conductive_high, l.noise, l.simulation_seconds, b.network.threshold, b.network.seed);
   o << fmt::format(
       "The contrasts measured on the samples (their truths on the tank's mesh, the ratios whose "
       "simulated changes come nearest the measured ones): {:.3g} resistive and {:.3g} "
