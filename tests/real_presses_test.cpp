@@ -189,6 +189,7 @@ TEST_F(MeasuredRun, ScoresEveryMethodOnPressesTunedOnAnotherSet) {
   const MeasuredRow* centre = nullptr;
   const MeasuredRow* noser_cal = nullptr;
   const MeasuredRow* noser_gcv = nullptr;
+  const MeasuredRow* noser_gcv_rule = nullptr;
   int finetuned = 0, greit_gcv = 0;
   for (const MeasuredRow& m : results.measured) {
     EXPECT_EQ(m.scored, "set.h5");
@@ -197,6 +198,8 @@ TEST_F(MeasuredRun, ScoresEveryMethodOnPressesTunedOnAnotherSet) {
     if (m.method == "centre") centre = &m;
     if (m.method == "noser" && m.training == "calibration presses") noser_cal = &m;
     if (m.method == "noser" && m.training == "calibration frames (GCV)") noser_gcv = &m;
+    if (m.method == "noser" && m.training == "calibration frames (GCV), rule on CAL's presses")
+      noser_gcv_rule = &m;
     greit_gcv += m.method == "greit" && m.training.rfind("calibration frames", 0) == 0;
     finetuned += m.training == "fine-tuned" || m.training == "real presses only";
   }
@@ -211,6 +214,16 @@ TEST_F(MeasuredRun, ScoresEveryMethodOnPressesTunedOnAnotherSet) {
   EXPECT_NE(noser_gcv->settings.find("touch threshold 0.5 (fixed: no labels)"), std::string::npos)
       << noser_gcv->settings;
   EXPECT_LT(noser_gcv->centre_error_median, 0.5 * centre->centre_error_median);
+  // GCV's lambda with the press rule chosen on the calibration presses: the same lambda, the
+  // rule's threshold tuned on CAL, a row that used labels.
+  ASSERT_NE(noser_gcv_rule, nullptr);
+  const auto lambda_of = [](const MeasuredRow& m) {
+    return m.settings.substr(0, m.settings.find(", touch"));
+  };
+  EXPECT_EQ(lambda_of(*noser_gcv_rule), lambda_of(*noser_gcv));
+  EXPECT_NE(noser_gcv_rule->settings.find("(on CAL)"), std::string::npos)
+      << noser_gcv_rule->settings;
+  EXPECT_LT(noser_gcv_rule->centre_error_median, 0.5 * centre->centre_error_median);
   EXPECT_EQ(greit_gcv, 0);
   // New positions: the scored presses no calibration press came within 0.01 R of.
   const Dataset s = read_dataset(set), c = read_dataset(cal);

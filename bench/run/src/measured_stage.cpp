@@ -1,10 +1,11 @@
 // Stage 6: real presses (run --measured SET --calibration CAL). Every method of the run is scored
 // on where it puts each press of SET. Each model-based method twice: tuned in simulation as the
 // main rows are, and tuned on CAL's presses (the one-step methods a third time, by GCV on CAL's
-// frames without their positions; with CAL's references, the one-step methods and GREIT again in
-// the simulation like the sensor, like_sensor.cpp); the learned models as trained in simulation;
-// each of these again through its own position map fitted on CAL and through the sensor's press
-// fit; floors from predicting the centre and from a fingerprint of CAL's labelled frames; and, with
+// frames without their positions, and a fourth, GCV's lambda with the press rule on CAL; with CAL's
+// references, the one-step methods and GREIT again in the simulation like the sensor,
+// like_sensor.cpp); the learned models as trained in simulation; each of these again through its
+// own position map fitted on CAL and through the sensor's press fit; floors from predicting the
+// centre and from a fingerprint of CAL's labelled frames; and, with
 // --finetune, the learned model fine-tuned on CAL's first n presses beside the same network trained
 // on them alone. Nothing is tuned or trained on SET.
 #include <fmt/core.h>
@@ -100,6 +101,7 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
       "200 + 200 one-touch simulated frames with CAL's reference noise and gains; lambda and "
       "rule there";
   p["press rule"] = "strongest blob or centroid, and the threshold, chosen on CAL";
+  p["GCV rows with labels"] = "one-step methods: GCV on CAL's frames, the press rule on CAL";
   p["sensor"] = file_hash(config.sensor);  // its press fit gives rows of its own
   p["calibrated rows"] = "sensor fit; each method's affine position map on CAL";
   p["press training"] = "fine-tuned at a tenth of the peak rate; from scratch at the peak rate";
@@ -270,6 +272,10 @@ void push_twins(const StageInputs& in, const MeasuredRow& row, const Located& lo
 
 // The label-free tuning on real frames: GCV on CAL's frames, their positions unread.
 constexpr const char* kOnFrames = "calibration frames (GCV)";
+// Lambda as kOnFrames, the press rule and its threshold on CAL's presses: the labels tune the rule
+// only. Lambda tuned on CAL's presses fits the spots CAL pressed; GCV's carries over to new ones
+// (docs/real-presses.md#without-labelled-presses-held-out-by-time).
+constexpr const char* kOnFramesRuleOnCal = "calibration frames (GCV), rule on CAL's presses";
 // The label-free tuning in simulation: lambda and the press rule on the simulated validation
 // frames drawn with CAL's measured noise and gains (like_sensor.cpp).
 constexpr const char* kLikeSensor = "simulation like the sensor";
@@ -295,15 +301,18 @@ double like_sensor_score(const StageInputs& in, const std::string& name, bool by
 // family a third way, by GCV on CAL's frames without their positions, the touch threshold fixed
 // at 0.5: no label of any kind (docs/real-presses.md#lambda-without-labels); and, with the
 // simulation like the sensor, each method that does not sweep on a subset a fourth way, lambda
-// and the press rule chosen there (docs/real-presses.md#a-pick-without-labels).
+// and the press rule chosen there (docs/real-presses.md#a-pick-without-labels); the one-step
+// methods a fifth way, lambda by GCV and the press rule on CAL's presses.
 void model_based_rows(const StageInputs& in, const std::string& name,
                       std::vector<MeasuredRow>& rows) {
   const RunConfig& config = in.context.config;
   const MethodSpec& spec = find_method(name);
   const PixelGrid& grid = in.reconstruction.grid;
   const double background = in.reconstruction.problem->background;
-  for (const std::string training : {"simulation", kOnFrames, kLikeSensor, "calibration presses"}) {
-    const bool on_frames = training == kOnFrames, like = training == kLikeSensor;
+  for (const std::string training :
+       {"simulation", kOnFrames, kLikeSensor, "calibration presses", kOnFramesRuleOnCal}) {
+    const bool gcv_rule_on_cal = training == kOnFramesRuleOnCal;
+    const bool on_frames = training == kOnFrames || gcv_rule_on_cal, like = training == kLikeSensor;
     if (on_frames && spec.default_choice != "gcv") continue;  // GCV is the one-step methods'
     // The iterative methods and the shape fit would sweep on few frames: left to the others.
     if (like && (!in.like || spec.sweep_on_subset)) continue;
@@ -337,20 +346,21 @@ void model_based_rows(const StageInputs& in, const std::string& name,
     // The map is CAL's: a method tuned without labels keeps to labels it never saw.
     const bool mapped = training == std::string("calibration presses");
     Located on_cal;
-    const PressRule rule = on_frames || like ? like_rule
-                                             : press_rule(*method, grid, background, in.cal,
-                                                          mapped ? &on_cal : nullptr);
+    const bool label_free = (on_frames && !gcv_rule_on_cal) || like;
+    const PressRule rule =
+        label_free ? like_rule
+                   : press_rule(*method, grid, background, in.cal, mapped ? &on_cal : nullptr);
     const Located located =
         located_presses(*method, grid, background, in.set, rule, config.timed_frames);
     MeasuredRow row = row_for(in, name, "-", training, located);
     row.finetune_n = static_cast<int>(tuned_on);
-    if (on_frames || like)
+    if (label_free)
       row.like_sensor_fraction_of_radius =
           like_sensor_score(in, name, on_frames, method.get(), rule) / grid.radius();
     if (!std::isnan(rule.threshold))
-      row.settings += ", " + rule_settings(rule, on_frames ? "fixed: no labels"
-                                                 : like    ? "on the simulation like the sensor"
-                                                           : "on CAL");
+      row.settings += ", " + rule_settings(rule, label_free && on_frames ? "fixed: no labels"
+                                                 : like ? "on the simulation like the sensor"
+                                                        : "on CAL");
     if (like)
       row.settings += fmt::format(
           "; simulated with CAL's noise ({:.3g} % of the reference) and "
