@@ -6,6 +6,7 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "cli_fixture.h"
 #include "eitbench/bench/io/atomic_file.h"
@@ -170,9 +171,10 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   EXPECT_FALSE(fs::exists(path("run3")));
 }
 
-// The learned rows: run --ktc trains none and group on simulated tanks and scores them beside the
-// model-based methods; ktc --method dnn --from RUN applies the run's model files and scores
-// each sample as the run did.
+// The learned rows: run --ktc trains none and group on simulated tanks, each from the frame (dnn)
+// and from a one-step image (dnn-post), and scores them beside the model-based methods; ktc
+// --method dnn|dnn-post --from RUN applies the run's model files (dnn-post rebuilding the one-step
+// method from the file's record and the run's tank) and scores each sample as the run did.
 TEST_F(KtcCli, TheRunTrainsTheLearnedModelsAndKtcAppliesThem) {
   make_folder();
   const Result r =
@@ -183,14 +185,16 @@ TEST_F(KtcCli, TheRunTrainsTheLearnedModelsAndKtcAppliesThem) {
   const auto results = nlohmann::json::parse(read_file_bytes(path("run/results.json")));
   EXPECT_EQ(results.at("learned").at("training").at("seed"), 3);  // --seed reaches the training
   const auto& arms = results.at("learned").at("arms");
-  ASSERT_EQ(arms.size(), 2u);
+  ASSERT_EQ(arms.size(), 4u);
   std::stringstream report;
   report << std::ifstream(path("run/report.md")).rdbuf();
   EXPECT_NE(report.str().find("## The learned models"), std::string::npos);
+  std::set<std::string> trained;
   for (const auto& arm : arms) {
-    const std::string name = arm.at("arm");
-    EXPECT_NE(report.str().find("| dnn " + name + " |"), std::string::npos) << name;
-    EXPECT_TRUE(fs::exists(path("run/ktc_dnn_" + name + ".model"))) << name;
+    const std::string name = arm.at("arm"), network = arm.at("network");
+    trained.insert(network + " " + name);
+    EXPECT_NE(report.str().find("| " + network + " " + name + " |"), std::string::npos) << name;
+    EXPECT_TRUE(fs::exists(path("run/ktc_" + network + "_" + name + ".model"))) << name;
     EXPECT_EQ(arm.at("end"), "budget");  // 20 steps, no doubling: the report says so
     EXPECT_EQ(arm.at("training_frames"), name == "group" ? 8 * 32 : 32);
     const auto& scores = arm.at("scores");  // [level][sample]
@@ -198,18 +202,24 @@ TEST_F(KtcCli, TheRunTrainsTheLearnedModelsAndKtcAppliesThem) {
     // The challenge's convention on the run's model: each sample's score as the run had it.
     for (int l = 0; l < 2; ++l) {
       const std::string level = l == 0 ? "1" : "7";
-      const Result k = run("ktc " + path("in") + " " + path("dnn_" + name + level) + " " + level +
-                           " --method dnn --augment " + name + " --from " + path("run"));
+      const std::string folder = path(network + "_" + name + level);
+      const Result k = run("ktc " + path("in") + " " + folder + " " + level + " --method " +
+                           network + " --augment " + name + " --from " + path("run"));
       ASSERT_EQ(k.exit_code, 0) << k.output;
       for (int s = 0; s < 2; ++s) {
-        EXPECT_TRUE(fs::exists(path("dnn_" + name + level + "/" + std::to_string(s + 1) + ".mat")));
+        EXPECT_TRUE(fs::exists(folder + "/" + std::to_string(s + 1) + ".mat"));
         const std::string score = fmt::format("score {:.6f}", scores[l][s].get<double>());
         EXPECT_NE(k.output.find(std::to_string(s + 1) + ": "), std::string::npos);
         EXPECT_NE(k.output.find(score), std::string::npos) << score << "\n" << k.output;
       }
     }
   }
-  // dnn needs a run; --augment goes with dnn; a KTC run trains none and group only.
+  EXPECT_EQ(trained,
+            (std::set<std::string>{"dnn none", "dnn group", "dnn-post none", "dnn-post group"}));
+  // dnn needs a run; --augment goes with dnn; a KTC run trains none and group only, and the
+  // networks dnn and dnn-post only.
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --ktc-learned cnn" + fast(),
+          "--ktc-learned");
   refused("ktc " + path("in") + " " + path("out") + " 1 --method dnn", "--from");
   refused("ktc " + path("in") + " " + path("out") + " 1 --method noser --augment group" + fast(),
           "--augment");

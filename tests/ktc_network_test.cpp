@@ -6,6 +6,8 @@
 #include <set>
 
 #include "eitbench/bench/ktc/tank_network.h"
+#include "eitbench/bench/ktc/tank_post_processing.h"
+#include "eitbench/jacobian/error.h"
 #include "eitbench/learned/runtime.h"
 #include "ktc_synthetic.h"
 
@@ -101,6 +103,61 @@ TEST(KtcNetwork, AModelFileKeepsItsCurrentPatterns) {
   LearnedModel other = model;
   other.info().protocol = std::make_shared<const MeasurementProtocol>("ktc", fewer);
   EXPECT_THROW(LearnedModel::from_bytes(other.to_bytes(), "other.model"), InputError);
+}
+
+// The post-processing network's inputs: each training row's frame (its level's values missing)
+// reconstructed by the one-step method from the values it has, the pixels inside the tank; the
+// rows grouped by level in one call each give what one frame at a time gives.
+TEST(KtcNetwork, PostProcessingInputsAreEachLevelFramesOneStepImage) {
+  const KtcTank tank = testing::ktc_coarse_tank();
+  const CurrentPatterns& patterns = tank.protocol->patterns();
+  const KtcSetup setup = make_ktc_setup(tank, 16);
+  KtcSimulationOptions so;
+  so.samples = 3, so.grid = 16;
+  const KtcSimulatedSet set = simulate_ktc_tanks(tank, so);
+  const auto one_step = make_ktc_one_step(setup, KtcOneStep{});
+  const LabelledFrames post = ktc_post_frames(set, patterns, true, 5, *one_step, setup.grid);
+  const LabelledFrames level = ktc_level_frames(set, patterns, true, 5);
+  ASSERT_EQ(post.frames.rows(), 24);
+  ASSERT_EQ(post.frames.cols(), setup.grid.num_inside());
+  EXPECT_EQ(post.labels, level.labels);
+  for (Eigen::Index k = 0; k < post.frames.rows(); ++k) {
+    const Eigen::VectorXd image = one_step->reconstruct(level.frames.row(k).transpose());
+    Eigen::Index c = 0;
+    for (Eigen::Index p = 0; p < image.size(); ++p)
+      if (setup.grid.mask()[p]) {
+        EXPECT_NEAR(post.frames(k, c), image[p], 1e-6 * image.cwiseAbs().maxCoeff()) << k;
+        ++c;
+      }
+  }
+  EXPECT_THROW(make_ktc_one_step(setup, KtcOneStep{"tv", 0.1}), InputError);
+  EXPECT_THROW(make_ktc_one_step(setup, KtcOneStep{"noser", 0}), InputError);
+}
+
+// A post-processing network reads a one-step image's pixels, not frames: its file keeps how many
+// (beside the protocol its images are made from), and a count other than the network's inputs,
+// or a group acting on pixels, is refused.
+TEST(KtcNetwork, APostProcessingModelReadsImagePixels) {
+  const CurrentPatterns patterns = testing::ktc_patterns(1.47);
+  const int pixels = PixelGrid(16).num_inside();
+  LearnedModel model(NetworkOptions::preset(ModelSize::small, pixels, 16), 32, 4);
+  model.info().protocol = std::make_shared<const MeasurementProtocol>("ktc", patterns);
+  EXPECT_THROW(LearnedModel::from_bytes(model.to_bytes(), "frames.model"), InputError)
+      << "the patterns give 2356 values, the network reads " << pixels;
+  model.info().image_inputs = pixels;
+  const LearnedModel back = LearnedModel::from_bytes(model.to_bytes(), "post.model");
+  EXPECT_EQ(back.info().image_inputs, pixels);
+  EXPECT_TRUE(back.protocol().patterns() == patterns);
+  const SampleMatrix images = SampleMatrix::Random(2, pixels);
+  EXPECT_EQ(model.reconstruct(images), back.reconstruct(images));
+  LearnedModel other = model;
+  other.info().image_inputs = pixels - 1;
+  EXPECT_THROW(LearnedModel::from_bytes(other.to_bytes(), "other.model"), InputError);
+  AugmentSetup setup = ktc_post_setup(patterns, 16, pixels);
+  EXPECT_EQ(frame_width(setup), pixels);
+  EXPECT_EQ(frame_actions(setup).size(), 1u);
+  setup.group = AugmentGroup::dihedral;
+  EXPECT_THROW(setup.validate(), InputError);
 }
 
 }  // namespace

@@ -34,6 +34,10 @@ void AugmentSetup::validate() const {
     fail("protocol", "the " + protocol->name() + " protocol has " +
                          std::to_string(protocol->electrodes()) + " electrodes, not " +
                          std::to_string(electrodes));
+  if (image_inputs < 0)
+    fail("image_inputs", "must not be negative, got " + std::to_string(image_inputs));
+  if (image_inputs > 0 && group != AugmentGroup::none)
+    fail("group", "no group acts on an image's pixels as inputs: expand the set beforehand");
   if (protocol && group == AugmentGroup::paper && !is_adjacent(*protocol))
     fail("group",
          "the paper's column reversal is defined on the adjacent protocol's map only, not "
@@ -71,12 +75,18 @@ std::vector<GroupElement> augment_elements(const AugmentSetup& setup) {
 }
 
 int frame_width(const AugmentSetup& setup) {
+  if (setup.image_inputs > 0) return setup.image_inputs;
   return setup.protocol ? setup.protocol->input_size()
                         : static_cast<int>(frame_size(setup.layout, setup.electrodes));
 }
 
 std::vector<SignedPermutation> frame_actions(const AugmentSetup& setup) {
   const auto elements = augment_elements(setup);
+  if (setup.image_inputs > 0) {  // validate() admits the group none only: the identity
+    std::vector<int> same(static_cast<std::size_t>(setup.image_inputs));
+    std::iota(same.begin(), same.end(), 0);
+    return {{same, std::vector<double>(same.size(), 1.0)}};
+  }
   if (setup.protocol && setup.protocol->has_patterns()) {
     // Current patterns move linearly (pattern_action), not by a permutation: only the identity
     // is one. Their augmented sets are expanded beforehand (bench/ktc/tank_augmentation.h).

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "commands.h"
@@ -115,24 +116,47 @@ void write_all(const Args& a, const Inputs& in,
   }
 }
 
-// --method dnn: a learned model of the run, on the differences from ref.mat.
+// dnn-post's one-step method as its model file records it, checked against the run's grid.
+KtcOneStep one_step_of(const LearnedModel& model, const std::string& source, int pixels) {
+  const auto j = nlohmann::json::parse(model.info().training, nullptr, false);
+  const auto* record = j.is_object() && j.contains("ktc") && j.at("ktc").contains("one_step")
+                           ? &j.at("ktc").at("one_step")
+                           : nullptr;
+  if (!record || !record->is_object() || !record->contains("method") ||
+      !record->contains("lambda") || !record->contains("pixels") ||
+      !record->at("method").is_string() || !record->at("lambda").is_number() ||
+      !record->at("pixels").is_number_integer())
+    throw InputError(source, "ktc.one_step", "is not a post-processing model (dnn-post)");
+  KtcOneStep step{record->at("method").get<std::string>(), record->at("lambda").get<double>()};
+  step.validate();
+  if (record->at("pixels").get<int>() != pixels)
+    throw InputError(source, "ktc.one_step.pixels",
+                     "reads one-step images of " + record->at("pixels").dump() +
+                         " pixels a side, the run's grid has " + std::to_string(pixels));
+  return step;
+}
+
+// --method dnn or dnn-post: a learned model of the run, on the differences from ref.mat.
 void run_learned(const Args& a, const CLI::App& cmd) {
   if (a.from.empty())
-    throw InputError("--method", "",
-                     "dnn is a model a KTC run trained: add --from RUN (eitbench run --ktc)");
+    throw InputError(
+        "--method", "",
+        a.method + " is a model a KTC run trained: add --from RUN (eitbench run --ktc)");
   for (const char* flag :
        {"--lambda", "--segmentation", "--resistive", "--conductive", "--noise-relative",
         "--noise-floor", "--pixels", "--electrode-coverage", "--density"})
     if (cmd.count(flag) > 0)
       throw InputError(flag, "",
-                       "does not apply to --method dnn (the run's model segments itself)");
+                       "does not apply to --method " + a.method +
+                           " (the run's model segments itself, on the run's tank and grid)");
   if (a.augment != "none" && a.augment != "group")
     throw InputError("--augment", "", "'" + a.augment + "': none or group");
   check_folders(a);
   const KtcRunSettings settings = read_ktc_settings(a.from);
-  const auto it = settings.models.find(a.augment);
+  const auto it = settings.models.find(a.method + " " + a.augment);
   if (it == settings.models.end())
-    throw InputError("--from", "", settings.path + " trained no dnn " + a.augment + " model");
+    throw InputError("--from", "",
+                     settings.path + " trained no " + a.method + " " + a.augment + " model");
   const LearnedModel model = read_model_file(it->second);
   const double threshold = ktc_model_threshold(model, it->second);
   const Inputs in = read_inputs(a);
@@ -144,17 +168,32 @@ void run_learned(const Args& a, const CLI::App& cmd) {
   for (const auto& d : in.data)
     changes.push_back(
         ktc_level_frame(d.voltages - in.reference.voltages, in.reference.patterns, a.level));
+  const std::string what = fmt::format("{} {} at level {}: {}, threshold {:.2g}", a.method,
+                                       a.augment, a.level, it->second, threshold);
+  if (a.method == "dnn")
+    return write_all(
+        a, in, [&](std::size_t k) { return ktc_network_classes(model, changes[k], threshold); },
+        what);
+  // dnn-post: the one-step image on the run's tank, grid and data term, as the run made it.
+  const KtcOneStep step = one_step_of(model, it->second, settings.grid);
+  const KtcSetup setup = make_ktc_setup(
+      tank_for(in.reference, in.folder.reference, settings, KtcTankOptions(), a.quiet),
+      settings.grid, settings.noise);
+  const std::unique_ptr<MissingValues> one_step = make_ktc_one_step(setup, step);
   write_all(
-      a, in, [&](std::size_t k) { return ktc_network_classes(model, changes[k], threshold); },
-      fmt::format("dnn {} at level {}: {}, threshold {:.2g}", a.augment, a.level, it->second,
-                  threshold));
+      a, in,
+      [&](std::size_t k) {
+        return ktc_post_classes(model, *one_step, setup.grid, changes[k], threshold);
+      },
+      what + fmt::format(", on {} at lambda {:g}", step.method, step.lambda));
 }
 
 void run(const Args& a, const CLI::App& cmd) {
   ktc_removed_electrodes(a.level);  // 1 ... 7, before anything is read
-  if (a.method == "dnn") return run_learned(a, cmd);
+  if (a.method == "dnn" || a.method == "dnn-post") return run_learned(a, cmd);
   if (cmd.count("--augment") > 0)
-    throw InputError("--augment", "", "goes with --method dnn (the run's learned models)");
+    throw InputError("--augment", "",
+                     "goes with --method dnn or dnn-post (the run's learned models)");
   ktc_candidates(a.method);  // a method KTC's frames can be reconstructed by
   check_folders(a);
   std::optional<KtcRunSettings> settings;
@@ -226,12 +265,12 @@ std::function<void()> add_ktc_command(CLI::App& app) {
                   "difficulty 1 ... 7: level k leaves out electrodes 1 ... 2(k-1)")
       ->required();
   cmd->add_option("--method", a->method,
-                  "tikhonov | noser | laplace | greit | tv | gn | dnn (a learned model of the run "
-                  "--from names)")
+                  "tikhonov | noser | laplace | greit | tv | gn | dnn | dnn-post (dnn: a learned "
+                  "model of the run --from names, from the frame; dnn-post: from a one-step image)")
       ->capture_default_str();
   cmd->add_option("--augment", a->augment,
-                  "with --method dnn: the run's model trained with the tank's symmetry group "
-                  "(group) or without (none)")
+                  "with --method dnn or dnn-post: the run's model trained with the tank's symmetry "
+                  "group (group) or without (none)")
       ->capture_default_str();
   cmd->add_option("--from", a->from,
                   "a KTC run's folder (eitbench run --ktc): its tank, and the method's "

@@ -205,6 +205,17 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
       ->capture_default_str()
       ->check(CLI::Range(1, 10000000))
       ->group(group);
+  cmd.add_option("--ktc-learned", k.learned.networks,
+                 "with --ktc: the learned networks, dnn (from the frame) and dnn-post (from a "
+                 "one-step image, as the challenge's winners did)")
+      ->delimiter(',')
+      ->default_str("dnn,dnn-post")
+      ->group(group);
+  cmd.add_option("--one-step-lambda", k.learned.one_step.lambda,
+                 "with --ktc: dnn-post's one-step image, NOSER at this weight (relative; fixed "
+                 "beforehand, not tuned on the samples)")
+      ->capture_default_str()
+      ->group(group);
 }
 
 // The run command's own flags that a KTC run also reads (the learned rows').
@@ -245,6 +256,7 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
   o.tank.density = parse_density(k.density);
   o.noise = k.noise;
   o.grid = k.pixels;
+  k.learned.one_step_grid = k.pixels;
   o.learned = k.learned;
   o.quiet = quiet;
   const KtcInputs inputs = load_ktc_inputs(o);  // every file read and checked first
@@ -265,8 +277,8 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
                ktc_total(m.held_out), ktc_total(m.held_out_otsu), m.best.lambda,
                m.best.rule.to_string(), m.median_ms);
   for (const auto& a : results.learned.arms)
-    fmt::print("| dnn {} | {:.2f} | — | trained in simulation ({}, {} steps) | {:.1f} |\n", a.arm,
-               ktc_total(a.scores), to_string(a.end), a.steps, a.median_ms);
+    fmt::print("| {} {} | {:.2f} | — | trained in simulation ({}, {} steps) | {:.1f} |\n",
+               a.network, a.arm, ktc_total(a.scores), to_string(a.end), a.steps, a.median_ms);
   fmt::print("\nwrote {}/report.md and results.json in {:.0f} s\n", o.out, seconds_since(t0));
 }
 

@@ -173,6 +173,7 @@ std::string LearnedModel::to_bytes() const {
                         {"magnitude", i.protocol->magnitude()},
                         {"channels", channels}};
   }
+  if (i.image_inputs > 0) meta["image_inputs"] = i.image_inputs;
   archive.write("format", c10::IValue(std::string(kModelFormat)));
   archive.write("network", c10::IValue(network_to_json(i.network)));
   archive.write("meta", c10::IValue(meta.dump()));
@@ -213,6 +214,7 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
     impl->info.electrodes = j.at("electrodes").get<int>();
     impl->info.augment = j.at("augment").get<std::string>();
     impl->info.training = j.at("training").dump();
+    impl->info.image_inputs = j.value("image_inputs", 0);
     if (j.contains("protocol") && j.at("protocol").contains("injection")) {
       const auto& p = j.at("protocol");
       CurrentPatterns c{matrix_from_json(p.at("injection"), source),
@@ -240,15 +242,20 @@ LearnedModel LearnedModel::from_bytes(const std::string& bytes, const std::strin
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, "meta", std::string("unreadable: ") + e.what());
   }
-  // A protocol needs 4 electrodes, and the network reads a frame's inputs.
+  // A protocol needs 4 electrodes, and the network reads a frame's inputs (or an image's).
   const int L = impl->info.electrodes;
   if (L < 4 || L > 1024)
     throw InputError(source, "electrodes", std::to_string(L) + " is not between 4 and 1024");
-  const int inputs = impl->info.protocol ? impl->info.protocol->input_size() : L * (L - 3) / 2;
+  if (impl->info.image_inputs < 0) throw InputError(source, "image_inputs", "must not be negative");
+  const bool image = impl->info.image_inputs > 0;
+  const int inputs = image                 ? impl->info.image_inputs
+                     : impl->info.protocol ? impl->info.protocol->input_size()
+                                           : L * (L - 3) / 2;
   if (impl->info.network.inputs != inputs)
     throw InputError(source, "network",
-                     "takes " + std::to_string(impl->info.network.inputs) +
-                         " values a frame, but its protocol gives " + std::to_string(inputs));
+                     "takes " + std::to_string(impl->info.network.inputs) + " values, but its " +
+                         (image ? "image_inputs say " : "protocol gives ") +
+                         std::to_string(inputs));
   impl->net = Network(impl->info.network);
   const auto expected = shapes(impl->net);
   try {

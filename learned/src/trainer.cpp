@@ -369,6 +369,7 @@ LearnedModel Trainer::best_model() const {
   ModelInfo& info = model.info();
   info.augment = to_string(m.options.augment);
   info.protocol = m.setup.protocol;
+  info.image_inputs = m.setup.image_inputs;
   info.training = nlohmann::json{{"options", options_to_json(m.options)},
                                  {"train_samples", m.train->frames.rows()},
                                  {"samples_per_epoch", m.train_size},

@@ -6,12 +6,16 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
+#include "eitbench/bench/methods/metrics.h"
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/training_run.h"
 #include "eitbench/bench/support/timing.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/pixel_grid.h"
 
 namespace eitbench {
 namespace {
@@ -25,48 +29,41 @@ KtcSimulatedSet rows(const KtcSimulatedSet& s, int begin, int end) {
   return out;
 }
 
-double correlation(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  const Eigen::VectorXd x = a.array() - a.mean(), y = b.array() - b.mean();
-  const double d = x.norm() * y.norm();
-  return d > 0 ? x.dot(y) / d : 0.0;
-}
-
-// The simulated test split's mean correlation (inside the tank) and mean KTC score.
-void score_test_split(const LearnedModel& model, const KtcSimulatedSet& test,
-                      const CurrentPatterns& patterns, const KtcSimulationOptions& simulation,
-                      double radius, double threshold, std::uint64_t seed, KtcLearnedArm& arm) {
-  const LabelledFrames t = ktc_network_frames(test, patterns, false, seed);
+// The simulated test split's mean correlation (inside the tank) and mean KTC score; `t` is the
+// split as the model reads it (frames or one-step images).
+void score_test_split(const LearnedModel& model, const LabelledFrames& t,
+                      const KtcSimulatedSet& test, const KtcSimulationOptions& simulation,
+                      double radius, double threshold, KtcLearnedArm& arm) {
   const SampleMatrix out = model.reconstruct(t.frames);
+  // CC over the tank's pixels, as every simulated benchmark scores it: the network's own mask.
+  const PixelGrid grid(static_cast<int>(test.labels.at(0).rows()));
   const std::vector<bool> mask = model.image_mask();
+  if (!std::equal(mask.begin(), mask.end(), grid.mask().begin(), grid.mask().end()))
+    throw std::logic_error("score_test_split: the network's mask is not the tank's grid");
   KtcSimulationOptions full = simulation;
   full.grid = kKtcImageSize;
   double cc = 0, score = 0;
   for (Eigen::Index k = 0; k < out.rows(); ++k) {
-    std::vector<double> a, b;
-    for (std::size_t p = 0; p < mask.size(); ++p)
-      if (mask[p]) a.push_back(out(k, static_cast<Eigen::Index>(p))), b.push_back(t.labels(k, p));
-    cc += correlation(Eigen::Map<Eigen::VectorXd>(a.data(), static_cast<Eigen::Index>(a.size())),
-                      Eigen::Map<Eigen::VectorXd>(b.data(), static_cast<Eigen::Index>(b.size())));
-    Eigen::VectorXd frame = t.frames.row(k).transpose();
+    cc += correlation(out.row(k).transpose(), t.labels.row(k).transpose(), grid);
     const ClassImage truth = ktc_labels(test.targets[static_cast<std::size_t>(k)], radius, full);
-    score += ktc_score(truth, ktc_network_classes(model, frame, threshold)).total();
+    score += ktc_score(truth, ktc_output_classes(out.row(k).transpose(), threshold)).total();
   }
   arm.test_cc = cc / static_cast<double>(out.rows());
   arm.test_score = score / static_cast<double>(out.rows());
 }
 
-// Every sample at every level, as `eitbench ktc --method dnn` reconstructs them.
-void score_samples(const LearnedModel& model, const KtcSetup& setup,
-                   const std::vector<KtcMeasurement>& samples,
+// Every sample at every level, as `eitbench ktc --method dnn` (or dnn-post) reconstructs them:
+// `classes` of a change.
+void score_samples(const std::function<ClassImage(const Eigen::VectorXd&)>& classes,
+                   const KtcSetup& setup, const std::vector<KtcMeasurement>& samples,
                    const std::vector<ClassImage>& truths, const std::vector<int>& levels,
-                   double threshold, KtcLearnedArm& arm) {
+                   KtcLearnedArm& arm) {
   std::vector<double> ms;
   for (int level : levels) {
     arm.scores.emplace_back(), arm.classes.emplace_back();
     for (std::size_t s = 0; s < samples.size(); ++s) {
       const auto t0 = std::chrono::steady_clock::now();
-      const ClassImage c =
-          ktc_network_classes(model, ktc_difference(samples[s], setup, level), threshold);
+      const ClassImage c = classes(ktc_difference(samples[s], setup, level));
       ms.push_back(1e3 * seconds_since(t0));
       arm.scores.back().push_back(ktc_score(truths[s], c).total());
       arm.classes.back().push_back(c);
@@ -78,35 +75,120 @@ void score_samples(const LearnedModel& model, const KtcSetup& setup,
 
 // What the model file records beside the training: the tank, the contrasts, the level handling.
 nlohmann::json ktc_record(const KtcSetup& setup, const KtcLearnedResults& r,
-                          const std::string& arm) {
+                          const std::string& network, const std::string& arm) {
   const KtcTank& t = setup.tank;
-  return {{"arm", arm},
-          {"threshold", r.options.network.threshold},
-          {"levels",
-           "one network for levels 1-7: each training frame at a level drawn from 1-7, "
-           "a missing value given as 0"},
-          {"group", arm == "group" ? "the tank's 8 elements (quarter turns and mirrors), on full "
-                                     "frames before the level's values are removed"
-                                   : "none"},
-          {"tank",
-           {{"radius", t.options.radius},
-            {"electrode_coverage", t.options.electrode_coverage},
-            {"density", to_string(t.options.density)},
-            {"background", t.background},
-            {"contact_impedances",
-             std::vector<double>(t.contact_impedances.data(),
-                                 t.contact_impedances.data() + t.contact_impedances.size())}}},
-          {"contrasts",
-           {{"resistive", {r.options.resistive_low, r.options.resistive_high}},
-            {"conductive", {r.options.conductive_low, r.options.conductive_high}},
-            {"drawn", "log-uniformly in each band, target by target"}}},
-          {"noise", r.noise},
-          {"simulated_tanks", r.train}};
+  nlohmann::json record = {
+      {"network", network},
+      {"arm", arm},
+      {"threshold", r.options.network.threshold},
+      {"levels",
+       "one network for levels 1-7: each training frame at a level drawn from 1-7, "
+       "a missing value given as 0"},
+      {"group", arm == "group" ? "the tank's 8 elements (quarter turns and mirrors), on full "
+                                 "frames before the level's values are removed"
+                               : "none"},
+      {"tank",
+       {{"radius", t.options.radius},
+        {"electrode_coverage", t.options.electrode_coverage},
+        {"density", to_string(t.options.density)},
+        {"background", t.background},
+        {"contact_impedances",
+         std::vector<double>(t.contact_impedances.data(),
+                             t.contact_impedances.data() + t.contact_impedances.size())}}},
+      {"contrasts",
+       {{"resistive", {r.options.resistive_low, r.options.resistive_high}},
+        {"conductive", {r.options.conductive_low, r.options.conductive_high}},
+        {"drawn", "log-uniformly in each band, target by target"}}},
+      {"noise", r.noise},
+      {"simulated_tanks", r.train}};
+  if (network == "dnn-post")
+    record["one_step"] = {{"method", r.options.one_step.method},
+                          {"lambda", r.options.one_step.lambda},
+                          {"pixels", setup.grid.size()},
+                          {"data_term", "the run's noise model (its settings)"}};
+  return record;
+}
+
+// The simulated splits, and what every arm shares: the validation split as each network reads it,
+// the one-step method (its level's factors built once).
+struct Splits {
+  KtcSimulatedSet train, validation, test;
+  KtcSimulationOptions simulation;
+  std::unique_ptr<MissingValues> one_step;  // with dnn-post only
+  LabelledFrames validation_frames, validation_images;
+};
+
+struct ArmName {
+  std::string network, arm;  // dnn | dnn-post, none | group
+};
+
+// Trains one network with or without the group into its model file and scores it.
+KtcLearnedArm train_arm(const KtcSetup& setup, const std::vector<KtcMeasurement>& samples,
+                        const std::vector<ClassImage>& truths, const std::vector<int>& levels,
+                        const ArmName& name, const std::string& out, bool quiet, const Splits& sets,
+                        const KtcLearnedResults& r) {
+  const CurrentPatterns& patterns = setup.tank.protocol->patterns();
+  const bool post = name.network == "dnn-post";
+  KtcNetworkOptions n = r.options.network;
+  n.group = name.arm == "group";
+  const std::uint64_t seed = n.seed;
+  const auto inputs = [&](const KtcSimulatedSet& s, bool group, std::uint64_t draw) {
+    return post ? ktc_post_frames(s, patterns, group, draw, *sets.one_step, setup.grid)
+                : ktc_network_frames(s, patterns, group, draw);
+  };
+  const LabelledFrames t = inputs(sets.train, n.group, seed);
+  const int width = static_cast<int>(t.frames.cols());
+  KtcLearnedArm a;
+  a.network = name.network;
+  a.arm = name.arm;
+  a.model_file = ktc_model_path(out, name.network, name.arm);
+  a.training_frames = t.frames.rows();
+  TrainingRun run;
+  run.out = a.model_file;
+  run.quiet = quiet;
+  run.label = name.network + " " + name.arm;
+  run.rule = r.options.rule;
+  const int grid = r.options.grid;
+  TrainingResult trained = train_and_save(
+      ktc_network_options(n, width, grid), ktc_training_options(n), t,
+      post ? sets.validation_images : sets.validation_frames,
+      post ? ktc_post_setup(patterns, grid, width) : ktc_network_setup(patterns, grid), run);
+  auto training = nlohmann::json::parse(trained.model.info().training);
+  training["ktc"] = ktc_record(setup, r, name.network, name.arm);
+  trained.model.info().training = training.dump();
+  trained.model.info().augment = n.group ? "ktc-group" : "none";
+  write_model_file(a.model_file, trained.model);
+  a.end = trained.end;
+  a.steps = trained.total_steps;
+  a.doublings = trained.doublings;
+  a.stage_best = trained.stage_best;
+  a.training_seconds = trained.seconds;
+  const LearnedModel& model = trained.model;
+  score_test_split(model, inputs(sets.test, false, seed + 2), sets.test, sets.simulation,
+                   setup.tank.options.radius, n.threshold, a);
+  const std::function<ClassImage(const Eigen::VectorXd&)> classes =
+      post ? std::function<ClassImage(const Eigen::VectorXd&)>([&](const Eigen::VectorXd& c) {
+        return ktc_post_classes(model, *sets.one_step, setup.grid, c, n.threshold);
+      })
+           : [&](const Eigen::VectorXd& c) { return ktc_network_classes(model, c, n.threshold); };
+  score_samples(classes, setup, samples, truths, levels, a);
+  return a;
 }
 
 }  // namespace
 
 void KtcLearnedOptions::validate() const {
+  for (std::size_t k = 0; k < networks.size(); ++k) {
+    if (networks[k] != "dnn" && networks[k] != "dnn-post")
+      throw InputError("--ktc-learned", "",
+                       "'" + networks[k] + "': dnn (the frame) or dnn-post (a one-step image)");
+    if (std::count(networks.begin(), networks.begin() + static_cast<std::ptrdiff_t>(k),
+                   networks[k]))
+      throw InputError("--ktc-learned", "", "lists " + networks[k] + " twice");
+  }
+  if (networks.empty() && !arms.empty())
+    throw InputError("--ktc-learned", "", "names no network (--ktc-tanks 0: no learned rows)");
+  one_step.validate();
   for (std::size_t k = 0; k < arms.size(); ++k) {
     if (arms[k] != "none" && arms[k] != "group")
       throw InputError("--augment", "",
@@ -143,12 +225,16 @@ double KtcLearnedOptions::training_bytes() const {
   // Measured: 4,000 tanks with the group peaked at 4.8 GB (frames and labels as doubles, the
   // trainer's float copies, the simulated set): about 1.2 MB a tank, counted here as 1.5.
   const bool group = std::count(arms.begin(), arms.end(), "group") > 0;
-  const double values = 2356.0 + static_cast<double>(grid) * grid;
+  const bool post = std::count(networks.begin(), networks.end(), "dnn-post") > 0;
+  // A one-step image's pixels inside the tank (pi/4 of the square) beside the frame's values.
+  const double image = post ? 0.8 * one_step_grid * one_step_grid : 0;
+  const double values = 2356.0 + image + static_cast<double>(grid) * grid;
   return static_cast<double>(tanks) * (group ? 8 : 1) * values * 8 * 3.5;
 }
 
-std::string ktc_model_path(const std::string& run, const std::string& arm) {
-  return (std::filesystem::path(run) / ("ktc_dnn_" + arm + ".model")).string();
+std::string ktc_model_path(const std::string& run, const std::string& network,
+                           const std::string& arm) {
+  return (std::filesystem::path(run) / ("ktc_" + network + "_" + arm + ".model")).string();
 }
 
 double ktc_model_threshold(const LearnedModel& model, const std::string& source) {
@@ -193,42 +279,27 @@ KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMe
   r.simulation_seconds = seconds_since(t0);
   r.test = r.validation = std::max(1, options.tanks / 10);
   r.train = options.tanks - r.test - r.validation;
-  const KtcSimulatedSet train = rows(all, 0, r.train),
-                        validation = rows(all, r.train, r.train + r.validation),
-                        test = rows(all, r.train + r.validation, options.tanks);
+  Splits sets{rows(all, 0, r.train),
+              rows(all, r.train, r.train + r.validation),
+              rows(all, r.train + r.validation, options.tanks),
+              so,
+              nullptr,
+              {},
+              {}};
   const std::uint64_t seed = options.network.seed;
-  const LabelledFrames v = ktc_network_frames(validation, patterns, false, seed + 1);
-  for (const std::string& arm : options.arms) {
-    KtcNetworkOptions n = options.network;
-    n.group = arm == "group";
-    const LabelledFrames t = ktc_network_frames(train, patterns, n.group, seed);
-    KtcLearnedArm a;
-    a.arm = arm;
-    a.model_file = ktc_model_path(out, arm);
-    a.training_frames = t.frames.rows();
-    TrainingRun run;
-    run.out = a.model_file;
-    run.quiet = quiet;
-    run.label = "dnn " + arm;
-    run.rule = options.rule;
-    TrainingResult trained = train_and_save(
-        ktc_network_options(n, static_cast<int>(t.frames.cols()), options.grid),
-        ktc_training_options(n), t, v, ktc_network_setup(patterns, options.grid), run);
-    auto training = nlohmann::json::parse(trained.model.info().training);
-    training["ktc"] = ktc_record(setup, r, arm);
-    trained.model.info().training = training.dump();
-    trained.model.info().augment = arm == "group" ? "ktc-group" : "none";
-    write_model_file(a.model_file, trained.model);
-    a.end = trained.end;
-    a.steps = trained.total_steps;
-    a.doublings = trained.doublings;
-    a.stage_best = trained.stage_best;
-    a.training_seconds = trained.seconds;
-    score_test_split(trained.model, test, patterns, so, setup.tank.options.radius, n.threshold,
-                     seed + 2, a);
-    score_samples(trained.model, setup, samples, truths, levels, n.threshold, a);
-    r.arms.push_back(std::move(a));
+  sets.validation_frames = ktc_network_frames(sets.validation, patterns, false, seed + 1);
+  if (std::count(options.networks.begin(), options.networks.end(), "dnn-post") > 0) {
+    if (!quiet)
+      fmt::print(stderr, "one-step images ({} at lambda {:g}) of the simulated tanks ...\n",
+                 options.one_step.method, options.one_step.lambda);
+    sets.one_step = make_ktc_one_step(setup, options.one_step);
+    sets.validation_images =
+        ktc_post_frames(sets.validation, patterns, false, seed + 1, *sets.one_step, setup.grid);
   }
+  for (const std::string& network : options.networks)
+    for (const std::string& arm : options.arms)
+      r.arms.push_back(
+          train_arm(setup, samples, truths, levels, {network, arm}, out, quiet, sets, r));
   return r;
 }
 

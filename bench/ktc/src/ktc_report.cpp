@@ -94,7 +94,8 @@ json learned_json(const KtcLearnedResults& l) {
   json without = json::array(), arms = json::array();
   for (const auto& c : l.contrasts.without) without.push_back(contrasts_json(c));
   for (const KtcLearnedArm& a : l.arms)
-    arms.push_back({{"arm", a.arm},
+    arms.push_back({{"network", a.network},
+                    {"arm", a.arm},
                     {"model_file", std::filesystem::path(a.model_file).filename().string()},
                     {"training_frames", a.training_frames},
                     {"end", to_string(a.end)},
@@ -108,25 +109,27 @@ json learned_json(const KtcLearnedResults& l) {
                     {"total", ktc_total(a.scores)},
                     {"median_ms", a.median_ms}});
   const KtcNetworkOptions& n = l.options.network;
-  return {{"contrast_band",
-           {{"resistive", {l.options.resistive_low, l.options.resistive_high}},
-            {"conductive", {l.options.conductive_low, l.options.conductive_high}},
-            {"best_fit_inside", contrasts_json(l.in_band)}}},
-          {"contrasts_fitted", contrasts_json(l.contrasts.all)},
-          {"contrasts_fitted_without_each_sample", without},
-          {"noise", l.noise},
-          {"simulated", {{"train", l.train}, {"validation", l.validation}, {"test", l.test}}},
-          {"simulation_seconds", l.simulation_seconds},
-          {"threshold", n.threshold},
-          {"training",
-           {{"steps", n.steps},
-            {"batch_size", n.batch_size},
-            {"learning_rate", n.learning_rate},
-            {"patience", n.patience},
-            {"seed", n.seed},
-            {"max_doublings", l.options.rule.max_doublings},
-            {"doubling_tolerance", l.options.rule.tolerance}}},
-          {"arms", arms}};
+  return {
+      {"contrast_band",
+       {{"resistive", {l.options.resistive_low, l.options.resistive_high}},
+        {"conductive", {l.options.conductive_low, l.options.conductive_high}},
+        {"best_fit_inside", contrasts_json(l.in_band)}}},
+      {"contrasts_fitted", contrasts_json(l.contrasts.all)},
+      {"contrasts_fitted_without_each_sample", without},
+      {"noise", l.noise},
+      {"simulated", {{"train", l.train}, {"validation", l.validation}, {"test", l.test}}},
+      {"simulation_seconds", l.simulation_seconds},
+      {"threshold", n.threshold},
+      {"one_step", {{"method", l.options.one_step.method}, {"lambda", l.options.one_step.lambda}}},
+      {"training",
+       {{"steps", n.steps},
+        {"batch_size", n.batch_size},
+        {"learning_rate", n.learning_rate},
+        {"patience", n.patience},
+        {"seed", n.seed},
+        {"max_doublings", l.options.rule.max_doublings},
+        {"doubling_tolerance", l.options.rule.tolerance}}},
+      {"arms", arms}};
 }
 
 json results_json(const KtcRunResults& r) {
@@ -199,20 +202,28 @@ std::string learned_markdown(const KtcLearnedResults& l) {
   for (const KtcLearnedArm& a : l.arms) {
     std::string stages;
     for (double v : a.stage_best) stages += (stages.empty() ? "" : ", ") + fmt::format("{:.4g}", v);
-    o << fmt::format("| dnn {} | {} | {} | {} | {} | {} | {:.0f} | {:.3f} | {:.3f} | {:.2f} |\n",
-                     a.arm, a.training_frames, a.steps, to_string(a.end),
+    o << fmt::format("| {} {} | {} | {} | {} | {} | {} | {:.0f} | {:.3f} | {:.3f} | {:.2f} |\n",
+                     a.network, a.arm, a.training_frames, a.steps, to_string(a.end),
                      converged(a.end) ? "yes" : "**no**", stages, a.training_seconds, a.test_cc,
                      a.test_score, ktc_total(a.scores));
   }
-  const KtcLearnedArm* none = nullptr;
-  const KtcLearnedArm* group = nullptr;
-  for (const KtcLearnedArm& a : l.arms) (a.arm == "none" ? none : group) = &a;
-  if (none && group)
+  if (std::count(l.options.networks.begin(), l.options.networks.end(), "dnn-post") > 0)
     o << fmt::format(
-        "\nThe group's effect: total {:+.2f} on the samples ({:.2f} to {:.2f}), CC {:+.3f} on "
-        "the simulated test split ({:.3f} to {:.3f}).\n",
-        ktc_total(group->scores) - ktc_total(none->scores), ktc_total(none->scores),
-        ktc_total(group->scores), group->test_cc - none->test_cc, none->test_cc, group->test_cc);
+        "\ndnn-post reads a one-step image, {} at lambda {:g} (fixed beforehand) from the frame's "
+        "present values, instead of the frame.\n",
+        l.options.one_step.method, l.options.one_step.lambda);
+  for (const std::string& network : l.options.networks) {
+    const KtcLearnedArm* none = nullptr;
+    const KtcLearnedArm* group = nullptr;
+    for (const KtcLearnedArm& a : l.arms)
+      if (a.network == network) (a.arm == "none" ? none : group) = &a;
+    if (none && group)
+      o << fmt::format(
+          "\nThe group's effect on {}: total {:+.2f} on the samples ({:.2f} to {:.2f}), CC "
+          "{:+.3f} on the simulated test split ({:.3f} to {:.3f}).\n",
+          network, ktc_total(group->scores) - ktc_total(none->scores), ktc_total(none->scores),
+          ktc_total(group->scores), group->test_cc - none->test_cc, none->test_cc, group->test_cc);
+  }
   return o.str();
 }
 
@@ -263,13 +274,14 @@ std::string report_markdown(const KtcRunResults& r) {
     rows.push_back({ktc_total(m.held_out), t});
   }
   for (const KtcLearnedArm& a : r.learned.arms) {  // nothing tuned on the samples: one figure
-    std::string t = "| dnn " + a.arm;
+    std::string t = "| " + a.network + " " + a.arm;
     for (const auto& level : a.scores) t += fmt::format(" | {:.2f}", ktc_level_total(level));
     t += fmt::format(
-        " | **{:.2f}** | — | {:.2f} | trained in simulation{}, threshold {:.2g} | "
+        " | **{:.2f}** | — | {:.2f} | trained in simulation{}{}, threshold {:.2g} | "
         "{:.1f} | — |\n",
         ktc_total(a.scores), ktc_total(a.scores), a.arm == "group" ? " with the group" : "",
-        r.learned.options.network.threshold, a.median_ms);
+        a.network == "dnn-post" ? ", on a one-step image" : "", r.learned.options.network.threshold,
+        a.median_ms);
     rows.push_back({ktc_total(a.scores), t});
   }
   std::stable_sort(rows.begin(), rows.end(),
@@ -313,7 +325,7 @@ void draw_level(const KtcRunResults& r, std::size_t l, const std::string& path) 
     rows.push_back(row);
   }
   for (const KtcLearnedArm& a : r.learned.arms) {
-    ImageRow row{"dnn " + a.arm, {}, 0, 2};
+    ImageRow row{a.network + " " + a.arm, {}, 0, 2};
     for (const ClassImage& c : a.classes[l]) row.images.push_back(as_vector(c));
     rows.push_back(row);
   }
@@ -406,13 +418,19 @@ KtcRunSettings parse_settings(const json& j, const std::string& path) {
     if (!arms.is_array()) throw InputError(path, "learned.arms", "must be a list");
     for (const json& a : arms) {
       const std::string arm = text(a, "arm", "learned.arms[].");
-      const std::string file = text(a, "model_file", "learned.arms[" + arm + "].");
+      // Runs before the post-processing network trained dnn only, and did not say so.
+      const std::string network =
+          a.contains("network") ? text(a, "network", "learned.arms[].") : "dnn";
+      const std::string key = network + " " + arm;
+      const std::string file = text(a, "model_file", "learned.arms[" + key + "].");
       if (arm != "none" && arm != "group")
         throw InputError(path, "learned.arms[].arm", "'" + arm + "' is none or group");
+      if (network != "dnn" && network != "dnn-post")
+        throw InputError(path, "learned.arms[].network", "'" + network + "' is dnn or dnn-post");
       if (file.empty() || std::filesystem::path(file).filename().string() != file)
-        throw InputError(path, "learned.arms[" + arm + "].model_file",
+        throw InputError(path, "learned.arms[" + key + "].model_file",
                          "must be a file name in the run's folder");
-      s.models[arm] = (std::filesystem::path(path).parent_path() / file).string();
+      s.models[key] = (std::filesystem::path(path).parent_path() / file).string();
     }
   }
   s.tank.validate();

@@ -12,6 +12,12 @@ namespace {
 
 constexpr int kLevels = 7;
 
+// Frames as the network takes them: a missing value (NaN) is given as 0, no change, in training
+// and in use alike.
+SampleMatrix zero_missing(const SampleMatrix& frames) {
+  return frames.unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; });
+}
+
 }  // namespace
 
 void KtcNetworkOptions::validate() const {
@@ -27,8 +33,8 @@ void KtcNetworkOptions::validate() const {
   if (!(threshold > 0 && threshold < 1)) fail("threshold", "must lie in (0, 1)");
 }
 
-LabelledFrames ktc_network_frames(const KtcSimulatedSet& tanks, const CurrentPatterns& patterns,
-                                  bool group, std::uint64_t seed) {
+LabelledFrames ktc_level_frames(const KtcSimulatedSet& tanks, const CurrentPatterns& patterns,
+                                bool group, std::uint64_t seed) {
   const KtcSimulatedSet set =
       group ? augment_ktc_set(tanks, patterns, ktc_group(patterns), {}) : tanks;
   const auto n = static_cast<Eigen::Index>(set.labels.size());
@@ -41,16 +47,20 @@ LabelledFrames ktc_network_frames(const KtcSimulatedSet& tanks, const CurrentPat
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<int> level(1, kLevels);
   for (Eigen::Index k = 0; k < n; ++k) {
-    Eigen::VectorXd frame = ktc_level_frame(set.frames.row(k).transpose(), patterns, level(rng));
-    for (double& v : frame)
-      if (!std::isfinite(v)) v = 0;  // what the network is given for a missing value
-    out.frames.row(k) = frame.transpose();
+    out.frames.row(k) = ktc_level_frame(set.frames.row(k).transpose(), patterns, level(rng));
     for (Eigen::Index i = 0; i < grid; ++i)
       for (Eigen::Index j = 0; j < grid; ++j) {
         const int c = set.labels[k](i, j);
         out.labels(k, i * grid + j) = c == 2 ? 1.0 : c == 1 ? -1.0 : 0.0;
       }
   }
+  return out;
+}
+
+LabelledFrames ktc_network_frames(const KtcSimulatedSet& tanks, const CurrentPatterns& patterns,
+                                  bool group, std::uint64_t seed) {
+  LabelledFrames out = ktc_level_frames(tanks, patterns, group, seed);
+  out.frames = zero_missing(out.frames);
   return out;
 }
 
@@ -93,15 +103,16 @@ LearnedModel train_ktc_network(const KtcSimulatedSet& train, const KtcSimulatedS
 
 ClassImage ktc_network_classes(const LearnedModel& model, const Eigen::VectorXd& change,
                                double threshold) {
-  SampleMatrix frame(1, change.size());
-  for (Eigen::Index i = 0; i < change.size(); ++i)
-    frame(0, i) = std::isfinite(change[i]) ? change[i] : 0.0;
-  const SampleMatrix image = model.reconstruct(frame);
-  const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(image.cols()))));
+  return ktc_output_classes(model.reconstruct(zero_missing(change.transpose())).row(0).transpose(),
+                            threshold);
+}
+
+ClassImage ktc_output_classes(const Eigen::VectorXd& output, double threshold) {
+  const int n = static_cast<int>(std::lround(std::sqrt(static_cast<double>(output.size()))));
   ClassImage out = ClassImage::Zero(kKtcImageSize, kKtcImageSize);
   for (int i = 0; i < kKtcImageSize; ++i)
     for (int j = 0; j < kKtcImageSize; ++j) {  // the pixel of the network's grid under (i, j)
-      const double x = image(0, (i * n / kKtcImageSize) * n + j * n / kKtcImageSize);
+      const double x = output((i * n / kKtcImageSize) * n + j * n / kKtcImageSize);
       out(i, j) = x >= threshold ? 2 : x <= -threshold ? 1 : 0;
     }
   return out;

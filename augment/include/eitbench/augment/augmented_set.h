@@ -40,6 +40,10 @@ struct AugmentSetup {
   // `layout` is not used. Null: the adjacent protocol in `layout`. The paper's column reversal is
   // the adjacent map's only; any other protocol is refused with it.
   std::shared_ptr<const MeasurementProtocol> protocol;
+  // Positive: the inputs are not frames but an image's pixels, this many (a one-step
+  // reconstruction a post-processing network reads, bench/ktc/tank_network.h). No group acts on
+  // them (the set is expanded beforehand, on its frames): `group` must then be none. 0: frames.
+  int image_inputs = 0;
 
   // Throws InputError("AugmentSetup", field) for a value out of range.
   void validate() const;
@@ -48,7 +52,7 @@ struct AugmentSetup {
 // The elements `setup.group` stands for: group_elements(group, electrodes) on the disk, or the
 // sensor's own (see AugmentSetup::sensor). Validates the setup first.
 std::vector<GroupElement> augment_elements(const AugmentSetup& setup);
-// Values a frame has: the protocol's inputs, or the adjacent layout's size.
+// Values a frame has: image_inputs, the protocol's inputs, or the adjacent layout's size.
 int frame_width(const AugmentSetup& setup);
 // How each of augment_elements(setup) acts on a frame, in that order: FrameSymmetry's tables for
 // the adjacent protocol (the paper's variant included), channel_actions for any other. Throws

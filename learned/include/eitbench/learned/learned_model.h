@@ -20,6 +20,9 @@ struct ModelInfo {
   // The protocol its frames were read on (the network's inputs are this protocol's); null: the
   // adjacent protocol (model files from before protocols).
   std::shared_ptr<const MeasurementProtocol> protocol;
+  // Positive: the network reads this many pixels of a one-step image made from the protocol's
+  // frames (AugmentSetup::image_inputs), not the frames. 0: frames.
+  int image_inputs = 0;
   std::string training = "{}";  // JSON: the training options, budget, history, best epoch
 };
 

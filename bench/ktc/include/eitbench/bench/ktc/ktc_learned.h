@@ -10,6 +10,7 @@
 
 #include "eitbench/bench/ktc/ktc_method.h"
 #include "eitbench/bench/ktc/tank_network.h"
+#include "eitbench/bench/ktc/tank_post_processing.h"
 #include "eitbench/bench/ktc/tank_simulation.h"
 #include "eitbench/bench/methods/budget_rule.h"
 
@@ -22,7 +23,12 @@ struct KtcLearnedOptions {
   // The models trained: "none" (the simulated tanks as drawn) and "group" (each also under the
   // tank's 8 symmetry elements). Empty: no learned rows.
   std::vector<std::string> arms{"none", "group"};
-  int tanks = 4000;  // simulated: 80 % to train on, 10 % to validate, 10 % to test
+  // The networks trained for each arm: "dnn" reads the frame (tank_network.h), "dnn-post" a
+  // one-step image of it (tank_post_processing.h), as the challenge's winners did.
+  std::vector<std::string> networks{"dnn", "dnn-post"};
+  KtcOneStep one_step;     // dnn-post's image
+  int one_step_grid = 64;  // that image's pixels a side (the run's --pixels), for the estimate
+  int tanks = 4000;        // simulated: 80 % to train on, 10 % to validate, 10 % to test
   // Each target's conductivity ratio to the water, drawn log-uniformly in a band fixed
   // beforehand: plastic 10-100 times below the water, metal 10-100 times above. The contrasts
   // fitted to the samples are a check of the band (the residual inside it), not an input:
@@ -39,7 +45,8 @@ struct KtcLearnedOptions {
   }();
   BudgetRule rule{3, 0.01};  // up to three doublings while the last lowered validation by > 1 %
 
-  // InputError naming the flag (--augment, --ktc-tanks, --ktc-steps) or the options' field;
+  // InputError naming the flag (--augment, --ktc-learned, --ktc-tanks, --ktc-steps) or the
+  // options' field;
   // --ktc-tanks when the training frames (with the group, 8 a tank), their labels and the
   // trainer's copies would pass kKtcLearnedMemoryBudget.
   void validate() const;
@@ -48,8 +55,9 @@ struct KtcLearnedOptions {
 
 // One learned model's row.
 struct KtcLearnedArm {
-  std::string arm;         // none | group
-  std::string model_file;  // in the run's folder: ktc_dnn_<arm>.model
+  std::string network = "dnn";  // dnn | dnn-post
+  std::string arm;              // none | group
+  std::string model_file;       // in the run's folder: ktc_<network>_<arm>.model
   long long training_frames = 0;
   TrainingEnd end = TrainingEnd::budget;
   long long steps = 0;  // the budget at the end (doubled each stage)
@@ -77,7 +85,8 @@ struct KtcLearnedResults {
   std::vector<KtcLearnedArm> arms;
 };
 
-// Simulates, trains every arm into <out>/ktc_dnn_<arm>.model (with its loss curves) and scores
+// Simulates, trains every network and arm into <out>/ktc_<network>_<arm>.model (with its loss
+// curves) and scores
 // it on `samples` at `levels`. The model files record the protocol (the patterns), the tank, the
 // contrasts, the level handling and the threshold.
 KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMeasurement>& samples,
@@ -85,8 +94,9 @@ KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMe
                                   const std::vector<int>& levels, const KtcLearnedOptions& options,
                                   const std::string& out, bool quiet);
 
-// The model file of an arm in a run's folder.
-std::string ktc_model_path(const std::string& run, const std::string& arm);
+// The model file of a network and arm in a run's folder.
+std::string ktc_model_path(const std::string& run, const std::string& network,
+                           const std::string& arm);
 
 // A trained model's KTC record (its training JSON's "ktc" block): the threshold it segments at.
 // InputError(source, "ktc") for a model that is not a KTC run's.

@@ -27,8 +27,9 @@ struct KtcRunSettings {
     double lambda = 0;
     SegmentationRule rule;
   };
-  std::map<std::string, Method> methods;      // tuned on every sample
-  std::map<std::string, std::string> models;  // learned arm (none, group) -> its model file
+  std::map<std::string, Method> methods;  // tuned on every sample
+  // learned network and arm ("dnn none", "dnn-post group", ...) -> its model file
+  std::map<std::string, std::string> models;
 };
 
 // Reads RUN/results.json of a KTC run. InputError naming the file and the field when it is no

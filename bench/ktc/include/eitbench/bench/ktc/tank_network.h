@@ -30,8 +30,11 @@ struct KtcNetworkOptions {
   void validate() const;
 };
 
-// `tanks` as the network learns them: each expanded by the group when asked (pattern_action and
-// the labels moved), then each row at a level drawn from 1 ... 7 (seeded), its missing values 0.
+// `tanks` each expanded by the group when asked (pattern_action and the labels moved), then each
+// row at a level drawn from 1 ... 7 (seeded), its missing values NaN; labels the signed classes.
+LabelledFrames ktc_level_frames(const KtcSimulatedSet& tanks, const CurrentPatterns& patterns,
+                                bool group, std::uint64_t seed);
+// The same as the network learns them: the missing values 0.
 LabelledFrames ktc_network_frames(const KtcSimulatedSet& tanks, const CurrentPatterns& patterns,
                                   bool group, std::uint64_t seed);
 
@@ -50,5 +53,8 @@ LearnedModel train_ktc_network(const KtcSimulatedSet& train, const KtcSimulatedS
 // level removed the value).
 ClassImage ktc_network_classes(const LearnedModel& model, const Eigen::VectorXd& change,
                                double threshold);
+// The classes of a network's output image (n x n, the signed classes' scale): at or beyond
+// +-threshold that class, each of KTC's pixels taking the output pixel under it.
+ClassImage ktc_output_classes(const Eigen::VectorXd& output, double threshold);
 
 }  // namespace eitbench
