@@ -361,7 +361,7 @@ std::function<void()> add_run_command(CLI::App& app) {
       ->check(CLI::IsMember(model_based_method_names()));
   cmd->add_option("--augment", args->augments,
                   "augmentations of the learned reconstructor (default: the preset's; quick: "
-                  "none,d16,paper, the others none,rotations,d16,paper; with --mesh or --ktc "
+                  "none,d16, the others none,rotations,d16,paper; with --mesh or --ktc "
                   "none,group: group is the sensor's whole symmetry group)")
       ->delimiter(',')
       ->check(CLI::IsMember({"none", "rotations", "d16", "paper", "mirror", "group"}));
