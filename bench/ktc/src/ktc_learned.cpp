@@ -279,13 +279,11 @@ KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMe
   r.simulation_seconds = seconds_since(t0);
   r.test = r.validation = std::max(1, options.tanks / 10);
   r.train = options.tanks - r.test - r.validation;
-  Splits sets{rows(all, 0, r.train),
-              rows(all, r.train, r.train + r.validation),
-              rows(all, r.train + r.validation, options.tanks),
-              so,
-              nullptr,
-              {},
-              {}};
+  Splits sets;
+  sets.train = rows(all, 0, r.train);
+  sets.validation = rows(all, r.train, r.train + r.validation);
+  sets.test = rows(all, r.train + r.validation, options.tanks);
+  sets.simulation = so;
   const std::uint64_t seed = options.network.seed;
   sets.validation_frames = ktc_network_frames(sets.validation, patterns, false, seed + 1);
   if (std::count(options.networks.begin(), options.networks.end(), "dnn-post") > 0) {
