@@ -16,6 +16,7 @@
 #include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/bench/methods/press_fingerprint.h"
 #include "eitbench/bench/methods/press_labels.h"
+#include "eitbench/bench/report/press_pick.h"
 #include "eitbench/bench/report/results.h"
 #include "eitbench/jacobian/error.h"
 #include "learned_support.h"
@@ -271,8 +272,16 @@ TEST_F(MeasuredRun, PicksAMethodWithoutLabelsFromTheSimulationLikeTheSensor) {
           << m.settings;
     }
     if (!label_free) continue;
-    if (!pick || m.like_sensor_fraction_of_radius < pick->like_sensor_fraction_of_radius) pick = &m;
+    EXPECT_EQ(m.tuned_on_real_frames, m.training == "calibration frames (GCV)");
+    EXPECT_GT(m.misfit_over_noise, 0) << m.method << ", " << m.training;
     if (!best_free || m.centre_error_median < best_free->centre_error_median) best_free = &m;
+  }
+  // The pick: the lowest in the simulation like the sensor, among the rows the real frames tuned
+  // where their misfit passes twice the noise.
+  for (const MeasuredRow& m : results.measured) {
+    if (std::isnan(m.like_sensor_fraction_of_radius)) continue;
+    if (m.misfit_over_noise > 2 && !m.tuned_on_real_frames) continue;
+    if (!pick || m.like_sensor_fraction_of_radius < pick->like_sensor_fraction_of_radius) pick = &m;
   }
   // Gauss-Newton would sweep on a few frames: left out; GREIT has no GCV row but a row here.
   EXPECT_EQ(like_rows, (std::set<std::string>{"laplace", "greit"}));
@@ -292,6 +301,27 @@ TEST_F(MeasuredRun, PicksAMethodWithoutLabelsFromTheSimulationLikeTheSensor) {
                                   pick->centre_error_median - best_free->centre_error_median)),
             std::string::npos)
       << text;
+}
+
+// The pick's rule on hand-made rows: the simulation like the sensor ranks them, unless the real
+// frames' misfit to the model passes twice the noise; then only the rows the real frames tuned.
+TEST(PressPick, KeepsToTheRowsTheRealFramesTunedWhereTheModelsErrorDominates) {
+  MeasuredRow simulated, on_frames, labelled;
+  simulated.method = "noser", simulated.like_sensor_fraction_of_radius = 0.08;
+  on_frames.method = "laplace", on_frames.like_sensor_fraction_of_radius = 0.09;
+  on_frames.tuned_on_real_frames = true;
+  labelled.method = "tikhonov";  // tuned on labelled presses: no error in the simulation
+  for (double ratio : {1.5, 5.0}) {
+    simulated.misfit_over_noise = on_frames.misfit_over_noise = ratio;
+    const PressPick p = pick_without_labels({labelled, simulated, on_frames});
+    ASSERT_NE(p.pick, nullptr);
+    EXPECT_EQ(p.pick->method, ratio > 2 ? "laplace" : "noser") << ratio;
+    EXPECT_EQ(p.real_frames_only, ratio > 2);
+    EXPECT_EQ(p.misfit_over_noise, ratio);
+  }
+  // No row the real frames tuned: the simulation ranks them whatever the misfit.
+  EXPECT_EQ(pick_without_labels({simulated, labelled}).pick->method, "noser");
+  EXPECT_EQ(pick_without_labels({labelled}).pick, nullptr);
 }
 
 TEST_F(MeasuredRun, RefusesPressSetsItCannotScoreHonestly) {

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "eitbench/bench/report/gnuplot.h"
+#include "eitbench/bench/report/press_pick.h"
 
 namespace eitbench {
 namespace {
@@ -82,7 +83,8 @@ const MeasuredRow* lowest(const std::vector<const MeasuredRow*>& rows, double Me
 void write_pick(std::ostream& o, const std::vector<MeasuredRow>& rows, double mm) {
   const std::vector<const MeasuredRow*> free = label_free(rows);
   if (free.empty()) return;
-  const MeasuredRow* pick = lowest(free, &MeasuredRow::like_sensor_fraction_of_radius);
+  const PressPick chosen = pick_without_labels(rows);
+  const MeasuredRow* pick = chosen.pick;
   const MeasuredRow* best_free = lowest(free, &MeasuredRow::centre_error_median);
   std::vector<const MeasuredRow*> all;
   for (const auto& m : rows) all.push_back(&m);
@@ -96,6 +98,18 @@ void write_pick(std::ostream& o, const std::vector<MeasuredRow>& rows, double mm
     o << fmt::format("| {}{} | {} | {} | {} |\n", m == pick ? "**pick:** " : "", name(*m),
                      m->training, length(m->like_sensor_fraction_of_radius, mm),
                      length(m->centre_error_median, mm));
+  if (!std::isnan(chosen.misfit_over_noise))
+    o << fmt::format(
+        "\nThe real frames' misfit to the model (GCV's estimate) is {:.1f} times the noise of the "
+        "calibration set's references{}.\n",
+        chosen.misfit_over_noise,
+        chosen.real_frames_only
+            ? fmt::format(
+                  ": past {:g} times, the model's own error, which the simulation like the sensor "
+                  "lacks, dominates it, so the pick keeps to the rows whose lambda the real "
+                  "frames chose",
+                  kModelErrorRatio)
+            : "");
   o << fmt::format(
       "\nThe pick is **{}** ({}): {} median on the real presses. Regret against the best row "
       "without labels ({}, {}): **{}**; against the best row of all ({}, {}, {}): {}.\n",

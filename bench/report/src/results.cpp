@@ -226,7 +226,9 @@ json to_json(const MeasuredRow& m) {
           {"latency_median_ms", number(m.latency_median_ms)},
           {"settings", m.settings},
           {"simulated_fraction_of_radius", number(m.simulated_fraction_of_radius)},
-          {"like_sensor_fraction_of_radius", number(m.like_sensor_fraction_of_radius)}};
+          {"like_sensor_fraction_of_radius", number(m.like_sensor_fraction_of_radius)},
+          {"tuned_on_real_frames", m.tuned_on_real_frames},
+          {"misfit_over_noise", number(m.misfit_over_noise)}};
 }
 
 MeasuredRow measured_row_from_json(const json& j) {
@@ -253,6 +255,10 @@ MeasuredRow measured_row_from_json(const json& j) {
   // Absent from records made before the simulation like the sensor.
   if (j.contains("like_sensor_fraction_of_radius"))
     m.like_sensor_fraction_of_radius = number(j.at("like_sensor_fraction_of_radius"));
+  // Absent from records made before the pick weighed the model's error.
+  if (j.contains("tuned_on_real_frames"))
+    m.tuned_on_real_frames = j.at("tuned_on_real_frames").get<bool>();
+  if (j.contains("misfit_over_noise")) m.misfit_over_noise = number(j.at("misfit_over_noise"));
   return m;
 }
 

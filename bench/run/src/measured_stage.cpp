@@ -102,6 +102,7 @@ Provenance measured_provenance(const RunConfig& config, const RunData& data) {
       "rule there";
   p["press rule"] = "strongest blob or centroid, and the threshold, chosen on CAL";
   p["GCV rows with labels"] = "one-step methods: GCV on CAL's frames, the press rule on CAL";
+  p["pick"] = "the rows the real frames tuned where their misfit passes twice the noise";
   p["sensor"] = file_hash(config.sensor);  // its press fit gives rows of its own
   p["calibrated rows"] = "sensor fit; each method's affine position map on CAL";
   p["press training"] = "fine-tuned at a tenth of the peak rate; from scratch at the peak rate";
@@ -354,9 +355,12 @@ void model_based_rows(const StageInputs& in, const std::string& name,
         located_presses(*method, grid, background, in.set, rule, config.timed_frames);
     MeasuredRow row = row_for(in, name, "-", training, located);
     row.finetune_n = static_cast<int>(tuned_on);
-    if (label_free)
+    if (label_free) {
       row.like_sensor_fraction_of_radius =
           like_sensor_score(in, name, on_frames, method.get(), rule) / grid.radius();
+      row.tuned_on_real_frames = on_frames;
+      if (in.like) row.misfit_over_noise = in.like->misfit / in.like->noise.noise;
+    }
     if (!std::isnan(rule.threshold))
       row.settings += ", " + rule_settings(rule, label_free && on_frames ? "fixed: no labels"
                                                  : like ? "on the simulation like the sensor"

@@ -137,6 +137,12 @@ struct MeasuredRow {
   // touch drawn with the calibration set's measured noise and channel gains, tuned as the row is
   // (docs/real-presses.md#a-pick-without-labels). The report picks the lowest. NaN elsewhere.
   double like_sensor_fraction_of_radius = NAN;
+  // A row without labels whose hyperparameter the real frames chose (GCV on CAL's frames), and
+  // on every row without labels the real frames' misfit to the model over the references' noise
+  // (NaN elsewhere): where the model's own error dwarfs the noise the simulation like the sensor
+  // lacks it, and the pick keeps to the rows the real frames tuned (press_report.cpp).
+  bool tuned_on_real_frames = false;
+  double misfit_over_noise = NAN;
 };
 nlohmann::json to_json(const MeasuredRow& row);
 MeasuredRow measured_row_from_json(const nlohmann::json& j);
