@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "commands.h"
@@ -116,26 +115,6 @@ void write_all(const Args& a, const Inputs& in,
   }
 }
 
-// dnn-post's one-step method as its model file records it, checked against the run's grid.
-KtcOneStep one_step_of(const LearnedModel& model, const std::string& source, int pixels) {
-  const auto j = nlohmann::json::parse(model.info().training, nullptr, false);
-  const auto* record = j.is_object() && j.contains("ktc") && j.at("ktc").contains("one_step")
-                           ? &j.at("ktc").at("one_step")
-                           : nullptr;
-  if (!record || !record->is_object() || !record->contains("method") ||
-      !record->contains("lambda") || !record->contains("pixels") ||
-      !record->at("method").is_string() || !record->at("lambda").is_number() ||
-      !record->at("pixels").is_number_integer())
-    throw InputError(source, "ktc.one_step", "is not a post-processing model (dnn-post)");
-  KtcOneStep step{record->at("method").get<std::string>(), record->at("lambda").get<double>()};
-  step.validate();
-  if (record->at("pixels").get<int>() != pixels)
-    throw InputError(source, "ktc.one_step.pixels",
-                     "reads one-step images of " + record->at("pixels").dump() +
-                         " pixels a side, the run's grid has " + std::to_string(pixels));
-  return step;
-}
-
 // --method dnn or dnn-post: a learned model of the run, on the differences from ref.mat.
 void run_learned(const Args& a, const CLI::App& cmd) {
   if (a.from.empty())
@@ -175,7 +154,7 @@ void run_learned(const Args& a, const CLI::App& cmd) {
         a, in, [&](std::size_t k) { return ktc_network_classes(model, changes[k], threshold); },
         what);
   // dnn-post: the one-step image on the run's tank, grid and data term, as the run made it.
-  const KtcOneStep step = one_step_of(model, it->second, settings.grid);
+  const KtcOneStep step = ktc_model_one_step(model, it->second, settings.grid);
   const KtcSetup setup = make_ktc_setup(
       tank_for(in.reference, in.folder.reference, settings, KtcTankOptions(), a.quiet),
       settings.grid, settings.noise);

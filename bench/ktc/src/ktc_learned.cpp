@@ -166,11 +166,10 @@ KtcLearnedArm train_arm(const KtcSetup& setup, const std::vector<KtcMeasurement>
   const LearnedModel& model = trained.model;
   score_test_split(model, inputs(sets.test, false, seed + 2), sets.test, sets.simulation,
                    setup.tank.options.radius, n.threshold, a);
-  const std::function<ClassImage(const Eigen::VectorXd&)> classes =
-      post ? std::function<ClassImage(const Eigen::VectorXd&)>([&](const Eigen::VectorXd& c) {
-        return ktc_post_classes(model, *sets.one_step, setup.grid, c, n.threshold);
-      })
-           : [&](const Eigen::VectorXd& c) { return ktc_network_classes(model, c, n.threshold); };
+  const auto classes = [&](const Eigen::VectorXd& change) {
+    return post ? ktc_post_classes(model, *sets.one_step, setup.grid, change, n.threshold)
+                : ktc_network_classes(model, change, n.threshold);
+  };
   score_samples(classes, setup, samples, truths, levels, a);
   return a;
 }
@@ -221,11 +220,15 @@ void KtcLearnedOptions::validate() const {
   if (!arms.empty()) ktc_training_options(network).validate();
 }
 
+bool KtcLearnedOptions::trains(const std::string& network) const {
+  return std::count(networks.begin(), networks.end(), network) > 0;
+}
+
 double KtcLearnedOptions::training_bytes() const {
   // Measured: 4,000 tanks with the group peaked at 4.8 GB (frames and labels as doubles, the
   // trainer's float copies, the simulated set): about 1.2 MB a tank, counted here as 1.5.
   const bool group = std::count(arms.begin(), arms.end(), "group") > 0;
-  const bool post = std::count(networks.begin(), networks.end(), "dnn-post") > 0;
+  const bool post = trains("dnn-post");
   // A one-step image's pixels inside the tank (pi/4 of the square) beside the frame's values.
   const double image = post ? 0.8 * one_step_grid * one_step_grid : 0;
   const double values = 2356.0 + image + static_cast<double>(grid) * grid;
@@ -237,14 +240,42 @@ std::string ktc_model_path(const std::string& run, const std::string& network,
   return (std::filesystem::path(run) / ("ktc_" + network + "_" + arm + ".model")).string();
 }
 
-double ktc_model_threshold(const LearnedModel& model, const std::string& source) {
+namespace {
+
+// The model's KTC record (ktc_record), or InputError(source, "ktc").
+nlohmann::json ktc_model_record(const LearnedModel& model, const std::string& source) {
   const auto j = nlohmann::json::parse(model.info().training, nullptr, false);
-  if (j.is_discarded() || !j.is_object() || !j.contains("ktc") || !j.at("ktc").is_object() ||
-      !j.at("ktc").contains("threshold") || !j.at("ktc").at("threshold").is_number())
+  if (j.is_discarded() || !j.is_object() || !j.contains("ktc") || !j.at("ktc").is_object())
     throw InputError(source, "ktc", "is not a model a KTC run trained (eitbench run --ktc)");
-  const double t = j.at("ktc").at("threshold").get<double>();
+  return j.at("ktc");
+}
+
+}  // namespace
+
+double ktc_model_threshold(const LearnedModel& model, const std::string& source) {
+  const nlohmann::json record = ktc_model_record(model, source);
+  if (!record.contains("threshold") || !record.at("threshold").is_number())
+    throw InputError(source, "ktc", "is not a model a KTC run trained (eitbench run --ktc)");
+  const double t = record.at("threshold").get<double>();
   if (!(t > 0 && t < 1)) throw InputError(source, "ktc.threshold", "must lie in (0, 1)");
   return t;
+}
+
+KtcOneStep ktc_model_one_step(const LearnedModel& model, const std::string& source, int pixels) {
+  const nlohmann::json ktc = ktc_model_record(model, source);
+  const auto* record = ktc.contains("one_step") ? &ktc.at("one_step") : nullptr;
+  if (!record || !record->is_object() || !record->contains("method") ||
+      !record->contains("lambda") || !record->contains("pixels") ||
+      !record->at("method").is_string() || !record->at("lambda").is_number() ||
+      !record->at("pixels").is_number_integer())
+    throw InputError(source, "ktc.one_step", "is not a post-processing model (dnn-post)");
+  KtcOneStep step{record->at("method").get<std::string>(), record->at("lambda").get<double>()};
+  step.validate();
+  if (record->at("pixels").get<int>() != pixels)
+    throw InputError(source, "ktc.one_step.pixels",
+                     "reads one-step images of " + record->at("pixels").dump() +
+                         " pixels a side, the run's grid has " + std::to_string(pixels));
+  return step;
 }
 
 KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMeasurement>& samples,
@@ -286,7 +317,7 @@ KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMe
   sets.simulation = so;
   const std::uint64_t seed = options.network.seed;
   sets.validation_frames = ktc_network_frames(sets.validation, patterns, false, seed + 1);
-  if (std::count(options.networks.begin(), options.networks.end(), "dnn-post") > 0) {
+  if (options.trains("dnn-post")) {
     if (!quiet)
       fmt::print(stderr, "one-step images ({} at lambda {:g}) of the simulated tanks ...\n",
                  options.one_step.method, options.one_step.lambda);

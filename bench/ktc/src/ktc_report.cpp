@@ -207,7 +207,7 @@ std::string learned_markdown(const KtcLearnedResults& l) {
                      converged(a.end) ? "yes" : "**no**", stages, a.training_seconds, a.test_cc,
                      a.test_score, ktc_total(a.scores));
   }
-  if (std::count(l.options.networks.begin(), l.options.networks.end(), "dnn-post") > 0)
+  if (l.options.trains("dnn-post"))
     o << fmt::format(
         "\ndnn-post reads a one-step image, {} at lambda {:g} (fixed beforehand) from the frame's "
         "present values, instead of the frame.\n",

@@ -50,7 +50,8 @@ struct KtcLearnedOptions {
   // --ktc-tanks when the training frames (with the group, 8 a tank), their labels and the
   // trainer's copies would pass kKtcLearnedMemoryBudget.
   void validate() const;
-  double training_bytes() const;  // the estimate checked against the budget
+  double training_bytes() const;                  // the estimate checked against the budget
+  bool trains(const std::string& network) const;  // whether `networks` names it
 };
 
 // One learned model's row.
@@ -101,5 +102,9 @@ std::string ktc_model_path(const std::string& run, const std::string& network,
 // A trained model's KTC record (its training JSON's "ktc" block): the threshold it segments at.
 // InputError(source, "ktc") for a model that is not a KTC run's.
 double ktc_model_threshold(const LearnedModel& model, const std::string& source);
+// A dnn-post model's one-step method, from its KTC record. InputError(source, "ktc.one_step") for
+// a model without one; "ktc.one_step.pixels" when its images are not `pixels` a side (the run's
+// grid).
+KtcOneStep ktc_model_one_step(const LearnedModel& model, const std::string& source, int pixels);
 
 }  // namespace eitbench
