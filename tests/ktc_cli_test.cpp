@@ -12,6 +12,7 @@
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/io/matlab.h"
 #include "eitbench/bench/ktc/ktc_files.h"
+#include "eitbench/bench/ktc/ktc_run.h"
 #include "ktc_synthetic.h"
 
 namespace eitbench {
@@ -97,6 +98,11 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
   refused("run --ktc " + path("in") + " --out " + path("out") + " --levels 1,1", "--levels");
   refused("run --ktc " + path("in") + " --out " + path("out") + " --methods noser,shape",
           "--methods");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --noise-sweep 0.01,0.01",
+          "--noise-sweep");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --noise-sweep 0 --noise-floor 0",
+          "--noise-sweep");
+  refused("run --preset tiny --out " + path("out") + " --noise-sweep 0.01", "--noise-sweep");
   // A run's results whose setting is not one: the file and the field named.
   fs::create_directories(path("run"));
   std::ofstream(path("run/results.json"))
@@ -126,9 +132,12 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
 TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   make_folder();
   // Every method at level 7 (the fewest values: the quickest), then each applied by ktc --from.
-  const Result r =
-      run("run --ktc " + path("in") + " --out " + path("run") +
-          " --methods tikhonov,noser,laplace,greit,tv,gn --levels 7 --ktc-tanks 0" + fast());
+  // The Tikhonov family is tuned at a noise model other than --noise-relative's, so that ktc
+  // --from reproduces its scores only if it takes each method's own.
+  const Result r = run("run --ktc " + path("in") + " --out " + path("run") +
+                       " --methods tikhonov,noser,laplace,greit,tv,gn --levels 7 --ktc-tanks 0 "
+                       "--noise-sweep 0.05" +
+                       fast());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* file : {"results.json", "report.md"})
     EXPECT_TRUE(fs::exists(path("run/") + file)) << file;
@@ -138,8 +147,10 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   for (const char* method : {"tikhonov", "noser", "laplace", "greit", "tv", "gn"})
     EXPECT_NE(text.str().find(std::string("| ") + method + " |"), std::string::npos) << method;
   EXPECT_NE(text.str().find("held out"), std::string::npos);
-  // ktc --from takes the run's tank (the same ref.mat: no calibration) and each method's setting:
-  // every method writes the challenge's files, and one method every level's.
+  const auto results = nlohmann::json::parse(read_file_bytes(path("run/results.json")));
+  // ktc --from takes the run's tank (the same ref.mat: no calibration) and each method's setting,
+  // its noise model among it: every method writes the challenge's files with the scores the run
+  // had with that setting (in sample), and one method every level's files.
   auto applied = [&](const std::string& method, int level) {
     const std::string out = path("out_" + method + std::to_string(level));
     const Result k = run("ktc " + path("in") + " " + out + " " + std::to_string(level) +
@@ -149,6 +160,19 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
         << k.output;
     for (const char* file : {"/1.mat", "/2.mat"})
       EXPECT_TRUE(fs::exists(out + file)) << method << level;
+    if (level != 7) return;
+    for (const auto& m : results.at("methods"))
+      if (m.at("method") == method) {
+        EXPECT_EQ(m.at("best").at("noise_relative").get<double>(),
+                  ktc_sweeps_noise(method) ? 0.05 : 5e-4)
+            << method;
+        for (int s = 0; s < 2; ++s) {
+          const std::string score =
+              fmt::format("score {:.6f}", m.at("in_sample")[0][s].get<double>());
+          EXPECT_NE(k.output.find(score), std::string::npos) << method << " " << score << "\n"
+                                                             << k.output;
+        }
+      }
   };
   for (const char* method : {"tikhonov", "noser", "laplace", "greit", "tv", "gn"})
     applied(method, 7);

@@ -63,5 +63,35 @@ TEST(KtcTuning, ALevelsRuleThatHoldsOutIsChosen) {
   EXPECT_EQ(choose_ktc_rules(r, {1}).rule.kind, SegmentationKind::otsu);
 }
 
+TEST(KtcTuning, TheNoiseModelIsTunedAsTheWeightIs) {
+  // One weight at two noise models, Otsu only (the levels rule scores 0): the second model wins
+  // on all three samples (1.7 against 1.5), but held out each sample takes the model the other
+  // two prefer: sample 0 the first (1.0 against 0.8), samples 1 and 2 the second.
+  const std::size_t F = ktc_level_fractions().size();
+  KtcMethodResult r;
+  r.method = "made";
+  r.candidates = {0.1, 0.1};
+  r.candidate_noise = {5e-4, 5e-2};
+  r.levels = {1};
+  r.samples = {1, 2, 3};
+  const double otsu[2][3] = {{0.5, 0.5, 0.5}, {0.9, 0.2, 0.6}};
+  r.scores.assign(2, std::vector<std::vector<KtcFrameScores>>(1));
+  for (int c = 0; c < 2; ++c)
+    for (int s = 0; s < 3; ++s) {
+      KtcFrameScores f;
+      f.otsu = otsu[c][s];
+      f.resistive.assign(F, 0.0), f.conductive.assign(F, 0.0);
+      r.scores[static_cast<std::size_t>(c)][0].push_back(f);
+    }
+  tune_and_hold_out(r);
+  EXPECT_EQ(r.best.candidate, 1);
+  EXPECT_DOUBLE_EQ(r.best.noise_relative, 5e-2);
+  const double chosen[3] = {5e-4, 5e-2, 5e-2}, held_out[3] = {0.5, 0.2, 0.6};
+  for (std::size_t s = 0; s < 3; ++s) {
+    EXPECT_DOUBLE_EQ(r.held_out_choice[s].noise_relative, chosen[s]) << s;
+    EXPECT_NEAR(r.held_out[0][s], held_out[s], 1e-12) << s;
+  }
+}
+
 }  // namespace
 }  // namespace eitbench

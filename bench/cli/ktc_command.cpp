@@ -183,6 +183,7 @@ void run(const Args& a, const CLI::App& cmd) {
   KtcNoise noise = a.noise;
   int pixels = a.pixels;
   const KtcSetting preset = ktc_default_setting(a.method);
+  if (cmd.count("--noise-relative") == 0) noise.relative = preset.noise_relative;
   double lambda = a.lambda > 0 ? a.lambda : preset.lambda;
   SegmentationRule rule = preset.rule;
   if (settings) {
@@ -196,6 +197,7 @@ void run(const Args& a, const CLI::App& cmd) {
                        "sets the tank, the noise and the grid as the run had them: leave out "
                        "--electrode-coverage, --density, --noise-*, --pixels");
     noise = settings->noise;
+    noise.relative = it->second.noise_relative;
     pixels = settings->grid;
     if (a.lambda == 0) lambda = it->second.lambda;
     rule = it->second.rule;
@@ -223,7 +225,9 @@ void run(const Args& a, const CLI::App& cmd) {
       [&](std::size_t k) {
         return segment(ktc_image(setup, method->reconstruct(frames[k])), rule);
       },
-      fmt::format("{} at level {}: {}, {}; set-up {:.1f} s", a.method, a.level, method->settings(),
+      fmt::format("{} at level {}: {}, noise {:g} of each value and {:g} of the largest, {}; "
+                  "set-up {:.1f} s",
+                  a.method, a.level, method->settings(), noise.relative, noise.floor,
                   rule.to_string(), setup_seconds));
 }
 
@@ -272,8 +276,8 @@ std::function<void()> add_ktc_command(CLI::App& app) {
   cmd->add_option("--pixels", a->pixels, "the reconstruction's grid, pixels a side")
       ->capture_default_str();
   cmd->add_option("--noise-relative", a->noise.relative,
-                  "the data term's noise: this share of each reference value ...")
-      ->capture_default_str();
+                  "the data term's noise: this share of each reference value (default: the "
+                  "method's, as the run tuned it) ...");
   cmd->add_option("--noise-floor", a->noise.floor, "... and this share of the largest, combined")
       ->capture_default_str();
   cmd->add_flag("--quiet", a->quiet, "no progress or scores");

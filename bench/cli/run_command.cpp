@@ -163,6 +163,7 @@ struct KtcArgs {
   int pixels = 64;
   double coverage = KtcTankOptions().electrode_coverage;
   KtcNoise noise;
+  std::vector<double> noise_sweep = KtcRunOptions().noise_sweep;
   KtcLearnedOptions learned;  // tanks and steps here; arms, doublings and patience from run's
 };
 
@@ -191,6 +192,13 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
       ->capture_default_str()
       ->group(group);
   cmd.add_option("--noise-floor", k.noise.floor, "... and this share of the largest")
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--noise-sweep", k.noise_sweep,
+                 "with --ktc: the noise models (shares of each reference value) the Tikhonov "
+                 "family is tuned over, as its weight is; the other methods and the learned rows "
+                 "take --noise-relative (given alone, it sets this too)")
+      ->delimiter(',')
       ->capture_default_str()
       ->group(group);
   cmd.add_option("--ktc-tanks", k.learned.tanks,
@@ -255,6 +263,9 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
   o.tank.electrode_coverage = k.coverage;
   o.tank.density = parse_density(k.density);
   o.noise = k.noise;
+  o.noise_sweep = cmd.count("--noise-relative") > 0 && cmd.count("--noise-sweep") == 0
+                      ? std::vector<double>{k.noise.relative}
+                      : k.noise_sweep;
   o.grid = k.pixels;
   k.learned.one_step_grid = k.pixels;
   o.learned = k.learned;
@@ -412,8 +423,9 @@ std::function<void()> add_run_command(CLI::App& app) {
           {args->methods, args->augments, args->out, args->doublings, args->patience, args->threads,
            args->doubling_tolerance, args->quiet, args->device, args->seed},
           *cmd);
-    for (const char* flag : {"--levels", "--electrode-coverage", "--density", "--pixels",
-                             "--noise-relative", "--noise-floor", "--ktc-tanks", "--ktc-steps"})
+    for (const char* flag :
+         {"--levels", "--electrode-coverage", "--density", "--pixels", "--noise-relative",
+          "--noise-floor", "--noise-sweep", "--ktc-tanks", "--ktc-steps"})
       if (cmd->count(flag) > 0) throw InputError(flag, "", "goes with --ktc");
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;

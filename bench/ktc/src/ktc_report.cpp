@@ -40,6 +40,7 @@ json rule_json(const SegmentationRule& r) {
 
 json choice_json(const KtcChoice& c) {
   return {{"lambda", c.lambda},
+          {"noise_relative", c.noise_relative},
           {"segmentation", rule_json(c.rule)},
           {"tuning_score", c.tuning_score},
           {"nested", {{"otsu", c.nested_otsu}, {"levels", c.nested_levels}}}};
@@ -48,7 +49,17 @@ json choice_json(const KtcChoice& c) {
 // Whether the setting tuned on every sample lies on its candidates' first or last value: a wider
 // grid might do better, and the report says so.
 bool on_the_edge(const KtcMethodResult& m) {
-  return m.best.candidate == 0 || m.best.candidate + 1 == static_cast<int>(m.candidates.size());
+  const auto [low, high] = std::minmax_element(m.candidates.begin(), m.candidates.end());
+  return m.best.lambda == *low || m.best.lambda == *high;
+}
+
+// Whether the run tuned the method's noise model, and the setting's words for it.
+bool tuned_noise(const KtcMethodResult& m) {
+  return std::any_of(m.candidate_noise.begin(), m.candidate_noise.end(),
+                     [&](double n) { return n != m.candidate_noise.front(); });
+}
+std::string noise_words(const KtcMethodResult& m) {
+  return tuned_noise(m) ? fmt::format(", noise {:g}", m.best.noise_relative) : "";
 }
 
 // Per candidate, every sample and level: the total with Otsu and with the best levels rule.
@@ -59,6 +70,7 @@ json sweep_json(const KtcMethodResult& m) {
   for (std::size_t c = 0; c < m.candidates.size(); ++c) {
     const int only = static_cast<int>(c);
     out.push_back({{"lambda", m.candidates[c]},
+                   {"noise_relative", m.candidate_noise[c]},
                    {"otsu", tune_ktc(m, all, KtcRules::otsu, only).tuning_score},
                    {"best_rule", tune_ktc(m, all, KtcRules::either, only).tuning_score}});
   }
@@ -70,6 +82,7 @@ json method_json(const KtcMethodResult& m) {
   for (const auto& c : m.held_out_choice) held.push_back(choice_json(c));
   return {{"method", m.method},
           {"candidates", m.candidates},
+          {"candidate_noise", m.candidate_noise},
           {"best", choice_json(m.best)},
           {"held_out_choices", held},
           {"in_sample", m.in_sample},
@@ -145,7 +158,10 @@ json results_json(const KtcRunResults& r) {
           {"samples", r.samples},
           {"levels", r.options.levels},
           {"grid", r.options.grid},
-          {"noise", {{"relative", r.options.noise.relative}, {"floor", r.options.noise.floor}}},
+          {"noise",
+           {{"relative", r.options.noise.relative},
+            {"floor", r.options.noise.floor},
+            {"sweep", r.options.noise_sweep}}},
           {"tank",
            {{"radius", t.radius},
             {"electrode_coverage", t.electrode_coverage},
@@ -247,7 +263,9 @@ std::string report_markdown(const KtcRunResults& r) {
        "sample is scored **held out**: with the regularisation and segmentation tuned on the "
        "other samples (every level), never on itself. The rule's kind, Otsu or levels, is "
        "chosen the same way within those samples (each tuned on all of them but one and scored "
-       "on that one), so that a rule that only fits them better is not taken. A level's figure "
+       "on that one), so that a rule that only fits them better is not taken. The one-step "
+       "methods' noise model (each value's standard deviation as a share of its reference value, "
+       "beside the floor; \"noise\" in the setting) is tuned as their weight is. A level's figure "
        "is the mean over the samples times 3, the challenge's three targets a level; the total "
        "over seven levels is at most 21.\n\n";
   o << "| method | L" << r.options.levels.front();
@@ -266,11 +284,11 @@ std::string report_markdown(const KtcRunResults& r) {
     for (const auto& level : m.held_out) t += fmt::format(" | {:.2f}", ktc_level_total(level));
     double setup = 0;
     for (double s : m.setup_seconds) setup += s;
-    t += fmt::format(" | **{:.2f}** | {:.2f} | {:.2f} | lambda {:.3g}{}, {} | {:.1f} | {:.1f} |\n",
-                     ktc_total(m.held_out), ktc_total(m.held_out_otsu), ktc_total(m.in_sample),
-                     m.best.lambda, on_the_edge(m) ? " (edge)" : "", m.best.rule.to_string(),
-                     m.median_ms,
-                     setup / static_cast<double>(std::max<std::size_t>(1, m.setup_seconds.size())));
+    t += fmt::format(
+        " | **{:.2f}** | {:.2f} | {:.2f} | lambda {:.3g}{}{}, {} | {:.1f} | {:.1f} |\n",
+        ktc_total(m.held_out), ktc_total(m.held_out_otsu), ktc_total(m.in_sample), m.best.lambda,
+        on_the_edge(m) ? " (edge)" : "", noise_words(m), m.best.rule.to_string(), m.median_ms,
+        setup / static_cast<double>(std::max<std::size_t>(1, m.setup_seconds.size())));
     rows.push_back({ktc_total(m.held_out), t});
   }
   for (const KtcLearnedArm& a : r.learned.arms) {  // nothing tuned on the samples: one figure
@@ -406,6 +424,12 @@ KtcRunSettings parse_settings(const json& j, const std::string& path) {
     KtcRunSettings::Method method;
     method.lambda = number(best, "lambda", where);
     if (!(method.lambda > 0)) throw InputError(path, where + "lambda", "must be positive");
+    // Runs before the noise model was tuned used the run's for every method.
+    method.noise_relative =
+        best.contains("noise_relative") ? number(best, "noise_relative", where) : s.noise.relative;
+    if (!(method.noise_relative >= 0) || (method.noise_relative == 0 && s.noise.floor == 0))
+      throw InputError(path, where + "noise_relative",
+                       "must be zero or more, and not zero with noise.floor zero");
     const json& seg = need(best, "segmentation", where);
     method.rule.kind = parse_segmentation(text(seg, "kind", where + "segmentation."));
     method.rule.resistive = number(seg, "resistive", where + "segmentation.");

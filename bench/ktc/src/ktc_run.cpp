@@ -78,6 +78,7 @@ KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, Kt
       if (score > best.tuning_score + 1e-12) {
         best.candidate = static_cast<int>(c);
         best.lambda = r.candidates[c];
+        best.noise_relative = c < r.candidate_noise.size() ? r.candidate_noise[c] : 0.0;
         best.rule = rule;
         best.tuning_score = score;
       }
@@ -178,7 +179,32 @@ void KtcRunOptions::validate() const {
   check_ktc_grid(grid);
   tank.validate();
   noise.validate();
+  if (noise_sweep.empty()) throw InputError("--noise-sweep", "", "needs at least one value");
+  for (std::size_t k = 0; k < noise_sweep.size(); ++k) {
+    if (!(noise_sweep[k] >= 0) || !std::isfinite(noise_sweep[k]) ||
+        (noise_sweep[k] == 0 && noise.floor == 0))
+      throw InputError("--noise-sweep", "",
+                       fmt::format("{:g} is no noise model: zero or more, finite, and not zero "
+                                   "with --noise-floor 0",
+                                   noise_sweep[k]));
+    if (std::count(noise_sweep.begin(), noise_sweep.begin() + static_cast<std::ptrdiff_t>(k),
+                   noise_sweep[k]))
+      throw InputError("--noise-sweep", "", fmt::format("lists {:g} twice", noise_sweep[k]));
+  }
   learned.validate();
+}
+
+bool ktc_sweeps_noise(const std::string& method) {
+  ktc_candidates(method);  // a KTC method, or InputError
+  // GREIT's image does not depend on the noise model (its own training frames set its noise:
+  // the measured run's sweeps agreed at every model), and TV and Gauss-Newton pay a nonlinear
+  // solve a frame for each.
+  return method == "tikhonov" || method == "noser" || method == "laplace";
+}
+
+std::vector<double> ktc_noise_candidates(const std::string& method, const KtcRunOptions& options) {
+  return ktc_sweeps_noise(method) ? options.noise_sweep
+                                  : std::vector<double>{options.noise.relative};
 }
 
 KtcInputs load_ktc_inputs(const KtcRunOptions& options) {
@@ -199,42 +225,56 @@ namespace {
 
 using Sample = KtcInputs::Sample;
 
-// Every candidate's reconstructions of every sample at every level, scored.
-KtcMethodResult sweep(const KtcSetup& setup, const std::string& method,
-                      const std::vector<Sample>& samples, const std::vector<int>& levels,
-                      const std::vector<KtcScorer>& scorers, Progress& progress, int& done) {
+// Every candidate's reconstructions of every sample at every level, scored: each regularisation
+// weight at each of `noises` (KtcNoise::relative with setup's floor).
+KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::string& method,
+                      const std::vector<double>& noises, const std::vector<Sample>& samples,
+                      const std::vector<int>& levels, const std::vector<KtcScorer>& scorers,
+                      Progress& progress, int& done) {
   std::mutex progress_mutex;  // done is counted from every level
   KtcMethodResult r;
   r.method = method;
-  r.candidates = ktc_candidates(method);
+  const std::vector<double>& weights = ktc_candidates(method);
+  for (double n : noises)
+    for (double w : weights) r.candidates.push_back(w), r.candidate_noise.push_back(n);
   r.levels = levels;
   for (const Sample& s : samples) r.samples.push_back(s.number);
   const std::size_t C = r.candidates.size(), L = levels.size(), S = samples.size();
+  const std::size_t W = weights.size();
   r.scores.assign(C, std::vector<std::vector<KtcFrameScores>>(L, std::vector<KtcFrameScores>(S)));
   r.milliseconds.assign(C, std::vector<std::vector<double>>(L, std::vector<double>(S)));
   std::vector<std::vector<std::vector<Eigen::VectorXd>>> images(
       C, std::vector<std::vector<Eigen::VectorXd>>(L, std::vector<Eigen::VectorXd>(S)));
   r.setup_seconds.assign(L, 0.0);
-  // Levels in parallel, each with a method of its own (one pattern of present values); the
-  // candidates of a level in turn, as set_regularisation keeps what the method precomputed.
+  std::vector<KtcSetup> setups;  // one a noise model: the same tank and linear problem
+  for (double n : noises) {
+    setups.push_back(setup);
+    setups.back().noise = KtcNoise{n, noise.floor}.of(setup.tank.reference);
+  }
+  // Levels in parallel, each with a method of its own (one pattern of present values) for each
+  // noise model; the weights of a level in turn, as set_regularisation keeps what it precomputed.
   tbb::parallel_for(std::size_t(0), L, [&](std::size_t l) {
-    const std::unique_ptr<MissingValues> m = make_ktc_method(setup, method, r.candidates.front());
-    std::vector<Eigen::VectorXd> frames;
-    for (const Sample& s : samples)
-      frames.push_back(ktc_difference(s.measurement, setup, levels[l]));
-    const auto t0 = std::chrono::steady_clock::now();
-    m->method_for(m->present_values(frames.front()));  // build the level's method once
-    r.setup_seconds[l] = seconds_since(t0);
-    for (std::size_t c = 0; c < C; ++c) {
-      m->set_regularisation(r.candidates[c], "candidate");
-      for (std::size_t s = 0; s < S; ++s) {
-        const auto start = std::chrono::steady_clock::now();
-        images[c][l][s] = m->reconstruct(frames[s]);
-        r.milliseconds[c][l][s] = 1e3 * seconds_since(start);
-        r.scores[c][l][s] = score_every_rule(ktc_image(setup, images[c][l][s]), scorers[s]);
+    for (std::size_t n = 0; n < noises.size(); ++n) {
+      const KtcSetup& at = setups[n];
+      const std::unique_ptr<MissingValues> m = make_ktc_method(at, method, weights.front());
+      std::vector<Eigen::VectorXd> frames;
+      for (const Sample& s : samples)
+        frames.push_back(ktc_difference(s.measurement, at, levels[l]));
+      const auto t0 = std::chrono::steady_clock::now();
+      m->method_for(m->present_values(frames.front()));  // build the level's method once
+      if (n == 0) r.setup_seconds[l] = seconds_since(t0);
+      for (std::size_t w = 0; w < W; ++w) {
+        const std::size_t c = n * W + w;
+        m->set_regularisation(weights[w], "candidate");
+        for (std::size_t s = 0; s < S; ++s) {
+          const auto start = std::chrono::steady_clock::now();
+          images[c][l][s] = m->reconstruct(frames[s]);
+          r.milliseconds[c][l][s] = 1e3 * seconds_since(start);
+          r.scores[c][l][s] = score_every_rule(ktc_image(at, images[c][l][s]), scorers[s]);
+        }
+        const std::lock_guard<std::mutex> lock(progress_mutex);
+        progress.update(++done, method + " level " + std::to_string(levels[l]));
       }
-      const std::lock_guard<std::mutex> lock(progress_mutex);
-      progress.update(++done, method + " level " + std::to_string(levels[l]));
     }
   });
   tune_and_hold_out(r);
@@ -272,10 +312,12 @@ KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
   for (const Sample& s : samples) scorers.emplace_back(s.truth);
   int total = 0, done = 0;
   for (const std::string& m : options.methods)
-    total += static_cast<int>(ktc_candidates(m).size() * options.levels.size());
+    total += static_cast<int>(ktc_candidates(m).size() * ktc_noise_candidates(m, options).size() *
+                              options.levels.size());
   Progress progress("KTC sweep", total, options.quiet);
   for (const std::string& m : options.methods)
-    out.methods.push_back(sweep(setup, m, samples, options.levels, scorers, progress, done));
+    out.methods.push_back(sweep(setup, options.noise, m, ktc_noise_candidates(m, options), samples,
+                                options.levels, scorers, progress, done));
   progress.finish();
   out.tank = setup.tank;
   if (!options.learned.arms.empty()) {

@@ -49,6 +49,7 @@ const std::vector<double>& ktc_candidates(const std::string& method);
 struct KtcSetting {
   double lambda = 0;
   SegmentationRule rule;
+  double noise_relative = KtcNoise().relative;  // the data term's noise model (with its floor)
 };
 KtcSetting ktc_default_setting(const std::string& method);
 

@@ -21,10 +21,11 @@ struct KtcRunSettings {
   double background = 0;  // its calibration
   Eigen::VectorXd contact_impedances;
   std::string reference_hash;  // of the ref.mat it calibrated to
-  KtcNoise noise;
+  KtcNoise noise;              // the run's; each method's relative part is its own (Method)
   int grid = 64;
   struct Method {
     double lambda = 0;
+    double noise_relative = 0;  // KtcNoise::relative tuned for it (with noise.floor)
     SegmentationRule rule;
   };
   std::map<std::string, Method> methods;  // tuned on every sample

@@ -27,6 +27,7 @@ struct KtcFrameScores {
 struct KtcChoice {
   int candidate = 0;  // index into the candidates
   double lambda = 0;
+  double noise_relative = 0;  // the data term's noise model (KtcNoise::relative) it was tuned at
   SegmentationRule rule;
   double tuning_score = 0;  // the summed score on the samples it was tuned on
   // How the rule's kind was chosen (choose_ktc_rules): each kind's score on the tuning samples,
@@ -39,7 +40,9 @@ enum class KtcRules { otsu, levels, either };
 
 struct KtcMethodResult {
   std::string method;
-  std::vector<double> candidates;
+  // The candidates: each a regularisation weight (candidates) at a noise model of the data term
+  // (candidate_noise: KtcNoise::relative, the floor the run's), every weight at every noise.
+  std::vector<double> candidates, candidate_noise;
   std::vector<int> levels, samples;  // the KTC levels and sample numbers, in the order below
   // scores[candidate][level][sample]
   std::vector<std::vector<std::vector<KtcFrameScores>>> scores;
@@ -86,7 +89,12 @@ struct KtcRunOptions {
   std::vector<std::string> methods = ktc_method_names();
   std::vector<int> levels{1, 2, 3, 4, 5, 6, 7};
   KtcTankOptions tank;
-  KtcNoise noise;
+  KtcNoise noise;  // the data term's noise for the iterative methods and the learned rows
+  // The noise models the Tikhonov family (ktc_sweeps_noise) is tuned over like its weight:
+  // KtcNoise::relative from the challenge's baseline (5e-4) to a data term weighted by the
+  // reference's values alone (5e-2, where the floor no longer counts), each with noise.floor.
+  // The other methods keep `noise` (ktc_sweeps_noise says why).
+  std::vector<double> noise_sweep{5e-4, 5e-3, 5e-2};
   int grid = 64;
   KtcLearnedOptions learned;  // the learned rows (none without arms)
   bool quiet = false;
@@ -96,6 +104,12 @@ struct KtcRunOptions {
   // the tank, the noise, the learned rows' options.
   void validate() const;
 };
+
+// Whether a KTC run tunes `method`'s noise model (KtcRunOptions::noise_sweep): the Tikhonov
+// family, whose candidates cost only their reconstructions and whose images the model changes.
+bool ktc_sweeps_noise(const std::string& method);
+// The noise models `method` is tuned over in a run: noise_sweep or noise.relative alone.
+std::vector<double> ktc_noise_candidates(const std::string& method, const KtcRunOptions& options);
 
 // Every file of a KTC run, read and checked before anything is written.
 struct KtcInputs {
