@@ -132,8 +132,8 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
 TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   make_folder();
   // Every method at level 7 (the fewest values: the quickest), then each applied by ktc --from.
-  // The Tikhonov family is tuned at a noise model other than --noise-relative's, so that ktc
-  // --from reproduces its scores only if it takes each method's own.
+  // The methods are tuned at a noise model other than --noise-relative's (GREIT, which it does
+  // not change, aside), so that ktc --from reproduces their scores only if it takes each one's.
   const Result r = run("run --ktc " + path("in") + " --out " + path("run") +
                        " --methods tikhonov,noser,laplace,greit,tv,gn --levels 7 --ktc-tanks 0 "
                        "--noise-sweep 0.05" +

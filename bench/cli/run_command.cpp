@@ -195,9 +195,9 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
       ->capture_default_str()
       ->group(group);
   cmd.add_option("--noise-sweep", k.noise_sweep,
-                 "with --ktc: the noise models (shares of each reference value) the Tikhonov "
-                 "family is tuned over, as its weight is; the other methods and the learned rows "
-                 "take --noise-relative (given alone, it sets this too)")
+                 "with --ktc: the noise models (shares of each reference value) each method is "
+                 "tuned over, as its weight is; GREIT (which they do not change) and the learned "
+                 "rows take --noise-relative (given alone, it sets this too)")
       ->delimiter(',')
       ->capture_default_str()
       ->group(group);

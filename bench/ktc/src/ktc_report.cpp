@@ -263,9 +263,10 @@ std::string report_markdown(const KtcRunResults& r) {
        "sample is scored **held out**: with the regularisation and segmentation tuned on the "
        "other samples (every level), never on itself. The rule's kind, Otsu or levels, is "
        "chosen the same way within those samples (each tuned on all of them but one and scored "
-       "on that one), so that a rule that only fits them better is not taken. The one-step "
-       "methods' noise model (each value's standard deviation as a share of its reference value, "
-       "beside the floor; \"noise\" in the setting) is tuned as their weight is. A level's figure "
+       "on that one), so that a rule that only fits them better is not taken. The noise "
+       "model (each value's standard deviation as a share of its reference value, beside the "
+       "floor; \"noise\" in the setting) is tuned as the weight is, for every method but GREIT, "
+       "whose image it does not change. A level's figure "
        "is the mean over the samples times 3, the challenge's three targets a level; the total "
        "over seven levels is at most 21.\n\n";
   o << "| method | L" << r.options.levels.front();

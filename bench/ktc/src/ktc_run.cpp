@@ -196,10 +196,9 @@ void KtcRunOptions::validate() const {
 
 bool ktc_sweeps_noise(const std::string& method) {
   ktc_candidates(method);  // a KTC method, or InputError
-  // GREIT's image does not depend on the noise model (its own training frames set its noise:
-  // the measured run's sweeps agreed at every model), and TV and Gauss-Newton pay a nonlinear
-  // solve a frame for each.
-  return method == "tikhonov" || method == "noser" || method == "laplace";
+  // Every method whose image the noise model changes: not GREIT's (its own training frames set
+  // its noise: the measured run's sweeps agreed at every model).
+  return method != "greit";
 }
 
 std::vector<double> ktc_noise_candidates(const std::string& method, const KtcRunOptions& options) {

@@ -90,10 +90,10 @@ struct KtcRunOptions {
   std::vector<int> levels{1, 2, 3, 4, 5, 6, 7};
   KtcTankOptions tank;
   KtcNoise noise;  // the data term's noise for the iterative methods and the learned rows
-  // The noise models the Tikhonov family (ktc_sweeps_noise) is tuned over like its weight:
+  // The noise models every method (ktc_sweeps_noise) is tuned over like its weight:
   // KtcNoise::relative from the challenge's baseline (5e-4) to a data term weighted by the
   // reference's values alone (5e-2, where the floor no longer counts), each with noise.floor.
-  // The other methods keep `noise` (ktc_sweeps_noise says why).
+  // GREIT and the learned rows keep `noise`.
   std::vector<double> noise_sweep{5e-4, 5e-3, 5e-2};
   int grid = 64;
   KtcLearnedOptions learned;  // the learned rows (none without arms)
@@ -105,8 +105,8 @@ struct KtcRunOptions {
   void validate() const;
 };
 
-// Whether a KTC run tunes `method`'s noise model (KtcRunOptions::noise_sweep): the Tikhonov
-// family, whose candidates cost only their reconstructions and whose images the model changes.
+// Whether a KTC run tunes `method`'s noise model (KtcRunOptions::noise_sweep): every method whose
+// image the noise model changes, all but GREIT.
 bool ktc_sweeps_noise(const std::string& method);
 // The noise models `method` is tuned over in a run: noise_sweep or noise.relative alone.
 std::vector<double> ktc_noise_candidates(const std::string& method, const KtcRunOptions& options);
