@@ -253,12 +253,12 @@ KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::s
   // Levels in parallel, each with a method of its own (one pattern of present values) for each
   // noise model; the weights of a level in turn, as set_regularisation keeps what it precomputed.
   tbb::parallel_for(std::size_t(0), L, [&](std::size_t l) {
+    std::vector<Eigen::VectorXd> frames;  // the level's frames: the noise model weighs them later
+    for (const Sample& s : samples)
+      frames.push_back(ktc_difference(s.measurement, setup, levels[l]));
     for (std::size_t n = 0; n < noises.size(); ++n) {
       const KtcSetup& at = setups[n];
       const std::unique_ptr<MissingValues> m = make_ktc_method(at, method, weights.front());
-      std::vector<Eigen::VectorXd> frames;
-      for (const Sample& s : samples)
-        frames.push_back(ktc_difference(s.measurement, at, levels[l]));
       const auto t0 = std::chrono::steady_clock::now();
       m->method_for(m->present_values(frames.front()));  // build the level's method once
       if (n == 0) r.setup_seconds[l] = seconds_since(t0);
