@@ -9,8 +9,17 @@
 
 namespace eitbench {
 
+namespace {
+bool fine(double v) {
+  return v >= 0 && std::isfinite(v);
+}
+}  // namespace
+
+bool KtcNoise::valid() const {
+  return fine(relative) && fine(floor) && !(relative == 0 && floor == 0);
+}
+
 void KtcNoise::validate() const {
-  auto fine = [](double v) { return v >= 0 && std::isfinite(v); };
   if (!fine(relative)) throw InputError("KtcNoise", "relative", "must be zero or more, finite");
   if (!fine(floor)) throw InputError("KtcNoise", "floor", "must be zero or more, finite");
   if (relative == 0 && floor == 0)

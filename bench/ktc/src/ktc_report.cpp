@@ -428,7 +428,7 @@ KtcRunSettings parse_settings(const json& j, const std::string& path) {
     // Runs before the noise model was tuned used the run's for every method.
     method.noise_relative =
         best.contains("noise_relative") ? number(best, "noise_relative", where) : s.noise.relative;
-    if (!(method.noise_relative >= 0) || (method.noise_relative == 0 && s.noise.floor == 0))
+    if (!KtcNoise{method.noise_relative, s.noise.floor}.valid())
       throw InputError(path, where + "noise_relative",
                        "must be zero or more, and not zero with noise.floor zero");
     const json& seg = need(best, "segmentation", where);

@@ -181,8 +181,7 @@ void KtcRunOptions::validate() const {
   noise.validate();
   if (noise_sweep.empty()) throw InputError("--noise-sweep", "", "needs at least one value");
   for (std::size_t k = 0; k < noise_sweep.size(); ++k) {
-    if (!(noise_sweep[k] >= 0) || !std::isfinite(noise_sweep[k]) ||
-        (noise_sweep[k] == 0 && noise.floor == 0))
+    if (!KtcNoise{noise_sweep[k], noise.floor}.valid())
       throw InputError("--noise-sweep", "",
                        fmt::format("{:g} is no noise model: zero or more, finite, and not zero "
                                    "with --noise-floor 0",

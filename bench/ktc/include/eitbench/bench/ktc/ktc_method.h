@@ -20,7 +20,10 @@ struct KtcNoise {
   double relative = 5e-4;
   double floor = 1e-4;
 
-  // InputError("KtcNoise", field): both non-negative and finite, not both zero.
+  // Whether the two make a noise model: both non-negative and finite, not both zero. Every place
+  // that takes a share from outside (--noise-sweep, a run's settings) asks this.
+  bool valid() const;
+  // InputError("KtcNoise", field) naming the field where !valid().
   void validate() const;
   Eigen::VectorXd of(const Eigen::VectorXd& reference) const;
 };
