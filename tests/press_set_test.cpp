@@ -105,6 +105,41 @@ TEST(PressScores, TheStrongestTouchOrTheCentre) {
             "press set.touches");
 }
 
+// The same scores by the press's true distance from the centre, on a sensor of radius 2: each
+// press counted in its own band, the last band open beyond the rim, an empty band NaN.
+TEST(PressScores, ByDistanceFromTheCentre) {
+  const std::vector<std::vector<PressTouch>> truth = {
+      {{0.4, 0.0, NAN}}, {{0.0, 1.2, NAN}}, {{1.7, 0.0, NAN}}, {{0.0, -2.1, NAN}}};
+  const TouchFrames found = {{{0.4, 0.5, 0.1, 1}},    // 0.2 R from the centre: 0.5 off
+                             {},                      // 0.6 R, none found: the centre, 1.2 off
+                             {{1.6, 0.0, 0.1, 1}},    // 0.85 R: 0.1 off
+                             {{0.0, -2.0, 0.1, 1}}};  // 1.05 R, beyond the rim: 0.1 off
+  const std::vector<PressBand> bands = score_presses_by_distance(found, truth, 2.0);
+  ASSERT_EQ(bands.size(), 3u);
+  EXPECT_EQ(bands[0].inner, 0);
+  EXPECT_EQ(bands[0].outer, 0.5);
+  EXPECT_EQ(bands[2].outer, INFINITY);
+  EXPECT_EQ(bands[0].scores.frames, 1);
+  EXPECT_NEAR(bands[0].scores.mean, 0.5, 1e-15);
+  EXPECT_EQ(bands[1].scores.frames, 1);
+  EXPECT_EQ(bands[1].scores.none_found, 1);
+  EXPECT_NEAR(bands[1].scores.mean, 1.2, 1e-15);
+  EXPECT_EQ(bands[2].scores.frames, 2);
+  EXPECT_NEAR(bands[2].scores.mean, 0.1, 1e-12);
+  // The bands split the frames: their counts sum to all, their means weigh to the overall mean.
+  const PressScores all = score_presses(found, truth);
+  EXPECT_NEAR((bands[0].scores.mean + bands[1].scores.mean + 2 * bands[2].scores.mean) / 4,
+              all.mean, 1e-12);
+  const std::vector<PressBand> fine = score_presses_by_distance(found, truth, 2.0, {0, 0.1});
+  EXPECT_EQ(fine[0].scores.frames, 0);
+  EXPECT_TRUE(std::isnan(fine[0].scores.mean));
+  EXPECT_EQ(fine[1].scores.frames, 4);
+  EXPECT_EQ(testing::input_error_at([&] { score_presses_by_distance(found, truth, 2.0, {0.1}); }),
+            "score_presses_by_distance.edges");
+  EXPECT_EQ(testing::input_error_at([&] { score_presses_by_distance(found, truth, 0.0); }),
+            "score_presses_by_distance.radius");
+}
+
 // A press set made from simulated one-touch frames: the shape fit puts every press near its true
 // centre, far better than the centre's floor, and says so in its summary.
 TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
@@ -124,6 +159,11 @@ TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
   const auto floor = r.output.find("predicting the centre: median ");
   ASSERT_NE(floor, std::string::npos);
   EXPECT_GT(std::stod(r.output.substr(floor + 30)), 4 * median) << r.output;
+  // The same split by where the presses lie: every press in one band of three.
+  const auto bands = r.output.find("by the press's distance from the centre");
+  ASSERT_NE(bands, std::string::npos) << r.output;
+  const std::string line = r.output.substr(bands, r.output.find('\n', bands) - bands);
+  EXPECT_NE(line.find("from 0.8 R"), std::string::npos) << line;
 
   // Tuned on other presses of the same set: chosen on them, never on the scored ones.
   const std::string tuned = "reconstruct --method noser --data " + path("press.h5") +

@@ -385,6 +385,7 @@ void write_pngs(const Args* args, const Selection& s, const Evaluation& result, 
 // A press set's frames scored by where the method puts each press, and the centre's floor.
 struct PressResult {
   PressScores method, centre;
+  std::vector<PressBand> bands;  // the method's, by the press's distance from the centre
 };
 std::optional<PressResult> press_result(const Args* args, const Selection& s,
                                         const Evaluation& result, const PixelGrid& grid,
@@ -396,7 +397,8 @@ std::optional<PressResult> press_result(const Args* args, const Selection& s,
       !result.circles.empty()
           ? touches_of(result.circles, background)
           : press_touches(result.images, grid, {args->locate == "centroid", args->touch_threshold});
-  return PressResult{score_presses(found, truth), centre_floor(truth)};
+  return PressResult{score_presses(found, truth), centre_floor(truth),
+                     score_presses_by_distance(found, truth, s.data.radius)};
 }
 
 void print_presses(const PressResult& p, double radius) {
@@ -407,6 +409,16 @@ void print_presses(const PressResult& p, double radius) {
   fmt::print("  presses: centre error {}; {} of {} frames without a touch (placed at the centre)\n",
              line(p.method), p.method.none_found, p.method.frames);
   fmt::print("  predicting the centre: {}\n", line(p.centre));
+  // Inner presses give weak, wide changes, and on a real skin most of a method's error.
+  std::string bands;
+  for (const PressBand& b : p.bands) {
+    if (b.scores.frames == 0) continue;
+    const std::string where = std::isfinite(b.outer) ? fmt::format("{:g}-{:g} R", b.inner, b.outer)
+                                                     : fmt::format("from {:g} R", b.inner);
+    bands += fmt::format("{}{} {:.3f} / {:.3f} ({})", bands.empty() ? "" : ", ", where,
+                         b.scores.median / radius, b.scores.mean / radius, b.scores.frames);
+  }
+  fmt::print("  by the press's distance from the centre (median / mean, R; presses): {}\n", bands);
 }
 
 void write_images(const Args* args, const Selection& s, const Evaluation& result, double background,

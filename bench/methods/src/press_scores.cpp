@@ -54,6 +54,36 @@ PressScores score_presses(const TouchFrames& found,
   return summarize(std::move(errors), none);
 }
 
+std::vector<PressBand> score_presses_by_distance(const TouchFrames& found,
+                                                 const std::vector<std::vector<PressTouch>>& truth,
+                                                 double radius, const std::vector<double>& edges) {
+  if (found.size() != truth.size())
+    throw InputError("score_presses_by_distance", "found",
+                     "must hold one list a frame of the truth");
+  if (!(radius > 0) || !std::isfinite(radius))
+    throw InputError("score_presses_by_distance", "radius", "must be positive and finite");
+  if (edges.empty() || edges.front() != 0 || !std::is_sorted(edges.begin(), edges.end()) ||
+      std::adjacent_find(edges.begin(), edges.end()) != edges.end())
+    throw InputError("score_presses_by_distance", "edges", "must rise strictly from 0");
+  std::vector<PressBand> bands;
+  for (std::size_t b = 0; b < edges.size(); ++b) {
+    PressBand band{edges[b], b + 1 < edges.size() ? edges[b + 1] : INFINITY, {}};
+    TouchFrames in_found;
+    std::vector<std::vector<PressTouch>> in_truth;
+    for (std::size_t i = 0; i < truth.size(); ++i) {
+      const PressTouch& press = the_press(truth, i);
+      const double r = std::hypot(press.x, press.y) / radius;
+      if (r >= band.inner && r < band.outer) {
+        in_found.push_back(found[i]);
+        in_truth.push_back(truth[i]);
+      }
+    }
+    band.scores = score_presses(in_found, in_truth);
+    bands.push_back(band);
+  }
+  return bands;
+}
+
 PressScores score_positions(const std::vector<Eigen::Vector2d>& at,
                             const std::vector<std::vector<PressTouch>>& truth) {
   if (at.size() != truth.size())

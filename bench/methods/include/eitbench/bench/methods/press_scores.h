@@ -33,6 +33,20 @@ PressScores score_positions(const std::vector<Eigen::Vector2d>& at,
 // The floor: every frame located at the centre (0, 0).
 PressScores centre_floor(const std::vector<std::vector<PressTouch>>& truth);
 
+// The presses whose true distance from the centre (0, 0) lies in [inner, outer) x `radius`, and
+// their scores: where on the sensor a method's error comes from. One band a pair of neighbouring
+// `edges` (fractions of the radius, ascending, from 0), the last from the last edge on without
+// bound, since a press may be recorded a little beyond the rim. A band without presses has
+// frames 0 and NaN scores.
+struct PressBand {
+  double inner = 0, outer = INFINITY;  // fractions of the radius
+  PressScores scores;
+};
+std::vector<PressBand> score_presses_by_distance(const TouchFrames& found,
+                                                 const std::vector<std::vector<PressTouch>>& truth,
+                                                 double radius,
+                                                 const std::vector<double>& edges = {0, 0.5, 0.8});
+
 // How an image puts its press: the strongest blob (find_touches) or the centroid of every pixel
 // (centroid_touch), at `threshold` x the image's maximum.
 struct PressRule {
