@@ -126,6 +126,13 @@ TEST(PressScores, ByDistanceFromTheCentre) {
   EXPECT_NEAR(bands[1].scores.mean, 1.2, 1e-15);
   EXPECT_EQ(bands[2].scores.frames, 2);
   EXPECT_NEAR(bands[2].scores.mean, 0.1, 1e-12);
+  // From the positions each frame's press was put at, the same.
+  std::vector<Eigen::Vector2d> at;
+  for (const auto& f : found) at.push_back(located_press(f, Eigen::Vector2d::Zero()));
+  const std::vector<PressBand> from_positions = score_positions_by_distance(at, truth, 2.0);
+  ASSERT_EQ(from_positions.size(), 3u);
+  for (std::size_t b = 0; b < 3; ++b)
+    EXPECT_EQ(from_positions[b].scores.mean, bands[b].scores.mean) << b;
   // The bands split the frames: their counts sum to all, their means weigh to the overall mean.
   const PressScores all = score_presses(found, truth);
   EXPECT_NEAR((bands[0].scores.mean + bands[1].scores.mean + 2 * bands[2].scores.mean) / 4,
@@ -135,9 +142,9 @@ TEST(PressScores, ByDistanceFromTheCentre) {
   EXPECT_TRUE(std::isnan(fine[0].scores.mean));
   EXPECT_EQ(fine[1].scores.frames, 4);
   EXPECT_EQ(testing::input_error_at([&] { score_presses_by_distance(found, truth, 2.0, {0.1}); }),
-            "score_presses_by_distance.edges");
+            "press bands.edges");
   EXPECT_EQ(testing::input_error_at([&] { score_presses_by_distance(found, truth, 0.0); }),
-            "score_presses_by_distance.radius");
+            "press bands.radius");
 }
 
 // A press set made from simulated one-touch frames: the shape fit puts every press near its true

@@ -236,11 +236,21 @@ TEST_F(MeasuredRun, ScoresEveryMethodOnPressesTunedOnAnotherSet) {
   }
   EXPECT_GT(novel, 0);
   EXPECT_EQ(noser_cal->novel_frames, novel);
+  // Inner presses: those within half the radius. Predicting the centre misses each by its own
+  // distance, so under 0.5 R there.
+  int inner = 0;
+  for (const auto& t : s.touches) inner += std::hypot(t[0].x, t[0].y) < 0.5 * s.radius;
+  EXPECT_EQ(noser_cal->inner_frames, inner);
+  EXPECT_EQ(centre->inner_frames, inner);
+  if (inner > 0) {
+    EXPECT_LT(centre->inner_centre_error_mean, 0.5 * s.radius);
+  }
   EXPECT_EQ(finetuned, 4);  // n = 8: none and d16, fine-tuned and from scratch
   std::ifstream report(path("out/report.md"));
   const std::string text((std::istreambuf_iterator<char>(report)), {});
   EXPECT_NE(text.find("## Real presses"), std::string::npos);
   EXPECT_NE(text.find("### Few real labels"), std::string::npos);
+  EXPECT_NE(text.find("within 0.5 R: mean"), std::string::npos);
   // A calibration set without paired references gives no simulation like the sensor, no pick.
   for (const MeasuredRow& m : results.measured)
     EXPECT_TRUE(std::isnan(m.like_sensor_fraction_of_radius));

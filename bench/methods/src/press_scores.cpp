@@ -54,34 +54,64 @@ PressScores score_presses(const TouchFrames& found,
   return summarize(std::move(errors), none);
 }
 
+namespace {
+
+// The frames of each band of `edges` (see PressBand), checked.
+std::vector<std::pair<PressBand, std::vector<std::size_t>>> bands_of(
+    const std::vector<std::vector<PressTouch>>& truth, double radius,
+    const std::vector<double>& edges) {
+  if (!(radius > 0) || !std::isfinite(radius))
+    throw InputError("press bands", "radius", "must be positive and finite");
+  if (edges.empty() || edges.front() != 0 || !std::is_sorted(edges.begin(), edges.end()) ||
+      std::adjacent_find(edges.begin(), edges.end()) != edges.end())
+    throw InputError("press bands", "edges", "must rise strictly from 0");
+  std::vector<std::pair<PressBand, std::vector<std::size_t>>> bands;
+  for (std::size_t b = 0; b < edges.size(); ++b)
+    bands.push_back({{edges[b], b + 1 < edges.size() ? edges[b + 1] : INFINITY, {}}, {}});
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const PressTouch& press = the_press(truth, i);
+    const double r = std::hypot(press.x, press.y) / radius;
+    for (auto& [band, frames] : bands)
+      if (r >= band.inner && r < band.outer) frames.push_back(i);
+  }
+  return bands;
+}
+
+template <typename T>
+std::vector<T> pick(const std::vector<T>& all, const std::vector<std::size_t>& which) {
+  std::vector<T> out;
+  for (std::size_t i : which) out.push_back(all[i]);
+  return out;
+}
+
+}  // namespace
+
 std::vector<PressBand> score_presses_by_distance(const TouchFrames& found,
                                                  const std::vector<std::vector<PressTouch>>& truth,
                                                  double radius, const std::vector<double>& edges) {
   if (found.size() != truth.size())
     throw InputError("score_presses_by_distance", "found",
                      "must hold one list a frame of the truth");
-  if (!(radius > 0) || !std::isfinite(radius))
-    throw InputError("score_presses_by_distance", "radius", "must be positive and finite");
-  if (edges.empty() || edges.front() != 0 || !std::is_sorted(edges.begin(), edges.end()) ||
-      std::adjacent_find(edges.begin(), edges.end()) != edges.end())
-    throw InputError("score_presses_by_distance", "edges", "must rise strictly from 0");
-  std::vector<PressBand> bands;
-  for (std::size_t b = 0; b < edges.size(); ++b) {
-    PressBand band{edges[b], b + 1 < edges.size() ? edges[b + 1] : INFINITY, {}};
-    TouchFrames in_found;
-    std::vector<std::vector<PressTouch>> in_truth;
-    for (std::size_t i = 0; i < truth.size(); ++i) {
-      const PressTouch& press = the_press(truth, i);
-      const double r = std::hypot(press.x, press.y) / radius;
-      if (r >= band.inner && r < band.outer) {
-        in_found.push_back(found[i]);
-        in_truth.push_back(truth[i]);
-      }
-    }
-    band.scores = score_presses(in_found, in_truth);
-    bands.push_back(band);
+  std::vector<PressBand> out;
+  for (auto& [band, frames] : bands_of(truth, radius, edges)) {
+    band.scores = score_presses(pick(found, frames), pick(truth, frames));
+    out.push_back(band);
   }
-  return bands;
+  return out;
+}
+
+std::vector<PressBand> score_positions_by_distance(
+    const std::vector<Eigen::Vector2d>& at, const std::vector<std::vector<PressTouch>>& truth,
+    double radius, const std::vector<double>& edges) {
+  if (at.size() != truth.size())
+    throw InputError("score_positions_by_distance", "at",
+                     "must hold one position a frame of the truth");
+  std::vector<PressBand> out;
+  for (auto& [band, frames] : bands_of(truth, radius, edges)) {
+    band.scores = score_positions(pick(at, frames), pick(truth, frames));
+    out.push_back(band);
+  }
+  return out;
 }
 
 PressScores score_positions(const std::vector<Eigen::Vector2d>& at,

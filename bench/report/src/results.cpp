@@ -223,6 +223,8 @@ json to_json(const MeasuredRow& m) {
           {"novel_frames", m.novel_frames},
           {"novel_centre_error_median", number(m.novel_centre_error_median)},
           {"novel_centre_error_mean", number(m.novel_centre_error_mean)},
+          {"inner_frames", m.inner_frames},
+          {"inner_centre_error_mean", number(m.inner_centre_error_mean)},
           {"latency_median_ms", number(m.latency_median_ms)},
           {"settings", m.settings},
           {"simulated_fraction_of_radius", number(m.simulated_fraction_of_radius)},
@@ -249,6 +251,11 @@ MeasuredRow measured_row_from_json(const json& j) {
   m.novel_frames = j.at("novel_frames").get<int>();
   m.novel_centre_error_median = number(j.at("novel_centre_error_median"));
   m.novel_centre_error_mean = number(j.at("novel_centre_error_mean"));
+  // Absent from records made before the presses were split by where they lie.
+  if (j.contains("inner_frames")) {
+    m.inner_frames = j.at("inner_frames").get<int>();
+    m.inner_centre_error_mean = number(j.at("inner_centre_error_mean"));
+  }
   m.latency_median_ms = number(j.at("latency_median_ms"));
   m.settings = j.at("settings").get<std::string>();
   m.simulated_fraction_of_radius = number(j.at("simulated_fraction_of_radius"));

@@ -176,6 +176,11 @@ MeasuredRow row_for(const StageInputs& in, const std::string& method, const std:
   MeasuredRow row;
   row.novel_frames = novel.frames;
   row.novel_centre_error_median = novel.median, row.novel_centre_error_mean = novel.mean;
+  const PressScores inner = score_positions_by_distance(located.at, in.set.touches,
+                                                        in.reconstruction.grid.radius(), {0, 0.5})
+                                .front()
+                                .scores;
+  row.inner_frames = inner.frames, row.inner_centre_error_mean = inner.mean;
   row.method = method, row.augment = augment, row.training = training;
   row.centre_error_median = s.median, row.centre_error_mean = s.mean, row.centre_error_p90 = s.p90;
   const double R = in.reconstruction.grid.radius();
@@ -193,10 +198,10 @@ MeasuredRow row_for(const StageInputs& in, const std::string& method, const std:
 void log_row(const Context& context, const MeasuredRow& row) {
   context.say(fmt::format(
       "{:>12} {:>9} {:>19} n={:<4}: centre error median {:.3f} R, mean {:.3f} R, p90 {:.3f} R; "
-      "new positions {:.3f} / {:.3f} R{}{}",
+      "new positions {:.3f} / {:.3f} R; within 0.5 R mean {:.3f} R{}{}",
       row.method, row.augment, row.training, row.finetune_n, row.centre_error_fraction_of_radius,
       row.centre_error_mean, row.centre_error_p90, row.novel_centre_error_median,
-      row.novel_centre_error_mean,
+      row.novel_centre_error_mean, row.inner_centre_error_mean,
       row.none_found > 0 ? fmt::format(" ({} without a touch)", row.none_found) : "",
       std::isnan(row.like_sensor_fraction_of_radius)
           ? ""

@@ -42,10 +42,15 @@ struct PressBand {
   double inner = 0, outer = INFINITY;  // fractions of the radius
   PressScores scores;
 };
+// InputError("press bands", "radius" or "edges") for a bad radius or edges.
 std::vector<PressBand> score_presses_by_distance(const TouchFrames& found,
                                                  const std::vector<std::vector<PressTouch>>& truth,
                                                  double radius,
                                                  const std::vector<double>& edges = {0, 0.5, 0.8});
+// The same from where each frame's press was put.
+std::vector<PressBand> score_positions_by_distance(
+    const std::vector<Eigen::Vector2d>& at, const std::vector<std::vector<PressTouch>>& truth,
+    double radius, const std::vector<double>& edges = {0, 0.5, 0.8});
 
 // How an image puts its press: the strongest blob (find_touches) or the centroid of every pixel
 // (centroid_touch), at `threshold` x the image's maximum.

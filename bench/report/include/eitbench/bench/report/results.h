@@ -128,6 +128,11 @@ struct MeasuredRow {
   // (novel_frames of them; 0 and NaN when there are none): generalisation, not recall.
   int novel_frames = 0;
   double novel_centre_error_median = NAN, novel_centre_error_mean = NAN;
+  // The same over the scored presses within half the radius of the centre (inner_frames of them;
+  // 0 and NaN when there are none): a press far from the electrodes changes every channel a
+  // little, and on a real skin costs the one-step methods most (docs/real-presses.md).
+  int inner_frames = 0;
+  double inner_centre_error_mean = NAN;
   double latency_median_ms = NAN;  // NaN: not timed
   std::string settings;            // hyperparameters and how they were chosen
   // The same method's median centre error on the simulated test split (noise-free), x R: the
