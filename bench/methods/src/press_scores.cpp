@@ -84,34 +84,33 @@ std::vector<T> pick(const std::vector<T>& all, const std::vector<std::size_t>& w
   return out;
 }
 
-}  // namespace
-
-std::vector<PressBand> score_presses_by_distance(const TouchFrames& found,
-                                                 const std::vector<std::vector<PressTouch>>& truth,
-                                                 double radius, const std::vector<double>& edges) {
-  if (found.size() != truth.size())
-    throw InputError("score_presses_by_distance", "found",
-                     "must hold one list a frame of the truth");
+// `score` (score_presses or score_positions) on each band's frames of `located` and `truth`.
+template <typename Located, typename Score>
+std::vector<PressBand> by_distance(const std::vector<Located>& located,
+                                   const std::vector<std::vector<PressTouch>>& truth, double radius,
+                                   const std::vector<double>& edges, Score score) {
+  if (located.size() != truth.size())
+    throw InputError("press bands", "located", "must hold one entry a frame of the truth");
   std::vector<PressBand> out;
   for (auto& [band, frames] : bands_of(truth, radius, edges)) {
-    band.scores = score_presses(pick(found, frames), pick(truth, frames));
+    band.scores = score(pick(located, frames), pick(truth, frames));
     out.push_back(band);
   }
   return out;
 }
 
+}  // namespace
+
+std::vector<PressBand> score_presses_by_distance(const TouchFrames& found,
+                                                 const std::vector<std::vector<PressTouch>>& truth,
+                                                 double radius, const std::vector<double>& edges) {
+  return by_distance(found, truth, radius, edges, score_presses);
+}
+
 std::vector<PressBand> score_positions_by_distance(
     const std::vector<Eigen::Vector2d>& at, const std::vector<std::vector<PressTouch>>& truth,
     double radius, const std::vector<double>& edges) {
-  if (at.size() != truth.size())
-    throw InputError("score_positions_by_distance", "at",
-                     "must hold one position a frame of the truth");
-  std::vector<PressBand> out;
-  for (auto& [band, frames] : bands_of(truth, radius, edges)) {
-    band.scores = score_positions(pick(at, frames), pick(truth, frames));
-    out.push_back(band);
-  }
-  return out;
+  return by_distance(at, truth, radius, edges, score_positions);
 }
 
 PressScores score_positions(const std::vector<Eigen::Vector2d>& at,

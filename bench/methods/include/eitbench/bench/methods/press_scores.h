@@ -42,7 +42,7 @@ struct PressBand {
   double inner = 0, outer = INFINITY;  // fractions of the radius
   PressScores scores;
 };
-// InputError("press bands", "radius" or "edges") for a bad radius or edges.
+// InputError("press bands", field) for a bad radius or edges, or one list a frame too few.
 std::vector<PressBand> score_presses_by_distance(const TouchFrames& found,
                                                  const std::vector<std::vector<PressTouch>>& truth,
                                                  double radius,
