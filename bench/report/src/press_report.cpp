@@ -226,9 +226,9 @@ void write_press_section(std::ostream& o, const RunResults& r) {
       "sensor's radius R = 1){}. Tuned on **{}** (another recording), never on the scored "
       "presses. {} of the scored presses lie at new positions, farther than 0.01 R from every "
       "calibration press: scores there ask whether a method generalises, not whether it recalls "
-      "a spot it was tuned or trained on. {} lie within half the radius of the centre, where a "
-      "press changes every channel a little and the model's error weighs most. The simulated "
-      "median is the same method's "
+      "a spot it was tuned or trained on. {} lie within half the radius of the centre (the "
+      "column within 0.5 R), far from every electrode, where a press changes the frame least. "
+      "The simulated median is the same method's "
       "matched-touch centre error on the simulated test split (noise-free; four touches a "
       "frame), x R.\n\n",
       first.frames, first.scored,
