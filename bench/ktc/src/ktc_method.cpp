@@ -67,9 +67,9 @@ const std::vector<std::string>& ktc_method_names() {
 const std::vector<double>& ktc_candidates(const std::string& method) {
   // The one-step family on its scale (trace(A P A^T)/m), half-decades over four decades (a
   // candidate costs only its reconstructions), NOSER's one decade further: with its noise model
-  // tuned, its optimum on all four samples fell on 1, the grid's edge then; GREIT's lambda relative to its training frames;
-  // TV's alpha and Gauss-Newton's lambda over the range their optimum fell in on KTC's samples,
-  // fewer of them, as each costs a nonlinear solve a frame.
+  // tuned, its optimum on all four samples fell on 1, the grid's edge then. GREIT's lambda
+  // relative to its training frames; TV's alpha and Gauss-Newton's lambda over the range their
+  // optimum fell in on KTC's samples, fewer of them, as each costs a nonlinear solve a frame.
   static const std::map<std::string, std::vector<double>> table{
       {"tikhonov", {1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0}},
       {"noser", {1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0, 10.0}},
