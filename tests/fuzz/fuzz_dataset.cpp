@@ -12,12 +12,16 @@
 #include "fuzz_target.h"
 
 namespace {
+// The scratch file is removed when the fuzzer exits, so that runs leave nothing in /tmp.
+struct Scratch {
+  std::string path = "/tmp/eitbench_fuzz_dataset_" + std::to_string(::getpid()) + ".h5";
+  Scratch() { eitbench::detail::set_child_read_base_limit(3); }
+  ~Scratch() { std::remove(path.c_str()); }
+};
+
 const std::string& scratch_path() {
-  static const std::string path = [] {
-    eitbench::detail::set_child_read_base_limit(3);
-    return "/tmp/eitbench_fuzz_dataset_" + std::to_string(::getpid()) + ".h5";
-  }();
-  return path;
+  static const Scratch scratch;
+  return scratch.path;
 }
 }  // namespace
 
