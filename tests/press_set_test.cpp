@@ -212,6 +212,37 @@ TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
   EXPECT_NE(neither.output.find("needs --reference"), std::string::npos) << neither.output;
 }
 
+// The reconstruction model and prior a user sets on the command line are the ones used: NOSER's
+// exponent 0 places every press where the identity prior does, and the electrodes' coverage, not
+// the set's stored one, shapes the Jacobian.
+TEST_F(PressSet, TheCommandLinesPriorAndElectrodesAreUsed) {
+  ASSERT_EQ(run("simulate --preset tiny --quiet --out " + path("tiny.h5")).exit_code, 0);
+  Dataset d = read_dataset(path("tiny.h5"));
+  d.touches.clear();
+  for (const auto& circles : d.circles) d.touches.push_back({{circles[0].x, circles[0].y, NAN}});
+  write_dataset(path("press.h5"), d);
+  auto scores = [&](const std::string& more) {
+    const Result r = run("reconstruct --data " + path("press.h5") +
+                         " --split train --touches 1 --density coarse --png 0 --lambda 0.01 "
+                         "--locate centroid --out " +
+                         path("out.h5") + " " + more);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    const auto at = r.output.find("presses: centre error");
+    return at == std::string::npos ? std::string()
+                                   : r.output.substr(at, r.output.find('\n', at) - at);
+  };
+  const std::string identity = scores("--method tikhonov");
+  ASSERT_FALSE(identity.empty());
+  EXPECT_EQ(scores("--method noser --noser-exponent 0"), identity);
+  EXPECT_NE(scores("--method noser"), identity);  // p = 0.5 by default
+  EXPECT_NE(scores("--method tikhonov --electrode-coverage 0.1"), identity);
+  const Result bad = run("reconstruct --method noser --noser-exponent 1.5 --data " +
+                         path("press.h5") + " --png 0 --out " + path("bad.h5"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--noser-exponent"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(path("bad.h5")));
+}
+
 TEST_F(PressSet, BadTouchFilesAreRefusedNamingFileAndRow) {
   const auto refused = [&](const std::string& file, const std::string& more,
                            const std::string& message) {

@@ -2,6 +2,7 @@
 // the validation optimum, and EIDORS's published figures on its two-disc case.
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <new>
 #include <random>
@@ -91,6 +92,44 @@ TEST(Tikhonov, TinyLambdaFitsNoiseFreeDataAndBatchesAgree) {
                 1e-5 * images.row(k).norm());
     }
   }
+}
+
+// NOSER's exponent p against the image-space normal equations, solved densely:
+// x = (A^T A + lambda D^p)^-1 A^T y with D = diag(A^T A). At p = 0 that is the identity prior's
+// image, so the family runs from Tikhonov (0) to the Levenberg-Marquardt scaling (1).
+TEST(Tikhonov, NoserExponentSolvesTheWeightedNormalEquations) {
+  const Reconstruction& s = medium();
+  SampleMatrix labels;
+  SampleMatrix y = linear_frames(s, touches(3, 7), &labels);
+  add_noise(y, 40, 3);
+  const Eigen::MatrixXd& A = s.problem->A;
+  const Eigen::VectorXd d = A.colwise().squaredNorm().transpose();
+  for (double p : {0.0, 0.2, 1.0}) {
+    TikhonovOptions o;
+    o.noser_exponent = p;
+    o.single_precision = false;
+    Tikhonov t(s.problem, o);
+    const double lambda = 1e-3 * t.scale();
+    t.set_lambda(lambda, "fixed");
+    const Eigen::MatrixXd normal =
+        A.transpose() * A + lambda * Eigen::MatrixXd(d.array().pow(p).matrix().asDiagonal());
+    const auto solver = normal.ldlt();
+    for (int k = 0; k < y.rows(); ++k) {
+      const Eigen::VectorXd expected = solver.solve(A.transpose() * y.row(k).transpose());
+      const Eigen::VectorXd x = s.problem->from_image(t.reconstruct(y.row(k).transpose()));
+      EXPECT_LT((x - expected).norm(), 1e-6 * expected.norm()) << "p = " << p;
+    }
+  }
+  TikhonovOptions identity;
+  identity.prior = Prior::identity;
+  identity.single_precision = false;
+  TikhonovOptions zero;
+  zero.noser_exponent = 0;
+  zero.single_precision = false;
+  Tikhonov a(s.problem, identity), b(s.problem, zero);
+  a.set_lambda(1e-2 * a.scale(), "fixed"), b.set_lambda(1e-2 * a.scale(), "fixed");
+  EXPECT_LT((a.reconstruct_all(y) - b.reconstruct_all(y)).norm(),
+            1e-9 * a.reconstruct_all(y).norm());
 }
 
 TEST(Tikhonov, SinglePrecisionAgreesWithDoubleAtWorkingLambdas) {

@@ -39,6 +39,7 @@ struct Args {
   int pngs = 4;
   bool absolute = false;
   std::string neighbours = "pixels";
+  double noser_exponent = 0.5;
   double tolerance = 0, robust = 0;
   std::string sensor;
   double discrepancy_factor = 1;
@@ -105,6 +106,11 @@ void add_options(CLI::App* cmd, Args* args) {
                   "laplace, tv: couple pixels (4-neighbour) or mesh elements (edge-sharing)")
       ->capture_default_str()
       ->check(CLI::IsMember({"pixels", "elements"}));
+  cmd->add_option("--noser-exponent", args->noser_exponent,
+                  "noser: p of its prior diag(A^T A)^p, in [0, 1] (0: the identity's images, 1: "
+                  "the Levenberg-Marquardt scaling; pyEIT's Jacobian method defaults to 0.2)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--tolerance", args->tolerance,
                   "tv: relative change of x to stop at (default 1e-4); gn: relative decrease of "
                   "the objective (1e-4)")
@@ -237,7 +243,10 @@ Mesh reconstruction_mesh(Args* args, const CLI::App& cmd, std::optional<Mesh> me
   if (!mesh_file && has_sensor_mesh(data)) return stored_sensor_mesh(data);
   if (args->mesh.file.empty() && !cmd.count("--electrodes"))
     args->mesh.disk.electrodes = data.electrodes;
-  args->mesh.disk.electrode_coverage = data.electrode_coverage;
+  // The data's electrodes unless the user models them otherwise (a measured set's coverage is
+  // only the import's default).
+  if (!cmd.count("--electrode-coverage"))
+    args->mesh.disk.electrode_coverage = data.electrode_coverage;
   Mesh mesh = mesh_file ? std::move(*mesh_file) : load_mesh(args->mesh);
   if (mesh.num_electrodes() != data.electrodes)
     throw InputError(args->mesh.file.empty() ? "--electrodes" : args->mesh.file, "electrodes",
@@ -307,6 +316,7 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   }
   mo.absolute = args->absolute;
   mo.neighbours = args->neighbours;
+  mo.noser_exponent = args->noser_exponent;
   mo.tolerance = args->tolerance;
   mo.robust = args->robust;
   if (!args->calibration.empty()) {

@@ -23,6 +23,7 @@ MethodSpec tikhonov_with(const std::string& prior) {
     t.discrepancy_factor = o.discrepancy_factor;
     t.relative = o.relative_lambda;
     t.neighbours = parse_neighbours(o.neighbours);
+    t.noser_exponent = o.noser_exponent;
     return std::unique_ptr<Reconstructor>(std::make_unique<Tikhonov>(std::move(problem), t));
   };
   return spec;
