@@ -2,7 +2,10 @@
 // and kept through the data set's file; every bad touch file refused naming the file and row.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -147,6 +150,42 @@ TEST(PressScores, ByDistanceFromTheCentre) {
             "press bands.radius");
 }
 
+// Where a band's presses are put: every press found turned by 20 degrees counter-clockwise and at
+// 1.5 times its radius gives those back as the band's turn and mean radii; a press at the centre
+// or none found (put at the centre) has no angle and counts only in the radii.
+TEST(PressScores, PlacementGivesTheBandsTurnAndRadii) {
+  const double turn = 20 * M_PI / 180;
+  const std::vector<std::vector<PressTouch>> truth = {{{0.3, 0.0, NAN}},
+                                                      {{0.0, -0.2, NAN}},
+                                                      {{-0.25, 0.1, NAN}},
+                                                      {{0.0, 0.0, NAN}},
+                                                      {{0.9, 0.0, NAN}}};
+  TouchFrames found;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const Eigen::Vector2d t(truth[i][0].x, truth[i][0].y);
+    const Eigen::Vector2d at = 1.5 * (Eigen::Rotation2Dd(turn) * t);
+    found.push_back({{at.x(), at.y(), 0.1, 1}});
+  }
+  found.push_back({{0.1, 0.0, 0.1, 1}});  // the press at the centre: no angle to turn
+  found.push_back({});                    // none found: put at the centre
+  const std::vector<PressBand> bands = score_presses_by_distance(found, truth, 1.0, {0, 0.5});
+  ASSERT_EQ(bands.size(), 2u);
+  const PressPlacement& inner = bands[0].placement;
+  const double radii = 0.3 + 0.2 + std::hypot(0.25, 0.1);
+  EXPECT_NEAR(inner.true_radius, radii / 4, 1e-12);
+  EXPECT_NEAR(inner.found_radius, (1.5 * radii + 0.1) / 4, 1e-12);
+  EXPECT_NEAR(inner.turn_degrees, 20, 1e-9);
+  const PressPlacement& rim = bands[1].placement;
+  EXPECT_NEAR(rim.true_radius, 0.9, 1e-15);
+  EXPECT_EQ(rim.found_radius, 0);
+  EXPECT_TRUE(std::isnan(rim.turn_degrees));
+  // A turn across the negative x axis stays within half a turn: -170 degrees, not +190.
+  const std::vector<std::vector<PressTouch>> left = {{{-0.5, 0.0, NAN}}};
+  const Eigen::Vector2d at = Eigen::Rotation2Dd(-170 * M_PI / 180) * Eigen::Vector2d(-0.5, 0.0);
+  const auto across = score_positions_by_distance({at}, left, 1.0, {0});
+  EXPECT_NEAR(across[0].placement.turn_degrees, -170, 1e-9);
+}
+
 // A press set made from simulated one-touch frames: the shape fit puts every press near its true
 // centre, far better than the centre's floor, and says so in its summary.
 TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
@@ -241,6 +280,35 @@ TEST_F(PressSet, TheCommandLinesPriorAndElectrodesAreUsed) {
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("--noser-exponent"), std::string::npos) << bad.output;
   EXPECT_FALSE(fs::exists(path("bad.h5")));
+  // Each press where it is and where the method put it, one CSV line a frame of the selection.
+  const Result listed = run("reconstruct --method tikhonov --data " + path("press.h5") +
+                            " --split train --touches 1 --frames 2:6 --density coarse --png 0 "
+                            "--out " +
+                            path("out.h5") + " --presses-csv " + path("presses.csv"));
+  ASSERT_EQ(listed.exit_code, 0) << listed.output;
+  EXPECT_NE(listed.output.find("turned"), std::string::npos) << listed.output;
+  std::ifstream csv(path("presses.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "frame,true_x,true_y,found_x,found_y,error");
+  int lines = 0;
+  while (std::getline(csv, line)) {
+    double v[6];
+    ASSERT_EQ(
+        std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf", v, v + 1, v + 2, v + 3, v + 4, v + 5),
+        6)
+        << line;
+    EXPECT_NEAR(v[5], std::hypot(v[3] - v[1], v[4] - v[2]), 1e-5) << line;
+    ++lines;
+  }
+  EXPECT_EQ(lines, 4);
+  // Never onto an input, and refused before any work.
+  const Result onto = run("reconstruct --method tikhonov --data " + path("press.h5") +
+                          " --split train --density coarse --png 0 --out " + path("out2.h5") +
+                          " --presses-csv " + path("press.h5"));
+  EXPECT_EQ(onto.exit_code, 2) << onto.output;
+  EXPECT_FALSE(fs::exists(path("out2.h5")));
+  EXPECT_NO_THROW(read_dataset(path("press.h5")));
 }
 
 TEST_F(PressSet, BadTouchFilesAreRefusedNamingFileAndRow) {

@@ -13,6 +13,8 @@
 #include "eitbench/bench/data/noise.h"
 #include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/data/sensor_noise.h"
+#include "eitbench/bench/io/atomic_file.h"
+#include "eitbench/bench/io/output_path.h"
 #include "eitbench/bench/methods/evaluate.h"
 #include "eitbench/bench/methods/images_file.h"
 #include "eitbench/bench/methods/metrics.h"
@@ -51,6 +53,7 @@ struct Args {
   std::vector<double> mark;      // --mark X,Y: a point to mark on the pictures
   double touch_threshold = 0.5;  // press sets: an image's touches, at this fraction of its maximum
   std::string calibration, calibration_frames;  // a press set that tunes the method
+  std::string presses_csv;  // a press set: each press where it is and where the method put it
 };
 
 void add_options(CLI::App* cmd, Args* args) {
@@ -150,6 +153,9 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--calibration-frames", args->calibration_frames,
                   "frames A:B of --calibration (default all; in the scored file, frames that are "
                   "not scored)");
+  cmd->add_option("--presses-csv", args->presses_csv,
+                  "a press set: write each press's frame, true x,y, the x,y where the method "
+                  "put it and the distance between (the data set's unit) to this CSV file");
   cmd->add_option("--mark", args->mark,
                   "X,Y: mark this point on the pictures (a known touch, in the sensor's "
                   "coordinates)")
@@ -395,7 +401,8 @@ void write_pngs(const Args* args, const Selection& s, const Evaluation& result, 
 // A press set's frames scored by where the method puts each press, and the centre's floor.
 struct PressResult {
   PressScores method, centre;
-  std::vector<PressBand> bands;  // the method's, by the press's distance from the centre
+  std::vector<PressBand> bands;            // the method's, by the press's distance from the centre
+  std::vector<Eigen::Vector2d> truth, at;  // each frame's press and where the method put it
 };
 std::optional<PressResult> press_result(const Args* args, const Selection& s,
                                         const Evaluation& result, const PixelGrid& grid,
@@ -407,8 +414,23 @@ std::optional<PressResult> press_result(const Args* args, const Selection& s,
       !result.circles.empty()
           ? touches_of(result.circles, background)
           : press_touches(result.images, grid, {args->locate == "centroid", args->touch_threshold});
-  return PressResult{score_presses(found, truth), centre_floor(truth),
-                     score_presses_by_distance(found, truth, s.data.radius)};
+  PressResult p{score_presses(found, truth),
+                centre_floor(truth),
+                score_presses_by_distance(found, truth, s.data.radius),
+                {},
+                located_presses(found)};
+  for (const auto& touches : truth) p.truth.emplace_back(touches[0].x, touches[0].y);
+  return p;
+}
+
+void write_presses_csv(const std::string& path, const std::vector<int>& rows,
+                       const PressResult& p) {
+  write_text_atomically(path, [&](std::ostream& out) {
+    out << "frame,true_x,true_y,found_x,found_y,error\n";
+    for (std::size_t i = 0; i < p.at.size(); ++i)
+      out << fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", rows[i], p.truth[i].x(),
+                         p.truth[i].y(), p.at[i].x(), p.at[i].y(), (p.at[i] - p.truth[i]).norm());
+  });
 }
 
 void print_presses(const PressResult& p, double radius) {
@@ -429,6 +451,16 @@ void print_presses(const PressResult& p, double radius) {
                          b.scores.median / radius, b.scores.mean / radius, b.scores.frames);
   }
   fmt::print("  by the press's distance from the centre (median / mean, R; presses): {}\n", bands);
+  // A bias, unlike scatter, is the model's: presses all put too far out, or turned one way.
+  std::string placed;
+  for (const PressBand& b : p.bands) {
+    if (b.scores.frames == 0) continue;
+    placed += fmt::format("{}{:.2f} R at {:.2f} R, turned {:+.0f} deg", placed.empty() ? "" : "; ",
+                          b.placement.true_radius / radius, b.placement.found_radius / radius,
+                          b.placement.turn_degrees);
+  }
+  fmt::print("  put where (each band's mean true radius at the mean found, median turn): {}\n",
+             placed);
 }
 
 void write_images(const Args* args, const Selection& s, const Evaluation& result, double background,
@@ -509,6 +541,12 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     std::optional<Mesh> mesh_file;
     if (!args->mesh.file.empty()) mesh_file = read_msh_file(args->mesh.file);
     const Selection s = select_frames(args.get(), mesh_file);
+    if (!args->presses_csv.empty()) {
+      if (s.data.touches.empty())
+        throw InputError("--presses-csv", "",
+                         args->data + " is not a press set (import --touches)");
+      output_target(args->presses_csv);  // refused now, before any work, if it may not be written
+    }
     const Mesh mesh = reconstruction_mesh(args.get(), *cmd, std::move(mesh_file), s.data);
     const auto sensor = load_sensor(args->sensor, mesh.num_electrodes());
     const double background = cmd->count("--background")    ? args->background
@@ -535,6 +573,8 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
         evaluate(*method, s.frames, s.data.has_labels() ? s.labels : SampleMatrix(), grid, timing);
     const auto presses = press_result(args.get(), s, result, grid, background);
     write_images(args.get(), s, result, background, setup_s, presses);
+    if (presses && !args->presses_csv.empty())
+      write_presses_csv(args->presses_csv, s.rows, *presses);
     write_pngs(args.get(), s, result, mesh, grid);
     print_summary(args.get(), s, result, setup_s, presses);
   };

@@ -39,6 +39,12 @@ Eigen::Vector2d located_press(const std::vector<Touch>& found, const Eigen::Vect
   return {strongest->x, strongest->y};
 }
 
+std::vector<Eigen::Vector2d> located_presses(const TouchFrames& found) {
+  std::vector<Eigen::Vector2d> at;
+  for (const auto& touches : found) at.push_back(located_press(touches, Eigen::Vector2d::Zero()));
+  return at;
+}
+
 PressScores score_presses(const TouchFrames& found,
                           const std::vector<std::vector<PressTouch>>& truth) {
   if (found.size() != truth.size())
@@ -67,7 +73,7 @@ std::vector<std::pair<PressBand, std::vector<std::size_t>>> bands_of(
     throw InputError("press bands", "edges", "must rise strictly from 0");
   std::vector<std::pair<PressBand, std::vector<std::size_t>>> bands;
   for (std::size_t b = 0; b < edges.size(); ++b)
-    bands.push_back({{edges[b], b + 1 < edges.size() ? edges[b + 1] : INFINITY, {}}, {}});
+    bands.push_back({{edges[b], b + 1 < edges.size() ? edges[b + 1] : INFINITY, {}, {}}, {}});
   for (std::size_t i = 0; i < truth.size(); ++i) {
     const PressTouch& press = the_press(truth, i);
     const double r = std::hypot(press.x, press.y) / radius;
@@ -77,6 +83,28 @@ std::vector<std::pair<PressBand, std::vector<std::size_t>>> bands_of(
   return bands;
 }
 
+// Mean radii and the median turn of the presses `at`, truly at `truth`.
+PressPlacement placement_of(const std::vector<Eigen::Vector2d>& at,
+                            const std::vector<std::vector<PressTouch>>& truth) {
+  PressPlacement p;
+  if (at.empty()) return p;
+  double true_sum = 0, found_sum = 0;
+  std::vector<double> turns;
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    const PressTouch& press = the_press(truth, i);
+    const double r = std::hypot(press.x, press.y), found = at[i].norm();
+    true_sum += r, found_sum += found;
+    if (r > 0 && found > 0) {
+      const double turn = std::atan2(at[i].y(), at[i].x()) - std::atan2(press.y, press.x);
+      turns.push_back(std::remainder(turn, 2 * M_PI) * 180 / M_PI);
+    }
+  }
+  const double n = static_cast<double>(at.size());
+  p.true_radius = true_sum / n, p.found_radius = found_sum / n;
+  if (!turns.empty()) p.turn_degrees = summarize(std::move(turns), 0).median;
+  return p;
+}
+
 template <typename T>
 std::vector<T> pick(const std::vector<T>& all, const std::vector<std::size_t>& which) {
   std::vector<T> out;
@@ -84,9 +112,11 @@ std::vector<T> pick(const std::vector<T>& all, const std::vector<std::size_t>& w
   return out;
 }
 
-// `score` (score_presses or score_positions) on each band's frames of `located` and `truth`.
+// `score` (score_presses or score_positions) on each band's frames of `located` and `truth`, and
+// where the band's presses were put (`at`, one position a frame).
 template <typename Located, typename Score>
 std::vector<PressBand> by_distance(const std::vector<Located>& located,
+                                   const std::vector<Eigen::Vector2d>& at,
                                    const std::vector<std::vector<PressTouch>>& truth, double radius,
                                    const std::vector<double>& edges, Score score) {
   if (located.size() != truth.size())
@@ -94,6 +124,7 @@ std::vector<PressBand> by_distance(const std::vector<Located>& located,
   std::vector<PressBand> out;
   for (auto& [band, frames] : bands_of(truth, radius, edges)) {
     band.scores = score(pick(located, frames), pick(truth, frames));
+    band.placement = placement_of(pick(at, frames), pick(truth, frames));
     out.push_back(band);
   }
   return out;
@@ -104,13 +135,13 @@ std::vector<PressBand> by_distance(const std::vector<Located>& located,
 std::vector<PressBand> score_presses_by_distance(const TouchFrames& found,
                                                  const std::vector<std::vector<PressTouch>>& truth,
                                                  double radius, const std::vector<double>& edges) {
-  return by_distance(found, truth, radius, edges, score_presses);
+  return by_distance(found, located_presses(found), truth, radius, edges, score_presses);
 }
 
 std::vector<PressBand> score_positions_by_distance(
     const std::vector<Eigen::Vector2d>& at, const std::vector<std::vector<PressTouch>>& truth,
     double radius, const std::vector<double>& edges) {
-  return by_distance(at, truth, radius, edges, score_positions);
+  return by_distance(at, at, truth, radius, edges, score_positions);
 }
 
 PressScores score_positions(const std::vector<Eigen::Vector2d>& at,

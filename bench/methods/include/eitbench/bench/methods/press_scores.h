@@ -23,6 +23,8 @@ struct PressScores {
 // Where a method puts a press: its strongest found touch (the highest contrast), or `centre`
 // when it found none.
 Eigen::Vector2d located_press(const std::vector<Touch>& found, const Eigen::Vector2d& centre);
+// located_press of every frame, with the sensor's centre (0, 0) for a frame without a touch.
+std::vector<Eigen::Vector2d> located_presses(const TouchFrames& found);
 
 // One true touch a frame (InputError otherwise, naming the frame), found lists of the same length.
 PressScores score_presses(const TouchFrames& found,
@@ -38,9 +40,18 @@ PressScores centre_floor(const std::vector<std::vector<PressTouch>>& truth);
 // `edges` (fractions of the radius, ascending, from 0), the last from the last edge on without
 // bound, since a press may be recorded a little beyond the rim. A band without presses has
 // frames 0 and NaN scores.
+// Where a band's presses are put against where they are: a method that puts them too far out,
+// or turned one way round, shows it here. A systematic error, unlike scatter, is the model's.
+struct PressPlacement {
+  double true_radius = NAN, found_radius = NAN;  // means over the band, in the mesh's unit
+  // The median of (found angle - true angle), counter-clockwise, in degrees within [-180, 180];
+  // over the presses neither at nor put at the centre (NaN when there are none).
+  double turn_degrees = NAN;
+};
 struct PressBand {
   double inner = 0, outer = INFINITY;  // fractions of the radius
   PressScores scores;
+  PressPlacement placement;
 };
 // InputError("press bands", field) for a bad radius or edges, or one list a frame too few.
 std::vector<PressBand> score_presses_by_distance(const TouchFrames& found,
