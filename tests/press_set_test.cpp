@@ -309,6 +309,20 @@ TEST_F(PressSet, TheCommandLinesPriorAndElectrodesAreUsed) {
   EXPECT_EQ(onto.exit_code, 2) << onto.output;
   EXPECT_FALSE(fs::exists(path("out2.h5")));
   EXPECT_NO_THROW(read_dataset(path("press.h5")));
+  // The placement map: measured on the calibration presses, refused without them.
+  const std::string mapped = "reconstruct --method noser --data " + path("press.h5") +
+                             " --split train --touches 1 --density coarse --png 0 --out " +
+                             path("mapped.h5") + " --placement-map";
+  const Result without = run(mapped);
+  EXPECT_EQ(without.exit_code, 2) << without.output;
+  EXPECT_NE(without.output.find("--placement-map: needs --calibration"), std::string::npos)
+      << without.output;
+  const Result with = run(mapped + " --frames 0:10 --calibration " + path("press.h5") +
+                          " --calibration-frames 10:40");
+  ASSERT_EQ(with.exit_code, 0) << with.output;
+  EXPECT_NE(with.output.find("placement map: measured on 30 calibration presses"),
+            std::string::npos)
+      << with.output;
 }
 
 TEST_F(PressSet, BadTouchFilesAreRefusedNamingFileAndRow) {

@@ -29,6 +29,7 @@ PressTuning press_tuning(const std::string& path, const std::string& range, cons
                                                      cal.touches.begin() + b);
   t.labels = press_labels(touches, grid, path);
   t.score = press_score(grid, touch_threshold, centroid);
+  t.truth = touches;
   return t;
 }
 

@@ -14,6 +14,7 @@ namespace eitbench::cli {
 struct PressTuning {
   SampleMatrix frames, labels;  // labels: a disc of 0.1 R at each press, where the score finds it
   ScoreFn score;                // minus the centre error of the image's strongest blob
+  std::vector<std::vector<PressTouch>> truth;  // each frame's press
 };
 
 // The presses of `path` (frames `range`, "A:B" or all), checked against the scored set `data`:

@@ -19,6 +19,7 @@
 #include "eitbench/bench/methods/images_file.h"
 #include "eitbench/bench/methods/metrics.h"
 #include "eitbench/bench/methods/model_file.h"
+#include "eitbench/bench/methods/press_placement.h"
 #include "eitbench/bench/methods/press_scores.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/methods/touch_metrics.h"
@@ -53,7 +54,8 @@ struct Args {
   std::vector<double> mark;      // --mark X,Y: a point to mark on the pictures
   double touch_threshold = 0.5;  // press sets: an image's touches, at this fraction of its maximum
   std::string calibration, calibration_frames;  // a press set that tunes the method
-  std::string presses_csv;  // a press set: each press where it is and where the method put it
+  std::string presses_csv;     // a press set: each press where it is and where the method put it
+  bool placement_map = false;  // with --calibration: undo the bias measured on its presses
 };
 
 void add_options(CLI::App* cmd, Args* args) {
@@ -153,6 +155,10 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_option("--calibration-frames", args->calibration_frames,
                   "frames A:B of --calibration (default all; in the scored file, frames that are "
                   "not scored)");
+  cmd->add_flag("--placement-map", args->placement_map,
+                "with --calibration: measure on its presses where the method puts a press against "
+                "where it is (the true radius and the turn, by the radius it is put at) and undo "
+                "that bias on the scored presses");
   cmd->add_option("--presses-csv", args->presses_csv,
                   "a press set: write each press's frame, true x,y, the x,y where the method "
                   "put it and the distance between (the data set's unit) to this CSV file");
@@ -290,7 +296,8 @@ FrameSelection tuning_frames(const Args* args, const Selection& s, const std::st
 std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd,
                                            const Selection& s, const Mesh& mesh,
                                            const std::optional<SensorFile>& sensor,
-                                           const PixelGrid& grid, double background) {
+                                           const PixelGrid& grid, double background,
+                                           std::optional<PlacementMap>* map) {
   ForwardOptions forward;
   forward.contact_impedance = s.data.contact_impedance;
   forward.current = s.data.current;
@@ -334,6 +341,14 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
         press_tuning(args->calibration, args->calibration_frames, s.data, args->data, s.rows, grid,
                      args->touch_threshold, args->locate == "centroid");
     method->fit(t.frames, t.labels, t.score);
+    if (args->placement_map) {
+      const PressRule rule{args->locate == "centroid", args->touch_threshold};
+      std::vector<Eigen::Vector2d> truth;
+      for (const auto& touches : t.truth) truth.emplace_back(touches[0].x, touches[0].y);
+      const auto found =
+          located_presses(press_touches(method->reconstruct_all(t.frames), grid, rule));
+      map->emplace(found, truth, s.data.radius);
+    }
     return method;
   }
   auto method = make_reconstructor(args->method, problem, mo);
@@ -406,7 +421,7 @@ struct PressResult {
 };
 std::optional<PressResult> press_result(const Args* args, const Selection& s,
                                         const Evaluation& result, const PixelGrid& grid,
-                                        double background) {
+                                        double background, const std::optional<PlacementMap>& map) {
   if (s.data.touches.empty()) return std::nullopt;
   std::vector<std::vector<PressTouch>> truth;
   for (int row : s.rows) truth.push_back(s.data.touches[static_cast<std::size_t>(row)]);
@@ -420,6 +435,13 @@ std::optional<PressResult> press_result(const Args* args, const Selection& s,
                 {},
                 located_presses(found)};
   for (const auto& touches : truth) p.truth.emplace_back(touches[0].x, touches[0].y);
+  if (map) {  // the positions moved by the map are what is scored
+    p.at = map->apply(p.at);
+    const int none = p.method.none_found;
+    p.method = score_positions(p.at, truth);
+    p.method.none_found = none;
+    p.bands = score_positions_by_distance(p.at, truth, s.data.radius);
+  }
   return p;
 }
 
@@ -541,6 +563,9 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     std::optional<Mesh> mesh_file;
     if (!args->mesh.file.empty()) mesh_file = read_msh_file(args->mesh.file);
     const Selection s = select_frames(args.get(), mesh_file);
+    if (args->placement_map && args->calibration.empty())
+      throw InputError("--placement-map", "",
+                       "needs --calibration: the bias is measured on labelled presses");
     if (!args->presses_csv.empty()) {
       if (s.data.touches.empty())
         throw InputError("--presses-csv", "",
@@ -557,12 +582,13 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     const PixelGrid grid = image_grid(s.data);  // the labels' grid: a --mesh must fit it
     const auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Reconstructor> method;
+    std::optional<PlacementMap> map;  // --placement-map: measured on the calibration presses
     if (args->method == "dnn") {
       method = learned(args.get(), *cmd, s.data);
     } else {
       if (!args->model.empty())
         throw InputError("--model", "", "only --method dnn takes a model file");
-      method = model_based(args.get(), *cmd, s, mesh, sensor, grid, background);
+      method = model_based(args.get(), *cmd, s, mesh, sensor, grid, background, &map);
     }
     const double setup_s = seconds_since(t0);
     // The same loop as the benchmark's: every frame timed one at a time, after a warm-up.
@@ -571,12 +597,18 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     timing.source = args->data;
     const Evaluation result =
         evaluate(*method, s.frames, s.data.has_labels() ? s.labels : SampleMatrix(), grid, timing);
-    const auto presses = press_result(args.get(), s, result, grid, background);
+    const auto presses = press_result(args.get(), s, result, grid, background, map);
     write_images(args.get(), s, result, background, setup_s, presses);
     if (presses && !args->presses_csv.empty())
       write_presses_csv(args->presses_csv, s.rows, *presses);
     write_pngs(args.get(), s, result, mesh, grid);
     print_summary(args.get(), s, result, setup_s, presses);
+    if (map)
+      fmt::print(
+          "  placement map: measured on {} calibration presses, kernel width {:.3g} R "
+          "(leave-one-out centre error {:.3f} R)\n",
+          map->presses(), map->bandwidth() / s.data.radius,
+          map->leave_one_out_error() / s.data.radius);
   };
 }
 
