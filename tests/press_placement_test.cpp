@@ -89,6 +89,40 @@ TEST(PlacementMap, TurnsWithTheSensorAndScalesWithItsRadius) {
   EXPECT_LT((map_scaled.apply(2.0 * query) - 2.0 * map.apply(query)).norm(), 1e-9);
 }
 
+// Presses put at the centre carry no direction: they count in the radius, not in the turn.
+TEST(PlacementMap, PressesAtTheCentreDoNotPullTheTurn) {
+  Presses p = presses(200, 7, 1.0, 0.0, biased);
+  PlacementMapOptions one_width;  // the same width for both: only the presses differ
+  one_width.bandwidths = {0.05};
+  const PlacementMap clean(p.found, p.truth, 1.0, one_width);
+  for (int i = 0; i < 50; ++i)
+    p.found.push_back(Eigen::Vector2d::Zero()), p.truth.push_back(p.truth[i]);
+  for (int i = 0; i < 50; ++i)
+    p.found.push_back(p.found[i]), p.truth.push_back(Eigen::Vector2d::Zero());
+  const PlacementMap mixed(p.found, p.truth, 1.0, one_width);
+  const Eigen::Vector2d query = biased(Eigen::Vector2d(0.2, 0.0));
+  const auto turn = [](const Eigen::Vector2d& a, const Eigen::Vector2d& q) {
+    return std::remainder(std::atan2(a.y(), a.x()) - std::atan2(q.y(), q.x()), 2 * M_PI);
+  };
+  // Made: 30 (1 - 0.2) = 24 degrees clockwise at 0.2 R, undone counter-clockwise.
+  EXPECT_NEAR(turn(clean.apply(query), query), 24 * M_PI / 180, 2 * M_PI / 180);
+  EXPECT_NEAR(turn(mixed.apply(query), query), turn(clean.apply(query), query), 1e-12);
+}
+
+// A spot pressed many times cannot vouch for itself: left out with its repeats, the narrowest
+// width is not chosen for recall.
+TEST(PlacementMap, LeavesOutEveryPressAtTheSamePosition) {
+  const Presses p = presses(60, 8, 1.0, 0.05, [](const Eigen::Vector2d& t) { return t; });
+  Presses repeated;
+  for (int k = 0; k < 5; ++k)
+    for (std::size_t i = 0; i < p.truth.size(); ++i)
+      repeated.truth.push_back(p.truth[i]), repeated.found.push_back(p.found[i]);
+  const PlacementMap map(repeated.found, repeated.truth, 1.0);
+  const PlacementMap once(p.found, p.truth, 1.0);
+  EXPECT_NEAR(map.bandwidth(), once.bandwidth(), 1e-12);
+  EXPECT_GT(map.leave_one_out_error(), 0.02);
+}
+
 TEST(PlacementMap, RefusesWhatItCannotUse) {
   const Presses p = presses(20, 6, 1.0, 0.02, biased);
   auto field = [&](auto make) { return testing::input_error_at(make); };
@@ -105,6 +139,11 @@ TEST(PlacementMap, RefusesWhatItCannotUse) {
   PlacementMapOptions o;
   o.bandwidths = {0.1, -1};
   EXPECT_EQ(field([&] { PlacementMap(p.found, p.truth, 1.0, o); }), "placement map.bandwidths");
+  o = PlacementMapOptions();
+  o.min_presses = 1;
+  EXPECT_EQ(field([&] { PlacementMap(p.found, p.truth, 1.0, o); }), "placement map.min_presses");
+  const std::vector<Eigen::Vector2d> spot(12, Eigen::Vector2d(0.3, 0.1));
+  EXPECT_EQ(field([&] { PlacementMap(spot, spot, 1.0); }), "placement map.presses");
   Presses bad = p;
   bad.found[3].x() = NAN;
   EXPECT_EQ(field([&] { PlacementMap(bad.found, bad.truth, 1.0); }), "placement map.positions");

@@ -179,11 +179,18 @@ TEST(PressScores, PlacementGivesTheBandsTurnAndRadii) {
   EXPECT_NEAR(rim.true_radius, 0.9, 1e-15);
   EXPECT_EQ(rim.found_radius, 0);
   EXPECT_TRUE(std::isnan(rim.turn_degrees));
-  // A turn across the negative x axis stays within half a turn: -170 degrees, not +190.
-  const std::vector<std::vector<PressTouch>> left = {{{-0.5, 0.0, NAN}}};
-  const Eigen::Vector2d at = Eigen::Rotation2Dd(-170 * M_PI / 180) * Eigen::Vector2d(-0.5, 0.0);
-  const auto across = score_positions_by_distance({at}, left, 1.0, {0});
-  EXPECT_NEAR(across[0].placement.turn_degrees, -170, 1e-9);
+  // A turn across the negative x axis is the short way round: from 170 to -170 degrees is +20,
+  // not -340, and back -20.
+  const auto polar = [](double degrees) {
+    return Eigen::Vector2d(0.5 * std::cos(degrees * M_PI / 180),
+                           0.5 * std::sin(degrees * M_PI / 180));
+  };
+  for (double sign : {1.0, -1.0}) {
+    const Eigen::Vector2d where = polar(sign * 170);
+    const std::vector<std::vector<PressTouch>> left = {{{where.x(), where.y(), NAN}}};
+    const auto across = score_positions_by_distance({polar(-sign * 170)}, left, 1.0, {0});
+    EXPECT_NEAR(across[0].placement.turn_degrees, sign * 20, 1e-9) << sign;
+  }
 }
 
 // A press set made from simulated one-touch frames: the shape fit puts every press near its true
@@ -302,6 +309,17 @@ TEST_F(PressSet, TheCommandLinesPriorAndElectrodesAreUsed) {
     ++lines;
   }
   EXPECT_EQ(lines, 4);
+  // The same command again replaces its own CSV (an output, not an input); onto --out, refused.
+  const Result again = run("reconstruct --method tikhonov --data " + path("press.h5") +
+                           " --split train --touches 1 --frames 2:6 --density coarse --png 0 "
+                           "--out " +
+                           path("out.h5") + " --presses-csv " + path("presses.csv"));
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  const Result same = run("reconstruct --method tikhonov --data " + path("press.h5") +
+                          " --split train --density coarse --png 0 --out " + path("same") +
+                          " --presses-csv " + path("same"));
+  EXPECT_EQ(same.exit_code, 2) << same.output;
+  EXPECT_NE(same.output.find("is --out"), std::string::npos) << same.output;
   // Never onto an input, and refused before any work.
   const Result onto = run("reconstruct --method tikhonov --data " + path("press.h5") +
                           " --split train --density coarse --png 0 --out " + path("out2.h5") +
@@ -317,6 +335,11 @@ TEST_F(PressSet, TheCommandLinesPriorAndElectrodesAreUsed) {
   EXPECT_EQ(without.exit_code, 2) << without.output;
   EXPECT_NE(without.output.find("--placement-map: needs --calibration"), std::string::npos)
       << without.output;
+  const Result shape =
+      run("reconstruct --method shape-linear --placement-map --data " + path("press.h5") +
+          " --calibration " + path("press.h5") + " --png 0 --out " + path("shape.h5"));
+  EXPECT_EQ(shape.exit_code, 2) << shape.output;
+  EXPECT_NE(shape.output.find("not shape-linear"), std::string::npos) << shape.output;
   const Result with = run(mapped + " --frames 0:10 --calibration " + path("press.h5") +
                           " --calibration-frames 10:40");
   ASSERT_EQ(with.exit_code, 0) << with.output;

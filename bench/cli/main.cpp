@@ -56,11 +56,12 @@ int main(int argc, char** argv) {
   }
   try {
     for (auto* sub : app.get_subcommands()) {
-      // Every file named on the command line but the outputs (--out, mesh --png) is an input
-      // that no output may replace.
+      // Every file named on the command line but the outputs (--out, mesh --png, reconstruct
+      // --presses-csv) is an input that no output may replace.
       std::vector<std::string> files;
       for (const CLI::Option* option : sub->get_options())
-        if (!option->check_lname("out") && !option->check_lname("png"))
+        if (!option->check_lname("out") && !option->check_lname("png") &&
+            !option->check_lname("presses-csv"))
           files.insert(files.end(), option->results().begin(), option->results().end());
       eitbench::declare_inputs(files);
       // Under mpirun only the commands that shard their work by rank; any other would run once a

@@ -161,7 +161,8 @@ void add_options(CLI::App* cmd, Args* args) {
                 "that bias on the scored presses");
   cmd->add_option("--presses-csv", args->presses_csv,
                   "a press set: write each press's frame, true x,y, the x,y where the method "
-                  "put it and the distance between (the data set's unit) to this CSV file");
+                  "put it (after --placement-map, if given) and the distance between (the data "
+                  "set's unit) to this CSV file");
   cmd->add_option("--mark", args->mark,
                   "X,Y: mark this point on the pictures (a known touch, in the sensor's "
                   "coordinates)")
@@ -252,7 +253,12 @@ Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) 
 // another shape stores, or a disk for the data's sensor.
 Mesh reconstruction_mesh(Args* args, const CLI::App& cmd, std::optional<Mesh> mesh_file,
                          const Dataset& data) {
-  if (!mesh_file && has_sensor_mesh(data)) return stored_sensor_mesh(data);
+  if (!mesh_file && has_sensor_mesh(data)) {
+    if (cmd.count("--electrode-coverage"))
+      throw InputError("--electrode-coverage", "",
+                       args->data + " stores its sensor's mesh, whose electrodes are fixed");
+    return stored_sensor_mesh(data);
+  }
   if (args->mesh.file.empty() && !cmd.count("--electrodes"))
     args->mesh.disk.electrodes = data.electrodes;
   // The data's electrodes unless the user models them otherwise (a measured set's coverage is
@@ -566,11 +572,23 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     if (args->placement_map && args->calibration.empty())
       throw InputError("--placement-map", "",
                        "needs --calibration: the bias is measured on labelled presses");
+    // The map is measured where the images put CAL's presses; the shape fits and the learned
+    // model are scored otherwise (their circles; no calibration), so it would not apply to them.
+    if (args->placement_map && args->method != "tikhonov" && args->method != "noser" &&
+        args->method != "laplace" && args->method != "greit" && args->method != "tv" &&
+        args->method != "gn")
+      throw InputError("--placement-map", "",
+                       "applies to methods whose images place the press (tikhonov, noser, "
+                       "laplace, greit, tv, gn), not " +
+                           args->method);
     if (!args->presses_csv.empty()) {
       if (s.data.touches.empty())
         throw InputError("--presses-csv", "",
                          args->data + " is not a press set (import --touches)");
       output_target(args->presses_csv);  // refused now, before any work, if it may not be written
+      if (std::filesystem::absolute(args->presses_csv).lexically_normal() ==
+          std::filesystem::absolute(args->out).lexically_normal())
+        throw InputError("--presses-csv", "", "is --out: the two are different files");
     }
     const Mesh mesh = reconstruction_mesh(args.get(), *cmd, std::move(mesh_file), s.data);
     const auto sensor = load_sensor(args->sensor, mesh.num_electrodes());
@@ -602,13 +620,13 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     if (presses && !args->presses_csv.empty())
       write_presses_csv(args->presses_csv, s.rows, *presses);
     write_pngs(args.get(), s, result, mesh, grid);
-    print_summary(args.get(), s, result, setup_s, presses);
     if (map)
       fmt::print(
-          "  placement map: measured on {} calibration presses, kernel width {:.3g} R "
-          "(leave-one-out centre error {:.3f} R)\n",
+          "placement map: measured on {} calibration presses, kernel width {:.3g} R "
+          "(leave-one-out centre error {:.3f} R); the scores below are after it\n",
           map->presses(), map->bandwidth() / s.data.radius,
           map->leave_one_out_error() / s.data.radius);
+    print_summary(args.get(), s, result, setup_s, presses);
   };
 }
 

@@ -13,10 +13,11 @@ namespace eitbench {
 
 struct PlacementMapOptions {
   // Kernel widths tried, as fractions of the radius; the one with the lowest leave-one-out mean
-  // centre error on the labelled presses is kept (the first wins a tie). Narrow widths follow a
-  // bias that changes quickly with the radius, wide ones average over more presses.
+  // centre error on the labelled presses is kept (the first wins a tie); a press is left out with
+  // every press recorded at the same position. Narrow widths follow a bias that changes quickly
+  // with the radius, wide ones average over more presses.
   std::vector<double> bandwidths{0.005, 0.01, 0.015, 0.02, 0.03, 0.05, 0.07, 0.1, 0.15, 0.2, 0.3};
-  int min_presses = 10;  // fewer labelled presses cannot measure a bias
+  int min_presses = 10;  // fewer labelled presses cannot measure a bias (at least 2)
 };
 
 class PlacementMap {
@@ -35,10 +36,14 @@ class PlacementMap {
   int presses() const { return static_cast<int>(found_radius_.size()); }
 
  private:
-  // The map at `found` with width h, leaving labelled press `skip` out (-1: none).
-  Eigen::Vector2d at_width(const Eigen::Vector2d& found, double h, int skip) const;
+  // The map at `found` with width h, leaving out every labelled press recorded at `*skip`
+  // (null: none).
+  Eigen::Vector2d at_width(const Eigen::Vector2d& found, double h,
+                           const Eigen::Vector2d* skip) const;
 
+  std::vector<Eigen::Vector2d> truth_;
   std::vector<double> found_radius_, true_radius_, turn_;  // turn: true angle minus found angle
+  std::vector<bool> has_direction_;                        // neither put at nor truly at the centre
   double bandwidth_ = 0, loo_error_ = 0;
 };
 

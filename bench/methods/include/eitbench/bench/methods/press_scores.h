@@ -35,19 +35,20 @@ PressScores score_positions(const std::vector<Eigen::Vector2d>& at,
 // The floor: every frame located at the centre (0, 0).
 PressScores centre_floor(const std::vector<std::vector<PressTouch>>& truth);
 
-// The presses whose true distance from the centre (0, 0) lies in [inner, outer) x `radius`, and
-// their scores: where on the sensor a method's error comes from. One band a pair of neighbouring
-// `edges` (fractions of the radius, ascending, from 0), the last from the last edge on without
-// bound, since a press may be recorded a little beyond the rim. A band without presses has
-// frames 0 and NaN scores.
 // Where a band's presses are put against where they are: a method that puts them too far out,
 // or turned one way round, shows it here. A systematic error, unlike scatter, is the model's.
 struct PressPlacement {
   double true_radius = NAN, found_radius = NAN;  // means over the band, in the mesh's unit
   // The median of (found angle - true angle), counter-clockwise, in degrees within [-180, 180];
-  // over the presses neither at nor put at the centre (NaN when there are none).
+  // over the presses neither at nor put at the centre (NaN when there are none). A plain median,
+  // not a circular one: it reads a bias of some tens of degrees, not turns near half a turn.
   double turn_degrees = NAN;
 };
+// The presses whose true distance from the centre (0, 0) lies in [inner, outer) x `radius`, and
+// their scores: where on the sensor a method's error comes from. One band a pair of neighbouring
+// `edges` (fractions of the radius, ascending, from 0), the last from the last edge on without
+// bound, since a press may be recorded a little beyond the rim. A band without presses has
+// frames 0 and NaN scores.
 struct PressBand {
   double inner = 0, outer = INFINITY;  // fractions of the radius
   PressScores scores;
