@@ -38,6 +38,15 @@ class PressSet : public Cli {
     return "import --in " + kFrames + " --touches " + touches + " --out " + path("set.h5") + " " +
            more;
   }
+  // A press set made from the tiny preset's one-touch frames: each press at its circle's centre.
+  Dataset stand_in_presses() const {
+    const Result made = run("simulate --preset tiny --quiet --out " + path("tiny.h5"));
+    EXPECT_EQ(made.exit_code, 0) << made.output;  // and read_dataset throws on a missing file
+    Dataset d = read_dataset(path("tiny.h5"));
+    d.touches.clear();
+    for (const auto& circles : d.circles) d.touches.push_back({{circles[0].x, circles[0].y, NAN}});
+    return d;
+  }
 };
 
 TEST_F(PressSet, TouchesComeThroughTheFileScaledToTheMesh) {
@@ -196,11 +205,7 @@ TEST(PressScores, PlacementGivesTheBandsTurnAndRadii) {
 // A press set made from simulated one-touch frames: the shape fit puts every press near its true
 // centre, far better than the centre's floor, and says so in its summary.
 TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
-  ASSERT_EQ(run("simulate --preset tiny --quiet --out " + path("tiny.h5")).exit_code, 0);
-  Dataset d = read_dataset(path("tiny.h5"));
-  d.touches.clear();
-  for (const auto& circles : d.circles) d.touches.push_back({{circles[0].x, circles[0].y, NAN}});
-  write_dataset(path("press.h5"), d);
+  write_dataset(path("press.h5"), stand_in_presses());
   const Result r =
       run("reconstruct --method shape-linear --data " + path("press.h5") +
           " --split train --touches 1 --density coarse --png 0 --out " + path("out.h5"));
@@ -262,11 +267,7 @@ TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
 // exponent 0 places every press where the identity prior does, and the electrodes' coverage, not
 // the set's stored one, shapes the Jacobian.
 TEST_F(PressSet, TheCommandLinesPriorAndElectrodesAreUsed) {
-  ASSERT_EQ(run("simulate --preset tiny --quiet --out " + path("tiny.h5")).exit_code, 0);
-  Dataset d = read_dataset(path("tiny.h5"));
-  d.touches.clear();
-  for (const auto& circles : d.circles) d.touches.push_back({{circles[0].x, circles[0].y, NAN}});
-  write_dataset(path("press.h5"), d);
+  write_dataset(path("press.h5"), stand_in_presses());
   auto scores = [&](const std::string& more) {
     const Result r = run("reconstruct --data " + path("press.h5") +
                          " --split train --touches 1 --density coarse --png 0 --lambda 0.01 "
@@ -399,10 +400,7 @@ TEST_F(PressSet, TheSensorsNoiseComesFromItsReferencesAndChoosesLambda) {
       << outside.output;
   EXPECT_FALSE(fs::exists(path("x.h5")));
 
-  ASSERT_EQ(run("simulate --preset tiny --quiet --out " + path("tiny.h5")).exit_code, 0);
-  Dataset d = read_dataset(path("tiny.h5"));
-  d.touches.clear();
-  for (const auto& circles : d.circles) d.touches.push_back({{circles[0].x, circles[0].y, NAN}});
+  Dataset d = stand_in_presses();
   const double sigma = 1e-3 * std::sqrt(d.reference.squaredNorm() / d.reference.size());
   std::mt19937 rng(7);
   std::normal_distribution<double> normal(0, sigma);

@@ -349,11 +349,9 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
     method->fit(t.frames, t.labels, t.score);
     if (args->placement_map) {
       const PressRule rule{args->locate == "centroid", args->touch_threshold};
-      std::vector<Eigen::Vector2d> truth;
-      for (const auto& touches : t.truth) truth.emplace_back(touches[0].x, touches[0].y);
       const auto found =
           located_presses(press_touches(method->reconstruct_all(t.frames), grid, rule));
-      map->emplace(found, truth, s.data.radius);
+      map->emplace(found, true_presses(t.truth), s.data.radius);
     }
     return method;
   }
@@ -435,12 +433,9 @@ std::optional<PressResult> press_result(const Args* args, const Selection& s,
       !result.circles.empty()
           ? touches_of(result.circles, background)
           : press_touches(result.images, grid, {args->locate == "centroid", args->touch_threshold});
-  PressResult p{score_presses(found, truth),
-                centre_floor(truth),
-                score_presses_by_distance(found, truth, s.data.radius),
-                {},
+  PressResult p{score_presses(found, truth), centre_floor(truth),
+                score_presses_by_distance(found, truth, s.data.radius), true_presses(truth),
                 located_presses(found)};
-  for (const auto& touches : truth) p.truth.emplace_back(touches[0].x, touches[0].y);
   if (map) {  // the positions moved by the map are what is scored
     p.at = map->apply(p.at);
     const int none = p.method.none_found;

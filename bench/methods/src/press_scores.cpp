@@ -45,6 +45,15 @@ std::vector<Eigen::Vector2d> located_presses(const TouchFrames& found) {
   return at;
 }
 
+std::vector<Eigen::Vector2d> true_presses(const std::vector<std::vector<PressTouch>>& truth) {
+  std::vector<Eigen::Vector2d> at;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const PressTouch& press = the_press(truth, i);
+    at.emplace_back(press.x, press.y);
+  }
+  return at;
+}
+
 PressScores score_presses(const TouchFrames& found,
                           const std::vector<std::vector<PressTouch>>& truth) {
   if (found.size() != truth.size())

@@ -69,8 +69,8 @@ struct Located {
 
 Located located_in(const TouchFrames& found) {
   Located l;
-  for (const auto& f : found)
-    l.at.push_back(located_press(f, Eigen::Vector2d::Zero())), l.none_found += f.empty();
+  l.at = located_presses(found);
+  for (const auto& f : found) l.none_found += f.empty();
   return l;
 }
 

@@ -25,6 +25,8 @@ struct PressScores {
 Eigen::Vector2d located_press(const std::vector<Touch>& found, const Eigen::Vector2d& centre);
 // located_press of every frame, with the sensor's centre (0, 0) for a frame without a touch.
 std::vector<Eigen::Vector2d> located_presses(const TouchFrames& found);
+// Where each frame's one true press is (InputError otherwise, naming the frame).
+std::vector<Eigen::Vector2d> true_presses(const std::vector<std::vector<PressTouch>>& truth);
 
 // One true touch a frame (InputError otherwise, naming the frame), found lists of the same length.
 PressScores score_presses(const TouchFrames& found,
