@@ -321,6 +321,12 @@ TEST_F(PressSet, TheCommandLinesPriorAndElectrodesAreUsed) {
                           " --presses-csv " + path("same"));
   EXPECT_EQ(same.exit_code, 2) << same.output;
   EXPECT_NE(same.output.find("is --out"), std::string::npos) << same.output;
+  const Result nowhere = run("reconstruct --method tikhonov --data " + path("press.h5") +
+                             " --split train --density coarse --png 0 --out " + path("out3.h5") +
+                             " --presses-csv " + path("no/such/folder.csv"));
+  EXPECT_EQ(nowhere.exit_code, 2) << nowhere.output;
+  EXPECT_NE(nowhere.output.find("does not exist"), std::string::npos) << nowhere.output;
+  EXPECT_FALSE(fs::exists(path("out3.h5")));  // refused before --out was written
   // Never onto an input, and refused before any work.
   const Result onto = run("reconstruct --method tikhonov --data " + path("press.h5") +
                           " --split train --density coarse --png 0 --out " + path("out2.h5") +

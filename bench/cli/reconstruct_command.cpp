@@ -14,7 +14,6 @@
 #include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/data/sensor_noise.h"
 #include "eitbench/bench/io/atomic_file.h"
-#include "eitbench/bench/io/output_path.h"
 #include "eitbench/bench/methods/evaluate.h"
 #include "eitbench/bench/methods/images_file.h"
 #include "eitbench/bench/methods/metrics.h"
@@ -580,7 +579,9 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
       if (s.data.touches.empty())
         throw InputError("--presses-csv", "",
                          args->data + " is not a press set (import --touches)");
-      output_target(args->presses_csv);  // refused now, before any work, if it may not be written
+      // Refused now, before any work or --out is written, if it may not be written (an input,
+      // a folder that does not exist).
+      temporary_path_for(args->presses_csv);
       if (std::filesystem::absolute(args->presses_csv).lexically_normal() ==
           std::filesystem::absolute(args->out).lexically_normal())
         throw InputError("--presses-csv", "", "is --out: the two are different files");
