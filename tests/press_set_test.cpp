@@ -459,6 +459,81 @@ TEST_F(PressSet, TheSensorsNoiseComesFromItsReferencesAndChoosesLambda) {
       << plain.output;
 }
 
+// --noise-weights counts each value by one over its noise measured on the references: a value
+// whose references wander a thousand times as much as the others', and which carries a glitch
+// of a tenth of the set's largest value in every pressed frame, moves the presses without the
+// weights and hardly with them. Equal levels change nothing; a missing or mismatched level is
+// refused. The frames get white noise at 40 dB, so that GCV's lambda is not at its grid's
+// noise-free end.
+TEST_F(PressSet, NoiseWeightsCountEachValueByItsMeasuredNoise) {
+  Dataset d = stand_in_presses();
+  const MeasurementProtocol protocol = measurement_protocol(d);
+  int channel = -1, input = -1;  // a raw channel that is an input, and that input
+  for (int c = 0; c < protocol.size() && input < 0; ++c) {
+    const Eigen::VectorXd in = protocol.to_inputs(Eigen::VectorXd::Unit(protocol.size(), c));
+    Eigen::Index j = 0;
+    if (in.cwiseAbs().maxCoeff(&j) == 1) channel = c, input = static_cast<int>(j);
+  }
+  ASSERT_GE(input, 0);
+  const double sigma = 1e-3 * std::sqrt(d.reference.squaredNorm() / d.reference.size());
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal(0, sigma);
+  d.references = d.reference.transpose().replicate(d.size(), 1);
+  for (Eigen::Index f = 0; f < d.size(); ++f)
+    for (Eigen::Index k = 0; k < d.references.cols(); ++k)
+      d.references(f, k) += (k == channel ? 1000 : 1) * normal(rng);
+  write_dataset(path("clean.h5"), d);
+  d.differences.col(input).array() += 0.1 * d.differences.cwiseAbs().maxCoeff();
+  write_dataset(path("glitch.h5"), d);
+  const Result c = run("calibrate --density coarse --noise " + path("clean.h5") + " --out " +
+                       path("sensor.json"));
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+
+  const auto median = [&](const std::string& set, const std::string& more) {
+    const Result r = run("reconstruct --method noser --data " + path(set) +
+                         " --split train --touches 1 --density coarse --png 0 --out " +
+                         path("out.h5") + " --snr 40 " + more);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    const auto at = r.output.find("presses: centre error median ");
+    return at == std::string::npos ? NAN : std::stod(r.output.substr(at + 29));
+  };
+  const std::string weighted = "--sensor " + path("sensor.json") + " --noise-weights";
+  const double clean = median("clean.h5", ""), glitched = median("glitch.h5", "");
+  const double saved = median("glitch.h5", weighted), weighed = median("clean.h5", weighted);
+  // A sensor file of the noise alone (not fitted) lends its noise, not its nominal model.
+  EXPECT_EQ(median("clean.h5", "--sensor " + path("sensor.json")), clean);
+  EXPECT_GT(glitched, 10 * clean) << clean << " " << glitched;
+  // Weighed, the glitch hardly moves a press: within half again of the same weights' error on
+  // the frames without it (the measured levels of the other values vary by some per cent).
+  EXPECT_LT(saved, 0.1 * glitched) << glitched << " " << saved;
+  EXPECT_LT(saved, 1.5 * weighed) << weighed << " " << saved;
+
+  SensorFile equal = read_sensor_file(path("sensor.json"));
+  equal.noise->inputs.setConstant(0.002);
+  write_sensor_file(path("equal.json"), equal);
+  EXPECT_EQ(median("clean.h5", "--sensor " + path("equal.json") + " --noise-weights"), clean);
+
+  const std::string on_clean = "reconstruct --method noser --data " + path("clean.h5") +
+                               " --density coarse --png 0 --out " + path("x.h5") + " ";
+  const Result none = run(on_clean + "--noise-weights");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.output.find("--noise-weights: needs each value's measured noise"),
+            std::string::npos)
+      << none.output;
+  const Result discrepancy =
+      run(on_clean + "--noise-weights --choose discrepancy --sensor " + path("equal.json"));
+  EXPECT_EQ(discrepancy.exit_code, 2);
+  EXPECT_NE(discrepancy.output.find("is not combined with --choose discrepancy"), std::string::npos)
+      << discrepancy.output;
+  equal.noise->inputs = Eigen::VectorXd::Constant(5, 0.002);
+  write_sensor_file(path("short.json"), equal);
+  const Result short_noise = run(on_clean + "--noise-weights --sensor " + path("short.json"));
+  EXPECT_EQ(short_noise.exit_code, 2);
+  EXPECT_NE(short_noise.output.find("short.json: noise.inputs: holds 5 values"), std::string::npos)
+      << short_noise.output;
+  EXPECT_FALSE(fs::exists(path("x.h5")));
+}
+
 // The hydrogel skin's recording (where ../shared holds it; never committed): 550 presses in
 // metres on a skin of radius 70 mm, to the unit disk, the third column the press depth.
 TEST_F(PressSet, TheHydrogelRecordingIsAPressSet) {

@@ -2,9 +2,12 @@
 // noise, drift, gains and signal were drawn by the test: each level must come back.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "eitbench/bench/data/sensor_noise.h"
 #include "eitbench/bench/io/sensor_file.h"
@@ -73,6 +76,42 @@ TEST(SensorNoise, RecoversTheNoiseTheDriftAndTheSignalOfARecording) {
   EXPECT_EQ(n.gains.size(), 0);  // no model given
 }
 
+// Each input has its own level, of which the noise is the RMS: a channel whose references wander
+// ten times as much stands out by that factor, and a channel whose references never move (a
+// quantised one) is held at a tenth of the median input's level rather than at zero: as a weight,
+// one over zero would let it alone decide the image.
+TEST(SensorNoise, EachInputHasItsOwnLevel) {
+  Recording r = recording(600, 0.01, 0, 0.1, 6);
+  const MeasurementProtocol protocol = measurement_protocol(r.set);
+  // Raw channels that are inputs: a unit on the channel shows up in exactly one input.
+  std::vector<std::pair<int, int>> channel_input;
+  for (int c = 0; c < protocol.size() && channel_input.size() < 2; ++c) {
+    const Eigen::VectorXd in = protocol.to_inputs(Eigen::VectorXd::Unit(protocol.size(), c));
+    Eigen::Index j = 0;
+    if (in.cwiseAbs().maxCoeff(&j) == 1) channel_input.emplace_back(c, static_cast<int>(j));
+  }
+  ASSERT_EQ(channel_input.size(), 2u);
+  const auto [noisy, noisy_input] = channel_input[0];
+  const auto [still, still_input] = channel_input[1];
+  std::mt19937 rng(9);
+  std::normal_distribution<double> extra(0, std::sqrt(99.0) * r.sigma);  // sqrt(1 + 99) = 10
+  for (Eigen::Index f = 0; f < r.set.references.rows(); ++f)
+    r.set.references(f, noisy) += extra(rng);
+  r.set.references.col(still).setConstant(1.0);
+  const SensorNoise n = measure_sensor_noise(r.set, "rec.h5", 0, 600, {});
+  ASSERT_EQ(n.inputs.size(), protocol.input_size());
+  const double unit = rms(r.set.references.colwise().mean().transpose());
+  EXPECT_NEAR(n.inputs(noisy_input) * unit / (std::sqrt(2.0) * 10 * r.sigma), 1, 0.1);
+  std::vector<double> levels(n.inputs.data(), n.inputs.data() + n.inputs.size());
+  std::nth_element(levels.begin(), levels.begin() + levels.size() / 2, levels.end());
+  const double median = levels[levels.size() / 2];
+  EXPECT_NEAR(median * unit / (std::sqrt(2.0) * r.sigma), 1, 0.05);
+  EXPECT_NEAR(n.inputs(still_input) / median, 0.1, 0.01);
+  // The noise is the RMS of the levels as measured, before the quantised input's floor.
+  const double measured = n.inputs.squaredNorm() - std::pow(n.inputs(still_input), 2);
+  EXPECT_NEAR(n.noise, std::sqrt(measured / n.inputs.size()), 1e-15);
+}
+
 TEST(SensorNoise, AGlitchInAReferenceDoesNotSetTheNoise) {
   Recording r = recording(600, 0.01, 0, 0.1, 2);
   const double clean = measure_sensor_noise(r.set, "rec.h5", 0, 600, {}).noise;
@@ -131,6 +170,7 @@ TEST(SensorNoise, TheSensorFileKeepsItAndRefusesANegativeLevel) {
   n.frames = "rec.h5 (frames 0:500)", n.references = 500;
   n.noise = 0.002, n.drift = 0.01, n.signal = 0.02, n.gain_spread = 0.3;
   n.gains = Eigen::VectorXd::LinSpaced(192, 0.5, 1.5);
+  n.inputs = Eigen::VectorXd::LinSpaced(192, 0.001, 0.003);
   s.noise = n;
   write_sensor_file(path, s);
   const SensorFile back = read_sensor_file(path);
@@ -141,6 +181,13 @@ TEST(SensorNoise, TheSensorFileKeepsItAndRefusesANegativeLevel) {
   EXPECT_DOUBLE_EQ(back.noise->drift, 0.01);
   EXPECT_NEAR(back.noise->snr_db(), 20, 1e-9);
   EXPECT_EQ(back.noise->gains, n.gains);
+  EXPECT_EQ(back.noise->inputs, n.inputs);
+  s.noise->inputs(7) = 0;  // a weight of 1/0
+  write_sensor_file(path, s);
+  EXPECT_EQ(testing::input_error_at([&] { read_sensor_file(path); }), path + ".noise.inputs");
+  s.noise->inputs.resize(0);  // files written before: no level per input
+  write_sensor_file(path, s);
+  EXPECT_EQ(read_sensor_file(path).noise->inputs.size(), 0);
   s.noise->noise = -1;
   write_sensor_file(path, s);
   EXPECT_EQ(testing::input_error_at([&] { read_sensor_file(path); }), path + ".noise.noise");

@@ -26,6 +26,7 @@
 #include "eitbench/bench/support/timing.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian.h"
+#include "eitbench/solvers/missing_values.h"
 #include "options.h"
 #include "press_tuning.h"
 
@@ -55,6 +56,7 @@ struct Args {
   std::string calibration, calibration_frames;  // a press set that tunes the method
   std::string presses_csv;     // a press set: each press where it is and where the method put it
   bool placement_map = false;  // with --calibration: undo the bias measured on its presses
+  bool noise_weights = false;  // weigh each value by one over its noise measured in --sensor
 };
 
 void add_options(CLI::App* cmd, Args* args) {
@@ -130,7 +132,8 @@ void add_options(CLI::App* cmd, Args* args) {
       ->check(CLI::Range(1.0, 1e6));
   cmd->add_option("--sensor", args->sensor,
                   "a calibrated sensor file (eitbench calibrate): the model's contact impedances, "
-                  "current and background conductivity (unless --background)");
+                  "current and background conductivity (unless --background); a file not fitted "
+                  "to a reference (calibrate --noise or --presses alone) lends only its noise");
   cmd->add_option("--model", args->model, "dnn: the model file made by 'eitbench train'");
   cmd->add_flag("--absolute", args->absolute, "gn: fit the absolute frames, not the differences");
   cmd->add_option("--snr", args->snr,
@@ -158,6 +161,10 @@ void add_options(CLI::App* cmd, Args* args) {
                 "with --calibration: measure on its presses where the method puts a press against "
                 "where it is (the true radius and the turn, by the radius it is put at) and undo "
                 "that bias on the scored presses");
+  cmd->add_flag("--noise-weights", args->noise_weights,
+                "weigh each value in the data term by one over its own noise, as measured on the "
+                "sensor's repeated references (--sensor FILE from calibrate --noise): values "
+                "that wander between references count less");
   cmd->add_option("--presses-csv", args->presses_csv,
                   "a press set: write each press's frame, true x,y, the x,y where the method "
                   "put it (after --placement-map, if given) and the distance between (the data "
@@ -296,6 +303,42 @@ FrameSelection tuning_frames(const Args* args, const Selection& s, const std::st
   return t;
 }
 
+// Each input's noise for --noise-weights (the sensor's noise.inputs), or empty without it. Their
+// scale does not matter to a lambda chosen on the grid, which follows the weighted problem's
+// trace; a fixed --lambda is on the weighted data's scale.
+Eigen::VectorXd input_noise(const Args* args, const std::optional<SensorFile>& sensor, int inputs) {
+  if (!args->noise_weights) return {};
+  // The discrepancy principle compares the residual with the noise's RMS in the frames' units;
+  // weighed values are in units of their own noise.
+  if (args->choose == "discrepancy")
+    throw InputError("--noise-weights", "",
+                     "is not combined with --choose discrepancy (which compares the unweighted "
+                     "residual with the noise); use gcv or lcurve");
+  if (!sensor || !sensor->noise || sensor->noise->inputs.size() == 0)
+    throw InputError("--noise-weights", "",
+                     "needs each value's measured noise: --sensor FILE with noise.inputs "
+                     "(eitbench calibrate --noise SET.h5 --out FILE)");
+  if (sensor->noise->inputs.size() != inputs)
+    throw InputError(
+        args->sensor, "noise.inputs",
+        fmt::format("holds {} values; the frames have {}", sensor->noise->inputs.size(), inputs));
+  return sensor->noise->inputs;
+}
+
+// The method on `problem`; with a noise per input, its data term weighed by it (MissingValues
+// weighs and selects each frame's values before the method sees them).
+std::unique_ptr<Reconstructor> make_method(const std::string& name,
+                                           std::shared_ptr<const LinearProblem> problem,
+                                           const MethodOptions& mo, const Eigen::VectorXd& noise) {
+  if (noise.size() == 0) return make_reconstructor(name, problem, mo);
+  return std::make_unique<MissingValues>(
+      problem, name,
+      [name, mo](std::shared_ptr<const LinearProblem> p) {
+        return make_reconstructor(name, std::move(p), mo);
+      },
+      noise);
+}
+
 // A model-based method on the mesh (and the calibrated sensor, when given), its hyperparameter
 // chosen as --choose says.
 std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd,
@@ -307,7 +350,7 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   forward.contact_impedance = s.data.contact_impedance;
   forward.current = s.data.current;
   forward.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(s.data));
-  if (sensor) {
+  if (sensor && sensor->fitted) {  // a file of a noise or press fit alone keeps the set's values
     forward.contact_impedances = sensor->contact_impedances;
     forward.current = sensor->current;
   }
@@ -337,11 +380,12 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   mo.noser_exponent = args->noser_exponent;
   mo.tolerance = args->tolerance;
   mo.robust = args->robust;
+  const Eigen::VectorXd noise = input_noise(args, sensor, problem->measurements());
   if (!args->calibration.empty()) {
     if (cmd.count("--lambda") || cmd.count("--choose"))
       throw InputError("--calibration", "", "chooses the hyperparameter: no --lambda or --choose");
     mo.choose = "validation";
-    auto method = make_reconstructor(args->method, problem, mo);
+    auto method = make_method(args->method, problem, mo, noise);
     const PressTuning t =
         press_tuning(args->calibration, args->calibration_frames, s.data, args->data, s.rows, grid,
                      args->touch_threshold, args->locate == "centroid");
@@ -354,7 +398,7 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
     }
     return method;
   }
-  auto method = make_reconstructor(args->method, problem, mo);
+  auto method = make_method(args->method, problem, mo, noise);
   if (mo.choose != "fixed") {
     const FrameSelection tuning = tuning_frames(args, s, mo.choose);
     method->fit(tuning.frames, tuning.labels,
@@ -589,7 +633,7 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     const Mesh mesh = reconstruction_mesh(args.get(), *cmd, std::move(mesh_file), s.data);
     const auto sensor = load_sensor(args->sensor, mesh.num_electrodes());
     const double background = cmd->count("--background")    ? args->background
-                              : sensor                      ? sensor->background
+                              : sensor && sensor->fitted    ? sensor->background
                               : s.data.preset == "imported" ? 1.0
                                                             : s.data.background;
     // The disk's grid, or the one covering the sensor mesh the set stores.
@@ -598,6 +642,9 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     std::unique_ptr<Reconstructor> method;
     std::optional<PlacementMap> map;  // --placement-map: measured on the calibration presses
     if (args->method == "dnn") {
+      if (args->noise_weights)
+        throw InputError("--noise-weights", "",
+                         "weighs a model-based method's data term, not dnn's");
       method = learned(args.get(), *cmd, s.data);
     } else {
       if (!args->model.empty())

@@ -59,13 +59,17 @@ SensorNoise measure_sensor_noise(const Dataset& set, const std::string& path, in
   Eigen::MatrixXd d(steps, protocol.input_size());
   for (Eigen::Index k = 0; k < steps; ++k)
     d.row(k) = protocol.to_inputs((refs.row(k + 1) - refs.row(k)).transpose()).transpose();
-  double noise2 = 0;
-  for (Eigen::Index i = 0; i < d.cols(); ++i) noise2 += std::pow(robust_sd(d.col(i)), 2);
-  n.noise = std::sqrt(noise2 / d.cols()) / unit;
+  n.inputs.resize(d.cols());
+  for (Eigen::Index i = 0; i < d.cols(); ++i) n.inputs(i) = robust_sd(d.col(i)) / unit;
+  n.noise = rms(n.inputs);
   if (!(n.noise > 0))
     throw InputError(path, "references",
                      "consecutive references are equal on most steps of every value (quantised "
                      "or copied references): there is no noise to measure");
+  // An input whose references rarely move is quantised, not noiseless: as a weight, 1/0 would
+  // let it alone decide the image. Its level is kept at a tenth of the median input's at least.
+  std::vector<double> levels(n.inputs.data(), n.inputs.data() + n.inputs.size());
+  n.inputs = n.inputs.cwiseMax(0.1 * median(levels));
   // The drift: each channel's spread over the recording beyond one frame's noise.
   double drift2 = 0;
   for (Eigen::Index c = 0; c < refs.cols(); ++c) {

@@ -69,6 +69,30 @@ SensorPressFit read_press_fit(const nlohmann::json& j, const std::string& path) 
   return f;
 }
 
+// noise.FIELD: an array of at most 65,536 finite numbers, each positive unless `gains` (then any,
+// and null for a channel the model puts at zero: no ratio, NaN); empty when absent.
+Eigen::VectorXd noise_numbers(const nlohmann::json& j, const std::string& path,
+                              const std::string& field, bool gains) {
+  if (!j.contains(field)) return {};
+  const auto& v = j[field];
+  if (!v.is_array() || v.size() > 65536)
+    throw InputError(path, "noise." + field, "not an array of at most 65,536 numbers");
+  Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const bool number = v[k].is_number() && std::isfinite(v[k].get<double>());
+    if (gains && v[k].is_null()) {
+      out[static_cast<Eigen::Index>(k)] = NAN;
+    } else if (gains && !number) {
+      throw InputError(path, "noise." + field, "must hold finite numbers (or null)");
+    } else if (!gains && !(number && v[k].get<double>() > 0)) {
+      throw InputError(path, "noise." + field, "must hold positive, finite numbers");
+    } else {
+      out[static_cast<Eigen::Index>(k)] = v[k].get<double>();
+    }
+  }
+  return out;
+}
+
 SensorNoise read_noise(const nlohmann::json& j, const std::string& path) {
   if (!j.is_object()) throw InputError(path, "noise", "must be an object");
   SensorNoise n;
@@ -85,21 +109,8 @@ SensorNoise read_noise(const nlohmann::json& j, const std::string& path) {
       throw InputError(path, in + field, "missing, negative or not finite");
   }
   if (!(n.noise > 0)) throw InputError(path, "noise.noise", "must be positive");
-  if (j.contains("gains")) {
-    const auto& g = j["gains"];
-    if (!g.is_array() || g.size() > 65536)
-      throw InputError(path, "noise.gains", "not an array of at most 65,536 numbers");
-    n.gains.resize(static_cast<Eigen::Index>(g.size()));
-    for (std::size_t k = 0; k < g.size(); ++k) {
-      if (g[k].is_null()) {  // a channel the model put at zero: no ratio
-        n.gains[static_cast<Eigen::Index>(k)] = NAN;
-        continue;
-      }
-      if (!g[k].is_number() || !std::isfinite(g[k].get<double>()))
-        throw InputError(path, "noise.gains", "must hold finite numbers (or null)");
-      n.gains[static_cast<Eigen::Index>(k)] = g[k].get<double>();
-    }
-  }
+  n.inputs = noise_numbers(j, path, "inputs", false);
+  n.gains = noise_numbers(j, path, "gains", true);
   return n;
 }
 
@@ -137,14 +148,16 @@ void write_sensor_file(const std::string& path, const SensorFile& s) {
   }
   if (s.noise) {
     const SensorNoise& n = *s.noise;
-    j["noise"] = {{"frames", n.frames},
-                  {"references", n.references},
-                  {"noise", n.noise},
-                  {"drift", n.drift},
-                  {"signal", n.signal},
-                  {"snr_db", n.snr_db()},
-                  {"gains", std::vector<double>(n.gains.data(), n.gains.data() + n.gains.size())},
-                  {"gain_spread", n.gain_spread}};
+    j["noise"] = {
+        {"frames", n.frames},
+        {"references", n.references},
+        {"noise", n.noise},
+        {"inputs", std::vector<double>(n.inputs.data(), n.inputs.data() + n.inputs.size())},
+        {"drift", n.drift},
+        {"signal", n.signal},
+        {"snr_db", n.snr_db()},
+        {"gains", std::vector<double>(n.gains.data(), n.gains.data() + n.gains.size())},
+        {"gain_spread", n.gain_spread}};
   }
   write_text_atomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
 }

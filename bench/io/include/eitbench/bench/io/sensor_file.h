@@ -47,6 +47,11 @@ struct SensorNoise {
   // input's level is robust: 1.4826 x the median absolute deviation of consecutive references'
   // differences, so that a glitch or a press caught in a reference does not set it.
   double noise = 0;
+  // Each input's own level (the same robust measure, relative to the same RMS; `noise` is their
+  // RMS), at least a tenth of the median input's (a quantised input is not noiseless): what
+  // weighs a value by its noise in the data term (reconstruct --noise-weights). Empty in files
+  // written before it was measured.
+  Eigen::VectorXd inputs;
   double drift = 0;   // RMS over channels of the references' slow wander beyond the noise
   double signal = 0;  // median over the frames of a difference frame's RMS
   // 20 log10(signal / noise): the simulations' convention (noise.h).
