@@ -46,6 +46,27 @@ TEST(BudgetRule, DoublesAgainOnlyWhileTheLastDoublingPaid) {
   EXPECT_EQ(testing::input_error_at([] { BudgetRule{1, 1.0}.validate(); }), "BudgetRule.tolerance");
 }
 
+// Rate left: the rate at the stop at least twice the floor. The cosine from the peak 1 (after a
+// 20-step warm-up) to the floor 0.01 at step 600 of 1,000 is at 0.02 where (1 + cos(pi t)) / 2 =
+// 0.01 / 0.99, t = 0.936: step 20 + 0.936 x 580 = 563. A stop there or later is the schedule's.
+TEST(BudgetRule, RateLeftMeansTwiceTheFloorOrMore) {
+  const LearningRateSchedule cosine(1.0, 1000, ScheduleOptions{});
+  const double t = std::acos(2 * 0.01 / 0.99 - 1) / M_PI;
+  const long long edge = 20 + static_cast<long long>(std::floor(t * 580));
+  EXPECT_NEAR(static_cast<double>(edge), 562, 1);
+  EXPECT_TRUE(stopped_with_rate_left(cosine, 100));
+  EXPECT_TRUE(stopped_with_rate_left(cosine, edge - 1));
+  EXPECT_FALSE(stopped_with_rate_left(cosine, edge + 2));
+  EXPECT_FALSE(stopped_with_rate_left(cosine, 599));  // 1.02 x the floor: at it, in effect
+  EXPECT_FALSE(stopped_with_rate_left(cosine, 600));
+  EXPECT_FALSE(stopped_with_rate_left(cosine, 900));
+  // Without decay every step before the end has the whole rate left.
+  ScheduleOptions flat;
+  flat.kind = ScheduleKind::constant;
+  const LearningRateSchedule constant(1.0, 1000, flat);
+  EXPECT_TRUE(stopped_with_rate_left(constant, 599));
+}
+
 class BudgetRuleTraining : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -156,6 +156,27 @@ TEST(EarlyStopping, StopsOnAPlateauAndRestoresTheBestWeights) {
   EXPECT_NE(t.best_model().info().training.find("\"converged\":true"), std::string::npos);
 }
 
+// The same run told to wait for the floor (a doubling's stage): it does not stop in the cosine,
+// then stops at the first validation past the floor, its patience long spent.
+TEST(EarlyStopping, PatienceAfterDecayWaitsForTheFloor) {
+  TrainingOptions o;
+  o.steps = 400;
+  o.batch_size = 16;
+  o.validate_every = 32;  // 2 steps a round
+  o.patience = 4;
+  o.patience_after_decay = true;
+  Trainer t(test_network(), o, labelled_frames(tiny(), Split::train),
+            testing::zero_label_validation(), sensor_of(tiny()));
+  while (!t.done()) t.run_round();
+  ASSERT_TRUE(t.converged());
+  const long long floor = t.schedule().decay_steps();
+  EXPECT_EQ(floor, 240);
+  const auto& h = t.history();
+  EXPECT_GE(h.back().steps, floor);
+  EXPECT_LT(h.back().steps, floor + 2);  // the first round at or past it
+  EXPECT_LT(t.best_round() + o.patience, static_cast<int>(h.size()));  // patience long spent
+}
+
 TEST(EarlyStopping, ARunTheBudgetEndsIsNotConverged) {
   TrainingOptions o;
   o.steps = 6;

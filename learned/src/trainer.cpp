@@ -201,7 +201,8 @@ void Trainer::Impl::record_validation(const TrainingRecord& r) {
   if (r.validation_loss < reference_loss * (1 - options.min_improvement)) {
     reference_loss = r.validation_loss;
     improved_round = r.round;
-  } else if (options.patience > 0 && r.round - improved_round >= options.patience) {
+  } else if (options.patience > 0 && r.round - improved_round >= options.patience &&
+             (!options.patience_after_decay || r.steps >= schedule->decay_steps())) {
     stopped_early = true;
   }
 }

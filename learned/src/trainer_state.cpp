@@ -62,6 +62,7 @@ nlohmann::json options_to_json(const TrainingOptions& o) {
           {"validate_every", o.validate_every},
           {"patience", o.patience},
           {"min_improvement", o.min_improvement},
+          {"patience_after_decay", o.patience_after_decay},
           {"seed", o.seed},
           {"device", o.device},
           {"resident", o.resident},
@@ -85,6 +86,8 @@ TrainingOptions options_from_json(const nlohmann::json& j) {
   o.validate_every = j.at("validate_every").get<long long>();
   o.patience = j.at("patience").get<int>();
   o.min_improvement = j.at("min_improvement").get<double>();
+  // Not in checkpoints before a doubling waited for its floor.
+  o.patience_after_decay = j.value("patience_after_decay", false);
   o.seed = j.at("seed").get<std::uint64_t>();
   o.device = j.at("device").get<std::string>();
   // Not in checkpoints before residency existed; it never changes the batches.

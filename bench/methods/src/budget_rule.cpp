@@ -37,6 +37,13 @@ TrainingEnd parse_training_end(const std::string& name) {
                    "unknown end '" + name + "' (early stopping, floor, budget, rule, cap)");
 }
 
+bool stopped_with_rate_left(const LearningRateSchedule& schedule, long long steps) {
+  if (steps >= schedule.decay_steps()) return false;
+  const double floor = schedule.rate(schedule.decay_steps());
+  const bool decays = floor < schedule.rate(schedule.warmup_steps());  // the peak
+  return !decays || schedule.rate(steps) >= 2 * floor;
+}
+
 bool converged(TrainingEnd end) {
   return end == TrainingEnd::early_stopping || end == TrainingEnd::rule;
 }

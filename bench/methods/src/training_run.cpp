@@ -117,12 +117,12 @@ void run_stage(Trainer& trainer, const TrainingRun& run, const std::string& chec
                               label, trainer.options().patience, trainer.best_round()));
 }
 
-// Early stopping ended the stage while its learning rate was still above the schedule's floor:
-// the model stopped improving with the rate left to move it, so the budget was not what ended it.
-// (Stopped at or after the floor, the schedule may have ended it: only a doubling can tell.)
-bool stopped_with_rate_left(const Trainer& trainer) {
+// Early stopping ended the stage with rate left (budget_rule.h): the model stopped improving
+// while the rate could still move it, so the budget was not what ended it. (Stopped near or at
+// the floor, the schedule may have ended it: only a doubling can tell.)
+bool ended_with_rate_left(const Trainer& trainer) {
   return trainer.converged() && !trainer.history().empty() &&
-         trainer.history().back().steps < trainer.schedule().decay_steps();
+         stopped_with_rate_left(trainer.schedule(), trainer.history().back().steps);
 }
 
 // A finished stage joined to the ones before: its rounds after theirs, its model if better.
@@ -195,7 +195,10 @@ TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptio
       resumed = true;
     } else {
       TrainingOptions o = options;
-      if (st.done > 0) o.epochs = 0, o.steps = st.budget;  // as many steps again, fresh schedule
+      if (st.done > 0) {  // as many steps again, a fresh schedule run down to its floor
+        o.epochs = 0, o.steps = st.budget;
+        o.patience_after_decay = true;
+      }
       trainer = std::make_unique<Trainer>(network, o, std::move(data), validation, sensor);
       if (st.done > 0) trainer->start_from(*st.model, stage_path(run.out));
     }
@@ -205,12 +208,12 @@ TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptio
     samples_per_epoch_seen = trainer->samples_per_epoch();
     std::filesystem::remove(checkpoint);
     if (!more) {
-      end = !trainer->converged()              ? TrainingEnd::budget
-            : stopped_with_rate_left(*trainer) ? TrainingEnd::early_stopping
-                                               : TrainingEnd::floor;
+      end = !trainer->converged()            ? TrainingEnd::budget
+            : ended_with_rate_left(*trainer) ? TrainingEnd::early_stopping
+                                             : TrainingEnd::floor;
       break;
     }
-    if (st.done == 1 && stopped_with_rate_left(*trainer)) {
+    if (st.done == 1 && ended_with_rate_left(*trainer)) {
       end = TrainingEnd::early_stopping;  // the budget sufficed: no doubling can tell more
       break;
     }

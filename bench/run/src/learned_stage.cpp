@@ -100,8 +100,13 @@ Provenance training_provenance(const RunConfig& config, const RunData& data) {
       {"validate every", std::to_string(config.validate_every)},
       {"patience", std::to_string(config.patience)},
       {"min improvement", fmt::format("{:g}", config.min_improvement)},
-      {"budget rule", fmt::format("{} doublings, tolerance {:g}", config.budget_rule.max_doublings,
-                                  config.budget_rule.tolerance)},
+      // A stop counts as early stopping only at twice the floor's rate or more (budget_rule.h),
+      // and a doubling runs its cosine to the floor before it may stop: models stored before,
+      // under the older rule, are trained again rather than resumed with its decisions.
+      {"budget rule",
+       fmt::format(
+           "{} doublings, tolerance {:g}, rate left at 2x the floor, doublings to the floor",
+           config.budget_rule.max_doublings, config.budget_rule.tolerance)},
       {"seed", std::to_string(config.seed)},
       {"device", resolve_device(config.device, "--device")}};
   // Only where it is not the schedule's default: a run made before --decay resumes as it was.

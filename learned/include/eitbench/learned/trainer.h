@@ -37,6 +37,11 @@ struct TrainingOptions {
   // train to the budget. The model kept is the best validation loss of the run either way.
   int patience = 0;
   double min_improvement = 5e-3;
+  // Early stopping only once the schedule's cosine has reached its floor: rounds without
+  // improvement before it do not end the run. A training continued from a model with a fresh
+  // schedule (the budget rule's doubling) first loses ground at the peak rate and regains it only
+  // as the rate anneals; stopped before, it would be judged at the rate least able to refine it.
+  bool patience_after_decay = false;
   std::uint64_t seed = 1;
   std::string device = "cpu";  // auto | cpu | cuda (see resolve_device)
   // Keep the training set on the device, every sample under every group element as float32, so

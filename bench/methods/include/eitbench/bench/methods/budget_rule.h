@@ -2,12 +2,14 @@
 // When a learned model's training ends (docs/learned.md#the-budget). A budget tied to the plain
 // set's epochs ends an augmented model's training early: its cosine schedule reaches the floor at
 // 60 % of the budget, and early stopping then ends a run the learning rate can no longer move.
-// The rule: train with the budget. When early stopping ended it while the learning rate was still
-// above the schedule's floor, the budget sufficed. Otherwise continue from the best model with a
-// fresh schedule over as many steps again, so that the total doubles, and double again while the
+// The rule: train with the budget. When early stopping ended it with rate left (below), the
+// budget sufficed. Otherwise continue from the best model with a fresh schedule, run down to its
+// floor, over as many steps again, so that the total doubles, and double again while the
 // last doubling lowered the best validation loss by more than a tolerance, at most max_doublings
 // times. Both arms of a comparison follow it.
 #include <string>
+
+#include "eitbench/learned/schedule.h"
 
 namespace eitbench {
 
@@ -22,9 +24,16 @@ struct BudgetRule {
   void validate() const;
 };
 
+// Whether early stopping, ending a stage after `steps` optimiser steps, left the learning rate
+// able to move the model: the rate then is at least twice the schedule's floor (with the floor
+// at 1 % of the peak, before the cosine's last 6 % or so). Nearer the floor the rate moves the
+// model hardly faster than the floor itself does, and the schedule, not the model, may have ended
+// the stage. A schedule without decay (constant) has rate left at any step before its end.
+bool stopped_with_rate_left(const LearningRateSchedule& schedule, long long steps);
+
 // How a training under the rule ended.
 enum class TrainingEnd {
-  early_stopping,  // early stopping with the learning rate still above the schedule's floor
+  early_stopping,  // early stopping with rate left (stopped_with_rate_left)
   floor,   // one stage (no doubling allowed), early stopping at the floor: the schedule may have
            // ended it, so it is not counted as converged
   budget,  // one stage, its budget spent: the budget ended it, not the model
