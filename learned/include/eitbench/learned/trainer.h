@@ -41,6 +41,7 @@ struct TrainingOptions {
   // improvement before it do not end the run. A training continued from a model with a fresh
   // schedule (the budget rule's doubling) first loses ground at the peak rate and regains it only
   // as the rate anneals; stopped before, it would be judged at the rate least able to refine it.
+  // A constant schedule has no floor before its budget's end: with this set, it runs to the end.
   bool patience_after_decay = false;
   std::uint64_t seed = 1;
   std::string device = "cpu";  // auto | cpu | cuda (see resolve_device)
