@@ -124,6 +124,36 @@ TEST(MissingValues, NoiseWeightsAreWhitenedLeastSquares) {
   EXPECT_LT((scaled.reconstruct(frame) - image).norm(), 1e-4 * image.norm());
 }
 
+// GREIT's noise model makes each value's noise proportional to its own signal, N = diag(Y Y^T):
+// weighted rows W give D Y^T W (W (Y Y^T + lambda N) W)^-1 W y, the unweighted image. This is why
+// reconstruct refuses --noise-weights for greit rather than silently doing nothing.
+TEST(MissingValues, NoiseWeightsLeaveGreitUnchanged) {
+  const PixelGrid grid(24, 1.0);
+  const auto full = problem_on(opposite_protocol(16), grid);
+  const int m = full->measurements();
+  Eigen::VectorXd noise(m);
+  for (int i = 0; i < m; ++i) noise[i] = 0.5 + (i % 7) * 0.25;
+  const Eigen::VectorXd frame = full->A * Eigen::VectorXd::Random(full->unknowns()) * 1e-3;
+  MethodOptions o;
+  o.choose = "fixed";
+  o.lambda = 0.05;
+  o.relative_lambda = true;
+  const auto greit = [&](std::shared_ptr<const LinearProblem> p) {
+    return make_reconstructor("greit", std::move(p), o);
+  };
+  const Eigen::VectorXd plain = MissingValues(full, "greit", greit).reconstruct(frame);
+  const Eigen::VectorXd weighed = MissingValues(full, "greit", greit, noise).reconstruct(frame);
+  EXPECT_LT((weighed - plain).norm(), 1e-4 * plain.norm());
+  // The same weights do change Tikhonov's image: the test can tell.
+  const auto tikhonov = [&](std::shared_ptr<const LinearProblem> p) {
+    return make_reconstructor("tikhonov", std::move(p), o);
+  };
+  const Eigen::VectorXd t_plain = MissingValues(full, "tikhonov", tikhonov).reconstruct(frame);
+  const Eigen::VectorXd t_weighed =
+      MissingValues(full, "tikhonov", tikhonov, noise).reconstruct(frame);
+  EXPECT_GT((t_weighed - t_plain).norm(), 1e-2 * t_plain.norm());
+}
+
 TEST(MissingValues, BatchesGroupFramesByTheirMissingValuesAndBadFramesAreRefused) {
   const PixelGrid grid(24, 1.0);
   const auto full = problem_on(opposite_protocol(16), grid);

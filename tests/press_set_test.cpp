@@ -525,6 +525,12 @@ TEST_F(PressSet, NoiseWeightsCountEachValueByItsMeasuredNoise) {
   EXPECT_EQ(discrepancy.exit_code, 2);
   EXPECT_NE(discrepancy.output.find("is not combined with --choose discrepancy"), std::string::npos)
       << discrepancy.output;
+  const Result greit = run("reconstruct --method greit --data " + path("clean.h5") +
+                           " --density coarse --png 0 --out " + path("x.h5") +
+                           " --noise-weights --sensor " + path("equal.json"));
+  EXPECT_EQ(greit.exit_code, 2);
+  EXPECT_NE(greit.output.find("--noise-weights: changes nothing for greit"), std::string::npos)
+      << greit.output;
   equal.noise->inputs = Eigen::VectorXd::Constant(5, 0.002);
   write_sensor_file(path("short.json"), equal);
   const Result short_noise = run(on_clean + "--noise-weights --sensor " + path("short.json"));

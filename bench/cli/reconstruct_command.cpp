@@ -164,7 +164,8 @@ void add_options(CLI::App* cmd, Args* args) {
   cmd->add_flag("--noise-weights", args->noise_weights,
                 "weigh each value in the data term by one over its own noise, as measured on the "
                 "sensor's repeated references (--sensor FILE from calibrate --noise): values "
-                "that wander between references count less");
+                "that wander between references count less (not greit: its own noise model makes "
+                "the weights change nothing)");
   cmd->add_option("--presses-csv", args->presses_csv,
                   "a press set: write each press's frame, true x,y, the x,y where the method "
                   "put it (after --placement-map, if given) and the distance between (the data "
@@ -308,6 +309,13 @@ FrameSelection tuning_frames(const Args* args, const Selection& s, const std::st
 // trace; a fixed --lambda is on the weighted data's scale.
 Eigen::VectorXd input_noise(const Args* args, const std::optional<SensorFile>& sensor, int inputs) {
   if (!args->noise_weights) return {};
+  // GREIT's matrix D Y^T (Y Y^T + lambda diag(Y Y^T))^-1 takes each value's noise as
+  // proportional to its own signal: rows weighted by W give the same image from W y exactly.
+  if (args->method == "greit")
+    throw InputError("--noise-weights", "",
+                     "changes nothing for greit (its noise model scales each value by its own "
+                     "signal, so weighing the values gives the same image); use tikhonov, noser, "
+                     "laplace, tv or gn");
   // The discrepancy principle compares the residual with the noise's RMS in the frames' units;
   // weighed values are in units of their own noise.
   if (args->choose == "discrepancy")
