@@ -306,6 +306,34 @@ TEST_F(RunCli, SweepAndVariationFlagsRefuseBadValues) {
   }
 }
 
+// A sweep size above the training split is the whole split: the main runs' converged models
+// there, not a size left out (the standard preset's 5,500 on its 5,459 training frames was).
+TEST_F(RunCli, SweepSizeAboveTheSplitIsTheWholeSplit) {
+  const Result r = run(
+      "run --preset tiny --quiet --methods tikhonov --augment none,d16 --sweep 30,100000 --out " +
+      path("s"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const RunResults results = read_results_json(path("s/results.json"));
+  const int train = std::stoi(results.configuration.at("training_samples"));
+  ASSERT_LT(30, train);
+  ASSERT_EQ(results.efficiency.size(), 2u * 3);
+  EXPECT_EQ(results.efficiency[0].train_size, 30);
+  for (std::size_t k = 3; k < 6; ++k) EXPECT_EQ(results.efficiency[k].train_size, train);
+  for (std::size_t k : {3, 4}) {  // none and d16 converged: the main runs' noise-free rows
+    const EfficiencyPoint& p = results.efficiency[k];
+    int found = 0;
+    for (const ResultRow& row : results.rows)
+      if (row.method == "dnn" && row.augment == p.augment && std::isinf(row.snr_db)) {
+        EXPECT_EQ(p.cc, row.cc) << p.augment;
+        ++found;
+      }
+    EXPECT_EQ(found, 1) << p.augment;
+  }
+  EXPECT_NE(results.configuration.at("efficiency").find("sizes 30 to " + std::to_string(train)),
+            std::string::npos)
+      << results.configuration.at("efficiency");
+}
+
 // --decay moves the learned model's schedule (its figures change, the model-based ones do not),
 // and a resumed run with another --decay trains again instead of reusing the model it made.
 TEST_F(RunCli, DecayReachesTheLearnedSchedule) {

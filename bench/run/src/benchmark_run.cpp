@@ -113,10 +113,13 @@ std::map<std::string, std::string> describe_run(const RunConfig& config, const R
   if (learned.gemm_flops > 0)
     c["gemm_peak"] = fmt::format("{:.0f} GFLOP/s (float32 2048 x 2048 matrix product, {} threads)",
                                  learned.gemm_flops / 1e9, config.threads);
-  if (!config.efficiency_sizes.empty() && !has_sensor_mesh(data.sensor()))
+  if (!config.efficiency_sizes.empty() && !has_sensor_mesh(data.sensor())) {
+    const auto sizes = sweep_sizes(config.efficiency_sizes,
+                                   static_cast<int>(data.source.indices(Split::train).size()));
     c["efficiency"] = fmt::format(
         "sizes {} to {}: none and d16 to convergence, d16 at none's steps (equal compute)",
-        config.efficiency_sizes.front(), config.efficiency_sizes.back());
+        sizes.front(), sizes.back());
+  }
   c["hyperparameters"] =
       fmt::format("validation CC at each SNR ({} validation frames; tv and gn sweep {})",
                   data.validation.frames.rows(), config.sweep_frames);
@@ -268,10 +271,8 @@ std::vector<WorkUnit> shard_work(const RunConfig& c, const std::vector<std::stri
                                  int train_count, bool sweep) {
   std::vector<WorkUnit> units;
   for (const std::string& m : c.methods) units.push_back({m, {m}, {}, {}});
-  std::vector<int> sizes;
-  if (sweep)
-    for (int n : c.efficiency_sizes)
-      if (n <= train_count) sizes.push_back(n);
+  const std::vector<int> sizes =
+      sweep ? sweep_sizes(c.efficiency_sizes, train_count) : std::vector<int>();
   const bool whole = std::find(sizes.begin(), sizes.end(), train_count) != sizes.end();
   WorkUnit joint{
       "dnn none and d16 with the sweep at n=" + std::to_string(train_count), {}, {}, {train_count}};

@@ -117,8 +117,13 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
                            const LearnedSetup& setup, const RunData& data,
                            const Reconstruction& reconstruction, const NoisyFrames& noisy);
 
+// The sweep's sizes on a training split of `train_count` frames, ascending, each once: a size
+// above the split is the whole split, whose converged models are the main runs' (the standard
+// preset's 5,500 on a split of 5,459 frames was left out before).
+std::vector<int> sweep_sizes(const std::vector<int>& sizes, int train_count);
+
 // 5. Data efficiency (the paper's Fig. 8): test scores against the training-set size, at each
-// of `sizes` (the configuration's, or a shard's share of them).
+// of `sizes` (the configuration's, or a shard's share of them; sweep_sizes applied).
 std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetup& setup,
                                        const RunData& data, const Reconstruction& reconstruction,
                                        const RunResults& main_runs, const std::vector<int>& sizes);

@@ -7,6 +7,7 @@
 // training set the converged models are the main runs', and those are reused.
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "eitbench/bench/data/training_data.h"
@@ -84,6 +85,16 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
 
 }  // namespace
 
+std::vector<int> sweep_sizes(const std::vector<int>& sizes, int train_count) {
+  std::vector<int> out;
+  for (int n : sizes) {
+    const int size = std::min(n, train_count);
+    if (std::find(out.begin(), out.end(), size) == out.end()) out.push_back(size);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetup& setup,
                                        const RunData& data, const Reconstruction& reconstruction,
                                        const RunResults& main_runs, const std::vector<int>& sizes) {
@@ -111,8 +122,7 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
     }
     return p;
   };
-  for (int n : sizes) {
-    if (n > train_count) continue;
+  for (int n : sweep_sizes(sizes, train_count)) {
     const EfficiencyPoint none = point("none", "converged", n, main_steps);
     points.push_back(none);
     points.push_back(point("d16", "converged", n, main_steps));
