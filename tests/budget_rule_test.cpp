@@ -46,9 +46,10 @@ TEST(BudgetRule, DoublesAgainOnlyWhileTheLastDoublingPaid) {
   EXPECT_EQ(testing::input_error_at([] { BudgetRule{1, 1.0}.validate(); }), "BudgetRule.tolerance");
 }
 
-// Rate left: the rate at the stop at least twice the floor. The cosine from the peak 1 (after a
-// 20-step warm-up) to the floor 0.01 at step 600 of 1,000 is at 0.02 where (1 + cos(pi t)) / 2 =
-// 0.01 / 0.99, t = 0.936: step 20 + 0.936 x 580 = 563. A stop there or later is the schedule's.
+// Rate left: the rate at the stop at least twice the floor (the default floor's edge). The cosine
+// from the peak 1 (after a 20-step warm-up) to the floor 0.01 at step 600 of 1,000 is at 0.02 where
+// (1 + cos(pi t)) / 2 = 0.01 / 0.99, t = 0.936: step 20 + 0.936 x 580 = 563. A stop there or later
+// is the schedule's.
 TEST(BudgetRule, RateLeftMeansTwiceTheFloorOrMore) {
   const LearningRateSchedule cosine(1.0, 1000, ScheduleOptions{});
   const double t = std::acos(2 * 0.01 / 0.99 - 1) / M_PI;
@@ -57,9 +58,19 @@ TEST(BudgetRule, RateLeftMeansTwiceTheFloorOrMore) {
   EXPECT_TRUE(stopped_with_rate_left(cosine, 100));
   EXPECT_TRUE(stopped_with_rate_left(cosine, edge - 1));
   EXPECT_FALSE(stopped_with_rate_left(cosine, edge + 2));
-  EXPECT_FALSE(stopped_with_rate_left(cosine, 599));  // 1.02 x the floor: at it, in effect
+  EXPECT_FALSE(stopped_with_rate_left(cosine, 599));  // 1.0007 x the floor: at it, in effect
   EXPECT_FALSE(stopped_with_rate_left(cosine, 600));
   EXPECT_FALSE(stopped_with_rate_left(cosine, 900));
+  // The edge is a share of the cosine's range, whatever the floor: at a floor of 0 a stop one
+  // step before it has no rate left (twice 0 is no edge), at half the peak a stop near the peak
+  // has (twice the floor would be the peak itself).
+  ScheduleOptions zero, half;
+  zero.final_fraction = 0;
+  half.final_fraction = 0.5;
+  EXPECT_FALSE(stopped_with_rate_left(LearningRateSchedule(1.0, 1000, zero), 599));
+  EXPECT_TRUE(stopped_with_rate_left(LearningRateSchedule(1.0, 1000, zero), edge - 1));
+  EXPECT_TRUE(stopped_with_rate_left(LearningRateSchedule(1.0, 1000, half), 100));
+  EXPECT_FALSE(stopped_with_rate_left(LearningRateSchedule(1.0, 1000, half), 599));
   // Without decay every step before the end has the whole rate left.
   ScheduleOptions flat;
   flat.kind = ScheduleKind::constant;

@@ -112,6 +112,29 @@ TEST(SensorNoise, EachInputHasItsOwnLevel) {
   EXPECT_NEAR(n.noise, std::sqrt(measured / n.inputs.size()), 1e-15);
 }
 
+// References quantised on most channels (a coarse converter: most values never move): the
+// floor is a tenth of the moving inputs' median, so no level is 0 and the sensor file that
+// calibrate writes reads back (a level of 0 is refused there).
+TEST(SensorNoise, MostlyQuantisedReferencesKeepEveryLevelPositive) {
+  Recording r = recording(600, 0.01, 0, 0.1, 6);
+  const Eigen::Index channels = r.set.references.cols();
+  for (Eigen::Index c = 0; c < channels; ++c)
+    if (c % 4 != 0) r.set.references.col(c).setConstant(r.base[c]);
+  const SensorNoise n = measure_sensor_noise(r.set, "rec.h5", 0, 600, {});
+  ASSERT_GT(n.noise, 0);
+  ASSERT_GT((n.inputs.array() == n.inputs.minCoeff()).count(), n.inputs.size() / 2)
+      << "most inputs quantised";
+  EXPECT_GT(n.inputs.minCoeff(), 0);
+  const auto dir = std::filesystem::temp_directory_path() / "eitbench_sensor_noise_quantised";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "sensor.json").string();
+  SensorFile s;
+  s.electrodes = 16, s.background = 1, s.contact_impedances = Eigen::VectorXd::Constant(16, 0.01);
+  s.noise = n;
+  write_sensor_file(path, s);
+  EXPECT_EQ(read_sensor_file(path).noise->inputs, n.inputs);
+}
+
 TEST(SensorNoise, AGlitchInAReferenceDoesNotSetTheNoise) {
   Recording r = recording(600, 0.01, 0, 0.1, 2);
   const double clean = measure_sensor_noise(r.set, "rec.h5", 0, 600, {}).noise;

@@ -30,6 +30,19 @@ class TrainCli : public Cli {
     }
     return file;
   }
+
+  // A training of three stages (two doublings) into whole.pt, and the same into cut.pt killed
+  // once its first stage's record is written; returns the arguments before --out's path.
+  std::string doubling_run_killed_after_its_first_stage() {
+    const std::string args =
+        "train --data " + data() + " --augment rotations --epochs 6 --batch 8 " +
+        "--validate-every 64 --patience 0 --doublings 2 --doubling-tolerance 0 --quiet --out ";
+    EXPECT_EQ(run(args + path("whole.pt")).exit_code, 0);
+    EXPECT_TRUE(kill_when(args + path("cut.pt"), [&] {
+      return fs::exists(path("cut.pt.stage.json"));
+    })) << "no stage record appeared";
+    return args;
+  }
 };
 
 TEST_F(TrainCli, TrainsAndReconstructs) {
@@ -105,13 +118,7 @@ TEST_F(TrainCli, KilledRunResumesToTheUninterruptedResult) {
 // The budget rule's stages (budget_rule.h): a run killed after its first stage resumes from the
 // stage record to the model and curves an uninterrupted run gives.
 TEST_F(TrainCli, KilledBetweenStagesResumesToTheUninterruptedResult) {
-  const std::string args =
-      "train --data " + data() + " --augment rotations --epochs 6 --batch 8 " +
-      "--validate-every 64 --patience 0 --doublings 2 --doubling-tolerance 0 --quiet --out ";
-  ASSERT_EQ(run(args + path("whole.pt")).exit_code, 0);
-  ASSERT_TRUE(kill_when(args + path("cut.pt"), [&] {
-    return fs::exists(path("cut.pt.stage.json"));
-  })) << "no stage record appeared";
+  const std::string args = doubling_run_killed_after_its_first_stage();
   ASSERT_FALSE(fs::exists(path("cut.pt"))) << "the run finished before it was killed";
   const Result resumed = run(args + path("cut.pt") + " --resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
@@ -121,6 +128,23 @@ TEST_F(TrainCli, KilledBetweenStagesResumesToTheUninterruptedResult) {
   EXPECT_EQ(a.reconstruct(frames), b.reconstruct(frames));
   EXPECT_FALSE(fs::exists(path("cut.pt.stage")));
   EXPECT_FALSE(fs::exists(path("cut.pt.stage.json")));
+}
+
+// A training started afresh onto a model path where another training left its stage record
+// does not inherit it: killed in its first stage and resumed, it ends as the uninterrupted run.
+TEST_F(TrainCli, AFreshTrainingDropsAnEarlierOnesStages) {
+  const std::string args = doubling_run_killed_after_its_first_stage();
+  // Afresh (no --resume), killed in its first stage: after its first checkpoint, before its own
+  // stage record. An earlier stage record left in place never lets this happen.
+  ASSERT_TRUE(kill_when(args + path("cut.pt"), [&] {
+    return fs::exists(path("cut.pt.checkpoint")) && !fs::exists(path("cut.pt.stage.json"));
+  })) << "the earlier training's stage record was kept";
+  ASSERT_FALSE(fs::exists(path("cut.pt")));
+  const Result resumed = run(args + path("cut.pt") + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const SampleMatrix frames = read_dataset(data()).differences;
+  EXPECT_EQ(read_model_file(path("whole.pt")).reconstruct(frames),
+            read_model_file(path("cut.pt")).reconstruct(frames));
 }
 
 TEST_F(TrainCli, BadInputsFailWithAMessageAndNoOutput) {

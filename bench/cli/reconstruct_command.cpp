@@ -307,7 +307,8 @@ FrameSelection tuning_frames(const Args* args, const Selection& s, const std::st
 // Each input's noise for --noise-weights (the sensor's noise.inputs), or empty without it. Their
 // scale does not matter to a lambda chosen on the grid, which follows the weighted problem's
 // trace; a fixed --lambda is on the weighted data's scale.
-Eigen::VectorXd input_noise(const Args* args, const std::optional<SensorFile>& sensor, int inputs) {
+Eigen::VectorXd input_noise(const Args* args, const std::string& choose,
+                            const std::optional<SensorFile>& sensor, int inputs) {
   if (!args->noise_weights) return {};
   // GREIT's matrix D Y^T (Y Y^T + lambda diag(Y Y^T))^-1 takes each value's noise as
   // proportional to its own signal: rows weighted by W give the same image from W y exactly.
@@ -315,10 +316,10 @@ Eigen::VectorXd input_noise(const Args* args, const std::optional<SensorFile>& s
     throw InputError("--noise-weights", "",
                      "changes nothing for greit (its noise model scales each value by its own "
                      "signal, so weighing the values gives the same image); use tikhonov, noser, "
-                     "laplace, tv or gn");
+                     "laplace, tv, gn, shape or shape-linear");
   // The discrepancy principle compares the residual with the noise's RMS in the frames' units;
   // weighed values are in units of their own noise.
-  if (args->choose == "discrepancy")
+  if (choose == "discrepancy")
     throw InputError("--noise-weights", "",
                      "is not combined with --choose discrepancy (which compares the unweighted "
                      "residual with the noise); use gcv or lcurve");
@@ -388,7 +389,7 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   mo.noser_exponent = args->noser_exponent;
   mo.tolerance = args->tolerance;
   mo.robust = args->robust;
-  const Eigen::VectorXd noise = input_noise(args, sensor, problem->measurements());
+  const Eigen::VectorXd noise = input_noise(args, mo.choose, sensor, problem->measurements());
   if (!args->calibration.empty()) {
     if (cmd.count("--lambda") || cmd.count("--choose"))
       throw InputError("--calibration", "", "chooses the hyperparameter: no --lambda or --choose");

@@ -67,8 +67,11 @@ SensorNoise measure_sensor_noise(const Dataset& set, const std::string& path, in
                      "consecutive references are equal on most steps of every value (quantised "
                      "or copied references): there is no noise to measure");
   // An input whose references rarely move is quantised, not noiseless: as a weight, 1/0 would
-  // let it alone decide the image. Its level is kept at a tenth of the median input's at least.
-  std::vector<double> levels(n.inputs.data(), n.inputs.data() + n.inputs.size());
+  // let it alone decide the image. Its level is kept at a tenth of the median moving input's at
+  // least (the median of them all is 0 where most inputs are quantised, and would floor nothing).
+  std::vector<double> levels;
+  for (double v : n.inputs)
+    if (v > 0) levels.push_back(v);
   n.inputs = n.inputs.cwiseMax(0.1 * median(levels));
   // The drift: each channel's spread over the recording beyond one frame's noise.
   double drift2 = 0;

@@ -40,8 +40,11 @@ TrainingEnd parse_training_end(const std::string& name) {
 bool stopped_with_rate_left(const LearningRateSchedule& schedule, long long steps) {
   if (steps >= schedule.decay_steps()) return false;
   const double floor = schedule.rate(schedule.decay_steps());
-  const bool decays = floor < schedule.rate(schedule.warmup_steps());  // the peak
-  return !decays || schedule.rate(steps) >= 2 * floor;
+  const double peak = schedule.rate(schedule.warmup_steps());
+  // A share of the cosine's range, not a multiple of the floor: a floor of 0 would make every
+  // stop one with rate left, a floor of half the peak none. 1/99 puts the edge at twice the floor
+  // for the default floor, 1 % of the peak.
+  return !(floor < peak) || schedule.rate(steps) - floor >= (peak - floor) / 99;
 }
 
 bool converged(TrainingEnd end) {

@@ -41,6 +41,12 @@ bool resumable(const std::string& model_path) {
           std::filesystem::exists(stage_path(model_path) + ".json"));
 }
 
+void remove_training_files(const std::string& model_path) {
+  std::filesystem::remove(checkpoint_path(model_path));
+  std::filesystem::remove(stage_path(model_path));
+  std::filesystem::remove(stage_path(model_path) + ".json");
+}
+
 namespace {
 
 // What the stages so far left: the best model, its stage's record, the merged history.
@@ -177,6 +183,9 @@ TrainingResult train_and_save(const NetworkOptions& network, const TrainingOptio
                      "no checkpoint at " + checkpoint +
                          ": nothing to resume (run without "
                          "--resume to start)");
+  // A fresh training leaves nothing of an earlier one's stages: killed in its first stage, its
+  // --resume would otherwise join its checkpoint to their record.
+  if (!run.resume) remove_training_files(run.out);
   Stages st = run.resume ? load_stages(run.out) : Stages{};
   bool resumed = st.done > 0;
   const bool more = run.rule.max_doublings > 0;  // stages after this one may follow

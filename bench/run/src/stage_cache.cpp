@@ -78,7 +78,7 @@ bool StageCache::claim_model(const std::string& label, const std::string& model_
     say_(label + ": trained again: " + why_again({}, wanted));
   }
   fs::remove(model_path);
-  fs::remove(checkpoint_path(model_path));
+  remove_training_files(model_path);  // its checkpoint and stage record: another training's
   const nlohmann::json j = {{"provenance", wanted}};
   write_text_atomically(record.string(), [&](std::ostream& o) { o << j.dump() << '\n'; });
   return false;

@@ -8,7 +8,7 @@
 //    "press_fit": {"presses": "...", "rotate_degrees": ..., "mirror": false, "scale": ...,
 //                  "touch_radius": ..., "contrast": ..., "per_depth": true, ...},
 //    "noise": {"frames": "...", "references": 500, "noise": ..., "drift": ..., "signal": ...,
-//              "snr_db": ..., "gains": [...], "gain_spread": ...}}
+//              "snr_db": ..., "inputs": [...], "gains": [...], "gain_spread": ...}}
 // The press fit is optional (calibrate --presses --out writes it): how a press set's recorded
 // positions lie on the electrodes and the touch that explains its changes (press_sensor.h). So is
 // the noise (calibrate --noise --out): what unlabelled frames say about the real frames

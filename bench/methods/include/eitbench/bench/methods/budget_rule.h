@@ -25,8 +25,9 @@ struct BudgetRule {
 };
 
 // Whether early stopping, ending a stage after `steps` optimiser steps, left the learning rate
-// able to move the model: the rate then is at least twice the schedule's floor (with the floor
-// at 1 % of the peak, before the cosine's last 6 % or so). Nearer the floor the rate moves the
+// able to move the model: the rate then is above the schedule's floor by at least 1/99 of the
+// cosine's range from the peak to the floor (twice the floor for the default floor at 1 % of the
+// peak: before the cosine's last 6 % or so). Nearer the floor the rate moves the
 // model hardly faster than the floor itself does, and the schedule, not the model, may have ended
 // the stage. A schedule without decay (constant) has rate left at any step before its end.
 bool stopped_with_rate_left(const LearningRateSchedule& schedule, long long steps);

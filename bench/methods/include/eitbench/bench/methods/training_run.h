@@ -41,6 +41,9 @@ std::string checkpoint_path(const std::string& model_path);
 // Whether a training into model_path left something to resume: a checkpoint, or the record of the
 // budget rule's stages finished so far.
 bool resumable(const std::string& model_path);
+// Removes what a training into model_path left to resume (its checkpoint and stage record), so
+// that a training started afresh can never be resumed onto another training's stages.
+void remove_training_files(const std::string& model_path);
 // <out's folder>/<out's stem>_loss.csv (and .png).
 std::string loss_curve_path(const std::string& model_path, const std::string& extension);
 
