@@ -42,6 +42,13 @@ std::shared_ptr<const LinearProblem> problem_on(const MeasurementProtocol& p,
   return std::make_shared<const LinearProblem>(make_linear_problem(model, 1.0, grid));
 }
 
+// A noise level per input, uneven (0.5 to 2, repeating), for the weighted data term.
+Eigen::VectorXd uneven_noise(int m) {
+  Eigen::VectorXd noise(m);
+  for (int i = 0; i < m; ++i) noise[i] = 0.5 + (i % 7) * 0.25;
+  return noise;
+}
+
 TEST(MissingValues, EqualsTheMethodOnAProtocolWithoutThoseValues) {
   const Pair pair;
   const PixelGrid grid(32, 1.0);
@@ -82,8 +89,7 @@ TEST(MissingValues, NoiseWeightsAreWhitenedLeastSquares) {
   const PixelGrid grid(24, 1.0);
   const auto full = problem_on(opposite_protocol(16), grid);
   const int m = full->measurements();
-  Eigen::VectorXd noise(m);
-  for (int i = 0; i < m; ++i) noise[i] = 0.5 + (i % 7) * 0.25;
+  const Eigen::VectorXd noise = uneven_noise(m);
   Eigen::VectorXd frame = full->A * Eigen::VectorXd::Random(full->unknowns()) * 1e-3;
   frame[3] = frame[40] = std::nan("");
   const double lambda = 0.05;
@@ -131,8 +137,7 @@ TEST(MissingValues, NoiseWeightsLeaveGreitUnchanged) {
   const PixelGrid grid(24, 1.0);
   const auto full = problem_on(opposite_protocol(16), grid);
   const int m = full->measurements();
-  Eigen::VectorXd noise(m);
-  for (int i = 0; i < m; ++i) noise[i] = 0.5 + (i % 7) * 0.25;
+  const Eigen::VectorXd noise = uneven_noise(m);
   const Eigen::VectorXd frame = full->A * Eigen::VectorXd::Random(full->unknowns()) * 1e-3;
   MethodOptions o;
   o.choose = "fixed";

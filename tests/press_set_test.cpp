@@ -513,8 +513,11 @@ TEST_F(PressSet, NoiseWeightsCountEachValueByItsMeasuredNoise) {
   write_sensor_file(path("equal.json"), equal);
   EXPECT_EQ(median("clean.h5", "--sensor " + path("equal.json") + " --noise-weights"), clean);
 
-  const std::string on_clean = "reconstruct --method noser --data " + path("clean.h5") +
-                               " --density coarse --png 0 --out " + path("x.h5") + " ";
+  const auto on_clean_by = [&](const std::string& method) {
+    return "reconstruct --method " + method + " --data " + path("clean.h5") +
+           " --density coarse --png 0 --out " + path("x.h5") + " ";
+  };
+  const std::string on_clean = on_clean_by("noser");
   const Result none = run(on_clean + "--noise-weights");
   EXPECT_EQ(none.exit_code, 2);
   EXPECT_NE(none.output.find("--noise-weights: needs each value's measured noise"),
@@ -525,9 +528,7 @@ TEST_F(PressSet, NoiseWeightsCountEachValueByItsMeasuredNoise) {
   EXPECT_EQ(discrepancy.exit_code, 2);
   EXPECT_NE(discrepancy.output.find("is not combined with --choose discrepancy"), std::string::npos)
       << discrepancy.output;
-  const Result greit = run("reconstruct --method greit --data " + path("clean.h5") +
-                           " --density coarse --png 0 --out " + path("x.h5") +
-                           " --noise-weights --sensor " + path("equal.json"));
+  const Result greit = run(on_clean_by("greit") + "--noise-weights --sensor " + path("equal.json"));
   EXPECT_EQ(greit.exit_code, 2);
   EXPECT_NE(greit.output.find("--noise-weights: changes nothing for greit"), std::string::npos)
       << greit.output;
