@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "eitbench/bench/data/training_data.h"
 #include "eitbench/bench/methods/budget_rule.h"
@@ -46,19 +47,21 @@ TEST(BudgetRule, DoublesAgainOnlyWhileTheLastDoublingPaid) {
   EXPECT_EQ(testing::input_error_at([] { BudgetRule{1, 1.0}.validate(); }), "BudgetRule.tolerance");
 }
 
-// Rate left: the rate at the stop at least twice the floor (the default floor's edge). The cosine
-// from the peak 1 (after a 20-step warm-up) to the floor 0.01 at step 600 of 1,000 is at 0.02 where
-// (1 + cos(pi t)) / 2 = 0.01 / 0.99, t = 0.936: step 20 + 0.936 x 580 = 563. A stop there or later
-// is the schedule's.
-TEST(BudgetRule, RateLeftMeansTwiceTheFloorOrMore) {
+// Rate left: the rate at the stop above the floor by a tenth of the cosine's range or more. The
+// cosine from the peak 1 (after a 20-step warm-up) to the floor 0.01 at step 600 of 1,000 is
+// 0.01 + 0.99 (1 + cos(pi t)) / 2, a tenth of the range above the floor where (1 + cos(pi t)) / 2
+// = 0.1, t = 0.795: step 20 + 0.795 x 580 = 481. A stop there or later, in the cosine's last
+// fifth, may be the schedule's.
+TEST(BudgetRule, RateLeftMeansATenthOfTheRangeOrMore) {
   const LearningRateSchedule cosine(1.0, 1000, ScheduleOptions{});
-  const double t = std::acos(2 * 0.01 / 0.99 - 1) / M_PI;
+  const double t = std::acos(2 * 0.1 - 1) / M_PI;
   const long long edge = 20 + static_cast<long long>(std::floor(t * 580));
-  EXPECT_NEAR(static_cast<double>(edge), 562, 1);
+  EXPECT_NEAR(static_cast<double>(edge), 481, 1);
   EXPECT_TRUE(stopped_with_rate_left(cosine, 100));
   EXPECT_TRUE(stopped_with_rate_left(cosine, edge - 1));
   EXPECT_FALSE(stopped_with_rate_left(cosine, edge + 2));
-  EXPECT_FALSE(stopped_with_rate_left(cosine, 599));  // 1.0007 x the floor: at it, in effect
+  EXPECT_FALSE(stopped_with_rate_left(cosine, 560));  // 2.1 x the floor: rate left at 1/99
+  EXPECT_FALSE(stopped_with_rate_left(cosine, 599));
   EXPECT_FALSE(stopped_with_rate_left(cosine, 600));
   EXPECT_FALSE(stopped_with_rate_left(cosine, 900));
   // The edge is a share of the cosine's range, whatever the floor: at a floor of 0 a stop one
@@ -76,6 +79,38 @@ TEST(BudgetRule, RateLeftMeansTwiceTheFloorOrMore) {
   flat.kind = ScheduleKind::constant;
   const LearningRateSchedule constant(1.0, 1000, flat);
   EXPECT_TRUE(stopped_with_rate_left(constant, 599));
+}
+
+// A model trained when the edge lay at twice the floor is kept unless early stopping ended its
+// first stage between that edge and today's: such a stop counts as the schedule's now, and the
+// rule doubles it (or, with no doubling allowed, calls it "floor"). At a budget of 1,000 steps
+// the edges lie at steps 481 and 562 (RateLeftMeansATenthOfTheRangeOrMore).
+TEST(BudgetRule, AnEarlierEdgesModelIsKeptWhereTheRuleDecidesAlike) {
+  TrainingOptions o;
+  o.learning_rate = 1.0;
+  LearnedModel model(test_network(), 16, 1);
+  auto decided = [&](const std::string& end, long long stop, int doublings) {
+    TrainingRecord last;
+    last.round = 1, last.steps = stop;
+    model.info().training =
+        nlohmann::json{{"end", end},
+                       {"doublings", doublings},
+                       {"budget_steps", 1000 << doublings},
+                       {"history", nlohmann::json::parse(history_to_json({last}))}}
+            .dump();
+    return decided_as_now(model, o);
+  };
+  EXPECT_TRUE(decided("early stopping", 300, 0));   // rate left under either edge
+  EXPECT_FALSE(decided("early stopping", 520, 0));  // between the edges: doubled now
+  EXPECT_FALSE(decided("early stopping", 560, 0));
+  EXPECT_TRUE(decided("floor", 590, 0));  // no rate left under either
+  EXPECT_TRUE(decided("budget", 1000, 0));
+  EXPECT_TRUE(decided("cap", 7500, 3));  // the first stage was doubled: still is
+  EXPECT_TRUE(decided("rule", 3800, 2));
+  model.info().training = "{\"end\": \"early stopping\"}";
+  EXPECT_FALSE(decided_as_now(model, o));  // a record without the rule's fields: trained again
+  o.schedule.decay_fraction = 0.9;  // the run's schedule decides: its cosine ends at step 900
+  EXPECT_TRUE(decided("early stopping", 520, 0));
 }
 
 class BudgetRuleTraining : public ::testing::Test {

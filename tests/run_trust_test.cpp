@@ -66,6 +66,36 @@ TEST_F(RunTrust, ResumeWithOtherOptionsMakesStagesAgain) {
             second.configuration.at("fingerprint"));
 }
 
+// A model trained when the budget rule's rate-left edge lay at twice the floor, whose training
+// the rule as it is now decides alike, is kept on --resume (hours of the standard preset's
+// models), its record rewritten; a record of any other rule is trained again.
+TEST_F(RunTrust, ResumeKeepsAModelTheChangedRuleDecidesAlike) {
+  ASSERT_EQ(run(kQuiet + " --out " + path("x")).exit_code, 0);
+  const std::string record = path("x/models/dnn_none.pt.provenance.json");
+  const std::string now = "rate left at a tenth of the cosine's range";
+  auto store_rule = [&](const std::string& edge) {
+    std::string text = text_of(record);
+    const auto at = text.find(now);
+    ASSERT_NE(at, std::string::npos) << text;
+    std::ofstream(record, std::ios::binary) << text.replace(at, now.size(), edge);
+  };
+  store_rule("rate left at 2x the floor");
+  const Result kept = run(kSmall + " --resume --out " + path("x"));
+  ASSERT_EQ(kept.exit_code, 0) << kept.output;
+  EXPECT_NE(
+      kept.output.find("dnn none: kept: trained with other budget rule, which decide it alike"),
+      std::string::npos)
+      << kept.output;
+  EXPECT_NE(kept.output.find("dnn none: resumed from"), std::string::npos) << kept.output;
+  EXPECT_NE(text_of(record).find(now), std::string::npos);
+  store_rule("rate left at 3x the floor");
+  const Result again = run(kSmall + " --resume --out " + path("x"));
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("dnn none: trained again: it was made with other budget rule"),
+            std::string::npos)
+      << again.output;
+}
+
 // A user's data set replaced by another between two runs: the stages are made again from it.
 TEST_F(RunTrust, ResumeOnOtherUserDataMakesStagesAgain) {
   ASSERT_EQ(run("simulate --preset tiny --quiet --seed 1 --out " + path("a.h5")).exit_code, 0);

@@ -42,9 +42,8 @@ bool stopped_with_rate_left(const LearningRateSchedule& schedule, long long step
   const double floor = schedule.rate(schedule.decay_steps());
   const double peak = schedule.rate(schedule.warmup_steps());
   // A share of the cosine's range, not a multiple of the floor: a floor of 0 would make every
-  // stop one with rate left, a floor of half the peak none. 1/99 puts the edge at twice the floor
-  // for the default floor, 1 % of the peak.
-  return !(floor < peak) || schedule.rate(steps) - floor >= (peak - floor) / 99;
+  // stop one with rate left, a floor of half the peak none.
+  return !(floor < peak) || schedule.rate(steps) - floor >= kRateLeftShare * (peak - floor);
 }
 
 bool converged(TrainingEnd end) {

@@ -22,6 +22,21 @@ std::string checkpoint_path(const std::string& model_path) {
   return model_path + ".checkpoint";
 }
 
+bool decided_as_now(const LearnedModel& model, const TrainingOptions& options) {
+  try {
+    const nlohmann::json t = nlohmann::json::parse(model.info().training);
+    if (t.at("end").get<std::string>() != to_string(TrainingEnd::early_stopping)) return true;
+    const auto history = history_from_json(t.at("history").dump(), "model");
+    if (history.empty() || t.at("doublings").get<int>() != 0) return false;
+    const LearningRateSchedule first_stage(options.learning_rate,
+                                           t.at("budget_steps").get<long long>(), options.schedule);
+    return stopped_with_rate_left(first_stage, history.back().steps);
+  } catch (const nlohmann::json::exception&) {
+  } catch (const InputError&) {
+  }
+  return false;
+}
+
 std::string loss_curve_path(const std::string& model_path, const std::string& extension) {
   const std::filesystem::path p(model_path);
   return (p.parent_path() / (p.stem().string() + "_loss." + extension)).string();

@@ -59,7 +59,9 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
   const std::string path = learned_model_path(context, augment);
   Provenance provenance = training_provenance(config, data);
   provenance["augment"] = augment;
-  const bool claimed = context.cache.claim_model("dnn " + augment, path, provenance);
+  const bool claimed =
+      context.cache.claim_model("dnn " + augment, path, provenance,
+                                kept_under_earlier_edge(config, provenance, path, setup.training));
   if (claimed && fs::exists(path)) {
     context.say(fmt::format("dnn {}: resumed from {}", augment, path));
     return read_model_file(path);
@@ -85,30 +87,54 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
   return std::move(r.model);
 }
 
+// The budget rule in a provenance. `edge` names where a stop has rate left (budget_rule.h):
+// kRateLeftEdge now, kEarlierRateLeftEdge for models trained before it moved.
+std::string budget_rule_text(const BudgetRule& rule, const char* edge) {
+  return fmt::format("{} doublings, tolerance {:g}, rate left at {}, doublings to the floor",
+                     rule.max_doublings, rule.tolerance, edge);
+}
+constexpr const char* kRateLeftEdge = "a tenth of the cosine's range";
+constexpr const char* kEarlierRateLeftEdge = "2x the floor";
+
 }  // namespace
 
+StageCache::Keep kept_under_earlier_edge(const RunConfig& config, const Provenance& wanted,
+                                         const std::string& model_path,
+                                         const TrainingOptions& options) {
+  return [budget = config.budget_rule, wanted, model_path, options](const Provenance& stored) {
+    Provenance now = stored;
+    const auto rule = now.find("budget rule");
+    if (rule == now.end() || rule->second != budget_rule_text(budget, kEarlierRateLeftEdge))
+      return false;
+    rule->second = budget_rule_text(budget, kRateLeftEdge);
+    if (now != wanted || !fs::exists(model_path)) return false;
+    try {
+      return decided_as_now(read_model_file(model_path), options);
+    } catch (const std::exception&) {
+      return false;  // unreadable: trained again
+    }
+  };
+}
+
 Provenance training_provenance(const RunConfig& config, const RunData& data) {
-  Provenance p{
-      {"program", data.provenance.at("program")},
-      {"training data",
-       data.own_training ? data.provenance.at("data") : data.provenance.at("training data")},
-      {"model", config.model},
-      {"epochs", std::to_string(config.epochs)},
-      {"batch", std::to_string(config.batch)},
-      {"learning rate", fmt::format("{:g}", config.learning_rate)},
-      {"schedule", config.schedule},
-      {"validate every", std::to_string(config.validate_every)},
-      {"patience", std::to_string(config.patience)},
-      {"min improvement", fmt::format("{:g}", config.min_improvement)},
-      // A stop counts as early stopping only at twice the floor's rate or more (budget_rule.h),
-      // and a doubling runs its cosine to the floor before it may stop: models stored before,
-      // under the older rule, are trained again rather than resumed with its decisions.
-      {"budget rule",
-       fmt::format(
-           "{} doublings, tolerance {:g}, rate left at 2x the floor, doublings to the floor",
-           config.budget_rule.max_doublings, config.budget_rule.tolerance)},
-      {"seed", std::to_string(config.seed)},
-      {"device", resolve_device(config.device, "--device")}};
+  Provenance p{{"program", data.provenance.at("program")},
+               {"training data", data.own_training ? data.provenance.at("data")
+                                                   : data.provenance.at("training data")},
+               {"model", config.model},
+               {"epochs", std::to_string(config.epochs)},
+               {"batch", std::to_string(config.batch)},
+               {"learning rate", fmt::format("{:g}", config.learning_rate)},
+               {"schedule", config.schedule},
+               {"validate every", std::to_string(config.validate_every)},
+               {"patience", std::to_string(config.patience)},
+               {"min improvement", fmt::format("{:g}", config.min_improvement)},
+               // A stop counts as early stopping only before the cosine's last fifth
+               // (budget_rule.h), and a doubling runs its cosine to the floor before it may stop:
+               // models stored under an older rule are trained again rather than resumed with its
+               // decisions, unless they made the same (kept_under_earlier_edge).
+               {"budget rule", budget_rule_text(config.budget_rule, kRateLeftEdge)},
+               {"seed", std::to_string(config.seed)},
+               {"device", resolve_device(config.device, "--device")}};
   // Only where it is not the schedule's default: a run made before --decay resumes as it was.
   if (config.decay != ScheduleOptions().decay_fraction)
     p["decay"] = fmt::format("{:g}", config.decay);

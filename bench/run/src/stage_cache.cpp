@@ -32,6 +32,10 @@ std::string why_again(const Provenance& stored, const Provenance& wanted) {
                         : "it was made with other " + differing_parts(stored, wanted);
 }
 
+void write_record(const fs::path& path, const nlohmann::json& record) {
+  write_text_atomically(path.string(), [&](std::ostream& o) { o << record.dump() << '\n'; });
+}
+
 }  // namespace
 
 StageCache::StageCache(fs::path folder, bool resume, Say say)
@@ -40,17 +44,25 @@ StageCache::StageCache(fs::path folder, bool resume, Say say)
 }
 
 bool StageCache::find(const std::string& name, const Provenance& wanted,
-                      const std::function<void(const nlohmann::json&)>& decode) const {
+                      const std::function<void(const nlohmann::json&)>& decode,
+                      const Keep& keep) const {
   const fs::path p = folder_ / (name + ".json");
   if (!resume_ || !fs::exists(p)) return false;
-  const nlohmann::json record = read_record(p);
+  nlohmann::json record = read_record(p);
   const Provenance stored = read_provenance(record);
-  if (stored != wanted) {
+  const bool kept = stored != wanted && !stored.empty() && keep && keep(stored);
+  if (stored != wanted && !kept) {
     say_(name + ": made again: " + why_again(stored, wanted));
     return false;
   }
   try {
     decode(record.at("value"));
+    if (kept) {
+      say_(name + ": kept: made with other " + differing_parts(stored, wanted) +
+           ", which decide it alike");
+      record["provenance"] = wanted;
+      write_record(p, record);
+    }
     return true;
   } catch (const nlohmann::json::exception&) {
   } catch (const InputError&) {
@@ -61,26 +73,30 @@ bool StageCache::find(const std::string& name, const Provenance& wanted,
 
 void StageCache::save(const std::string& name, const Provenance& provenance,
                       const nlohmann::json& value) const {
-  const nlohmann::json record = {{"provenance", provenance}, {"value", value}};
-  write_text_atomically((folder_ / (name + ".json")).string(),
-                        [&](std::ostream& o) { o << record.dump() << '\n'; });
+  write_record(folder_ / (name + ".json"), {{"provenance", provenance}, {"value", value}});
 }
 
 bool StageCache::claim_model(const std::string& label, const std::string& model_path,
-                             const Provenance& wanted) const {
+                             const Provenance& wanted, const Keep& keep) const {
   const fs::path record = model_path + ".provenance.json";
   const bool left = fs::exists(model_path) || fs::exists(checkpoint_path(model_path));
   if (resume_ && fs::exists(record)) {
     const Provenance stored = read_provenance(read_record(record));
     if (stored == wanted) return true;
+    if (!stored.empty() && fs::exists(model_path) && !fs::exists(checkpoint_path(model_path)) &&
+        keep && keep(stored)) {
+      say_(label + ": kept: trained with other " + differing_parts(stored, wanted) +
+           ", which decide it alike");
+      write_record(record, {{"provenance", wanted}});
+      return true;
+    }
     if (left) say_(label + ": trained again: " + why_again(stored, wanted));
   } else if (resume_ && left) {
     say_(label + ": trained again: " + why_again({}, wanted));
   }
   fs::remove(model_path);
   remove_training_files(model_path);  // its checkpoint and stage record: another training's
-  const nlohmann::json j = {{"provenance", wanted}};
-  write_text_atomically(record.string(), [&](std::ostream& o) { o << j.dump() << '\n'; });
+  write_record(record, {{"provenance", wanted}});
   return false;
 }
 

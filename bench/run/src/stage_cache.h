@@ -15,11 +15,16 @@ namespace eitbench::run {
 class StageCache {
  public:
   using Say = std::function<void(const std::string&)>;
+  // Whether a record made with the provenance `stored`, not the one wanted, holds what the
+  // wanted one would make all the same (a rule changed where it decided nothing for this
+  // record). Kept, the record is written anew with the wanted provenance.
+  using Keep = std::function<bool(const Provenance& stored)>;
   StageCache(std::filesystem::path folder, bool resume, Say say);
   // Decodes the stage `name` through `decode` when the run resumes, the stage finished and its
   // provenance is `wanted`; false otherwise.
   bool find(const std::string& name, const Provenance& wanted,
-            const std::function<void(const nlohmann::json&)>& decode) const;
+            const std::function<void(const nlohmann::json&)>& decode,
+            const Keep& keep = nullptr) const;
   void save(const std::string& name, const Provenance& provenance,
             const nlohmann::json& value) const;  // atomic
 
@@ -29,7 +34,7 @@ class StageCache {
   // removed (saying why) and the record is written anew before training starts, so that nothing
   // made for another configuration is ever picked up.
   bool claim_model(const std::string& label, const std::string& model_path,
-                   const Provenance& wanted) const;
+                   const Provenance& wanted, const Keep& keep = nullptr) const;
 
  private:
   std::filesystem::path folder_;

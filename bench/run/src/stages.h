@@ -109,6 +109,13 @@ struct LearnedSetup {
 LearnedSetup learned_setup(const RunConfig& config, const Dataset& source);
 // What a trained model depends on: the training data and every training option.
 Provenance training_provenance(const RunConfig& config, const RunData& data);
+// Keeps (StageCache::Keep) a record of the model in model_path made under the budget rule's
+// earlier rate-left edge, twice the floor, where its training took the decisions the rule takes
+// now (decided_as_now): hours of finished models need not be trained again for a change that
+// decided nothing for them.
+StageCache::Keep kept_under_earlier_edge(const RunConfig& config, const Provenance& wanted,
+                                         const std::string& model_path,
+                                         const TrainingOptions& options);
 // How a model was trained, from the record its file keeps (path names it in errors): history,
 // best round, convergence, throughput and its fraction of the GEMM peak.
 TrainingSummary training_summary(const LearnedModel& model, const std::string& path,

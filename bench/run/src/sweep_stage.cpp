@@ -46,6 +46,10 @@ bool from_main_run(const RunResults& main_runs, EfficiencyPoint& p) {
   return false;
 }
 
+std::string sweep_model_path(const Context& context, const std::string& name) {
+  return (context.out / "models" / (name + ".pt")).string();
+}
+
 // Trains one sweep model on the first p.train_size training frames for `steps` optimiser steps
 // and scores it, noise-free: when p.budget is "converged" with early stopping and the budget
 // rule's doublings, as the main models train; "equal_steps" exactly those steps.
@@ -59,11 +63,14 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
   if (p.budget == "equal_steps") o.patience = 0;  // exactly those steps (the best round kept)
   TrainingRun run;
   run.label = fmt::format("sweep {} {} n={}", p.augment, p.budget, p.train_size);
-  run.out = (context.out / "models" / (name + ".pt")).string();
+  run.out = sweep_model_path(context, name);
   Provenance provenance = training_provenance(context.config, data);
   provenance["point"] = name, provenance["steps"] = std::to_string(steps);
   provenance["subset"] = kSubsetRule;
-  run.resume = context.cache.claim_model(run.label, run.out, provenance) && resumable(run.out);
+  run.resume =
+      context.cache.claim_model(run.label, run.out, provenance,
+                                kept_under_earlier_edge(context.config, provenance, run.out, o)) &&
+      resumable(run.out);
   run.quiet = context.config.quiet;
   run.curves = false;
   // The converged arms follow the main models' rule; equal steps is exactly none's steps.
@@ -115,8 +122,10 @@ std::vector<EfficiencyPoint> run_sweep(const Context& context, const LearnedSetu
     provenance["steps"] = std::to_string(steps);
     // Points made when a size took the split's first n frames are made again.
     provenance["subset"] = kSubsetRule;
-    if (!context.cache.find(name, provenance,
-                            [&](const nlohmann::json& j) { p = efficiency_point_from_json(j); })) {
+    const std::string model = sweep_model_path(context, name);
+    if (!context.cache.find(
+            name, provenance, [&](const nlohmann::json& j) { p = efficiency_point_from_json(j); },
+            kept_under_earlier_edge(config, provenance, model, setup.training))) {
       train_point(context, setup, data, reconstruction, steps, name, p);
       context.cache.save(name, provenance, to_json(p));
     }

@@ -25,11 +25,14 @@ struct BudgetRule {
 };
 
 // Whether early stopping, ending a stage after `steps` optimiser steps, left the learning rate
-// able to move the model: the rate then is above the schedule's floor by at least 1/99 of the
-// cosine's range from the peak to the floor (twice the floor for the default floor at 1 % of the
-// peak: before the cosine's last 6 % or so). Nearer the floor the rate moves the
-// model hardly faster than the floor itself does, and the schedule, not the model, may have ended
-// the stage. A schedule without decay (constant) has rate left at any step before its end.
+// able to move the model: the rate then is above the schedule's floor by at least
+// kRateLeftShare of the cosine's range from the peak to the floor, that is before the cosine's
+// last fifth, where the annealing lowers the validation loss most and a stop may be the
+// schedule's doing rather than the model's. (At 1/99 of the range, twice the default floor, the
+// standard preset's D16 on 2,800 frames stopped at 1.4 % of the range while its validation loss
+// still fell 3.6 % in ten rounds, and ranked below the same model on 1,400 frames.) A schedule
+// without decay (constant) has rate left at any step before its end.
+constexpr double kRateLeftShare = 0.1;
 bool stopped_with_rate_left(const LearningRateSchedule& schedule, long long steps);
 
 // How a training under the rule ended.

@@ -44,6 +44,12 @@ bool resumable(const std::string& model_path);
 // Removes what a training into model_path left to resume (its checkpoint and stage record), so
 // that a training started afresh can never be resumed onto another training's stages.
 void remove_training_files(const std::string& model_path);
+// Whether a finished training's record (the model's ModelInfo::training) holds the decisions the
+// budget rule as it is now takes for the same options, after a rule whose rate-left edge
+// (stopped_with_rate_left) lay lower: only a first stage that early stopping ended between the
+// two edges is decided otherwise now (doubled, or called "floor"). False for a record without
+// the rule's fields or one that cannot be read: such a model is trained again.
+bool decided_as_now(const LearnedModel& model, const TrainingOptions& options);
 // <out's folder>/<out's stem>_loss.csv (and .png).
 std::string loss_curve_path(const std::string& model_path, const std::string& extension);
 
