@@ -234,9 +234,10 @@ void write_training(std::ostream& o, const RunResults& r) {
        "last doubling lowered its best validation MSE by more than the tolerance, up to the run's "
        "doublings; within each stage early stopping ends it when validation stops improving. "
        "Converged: the model ended the training (early stopping with the learning rate at least "
-       "twice the schedule's floor, or a doubling, run down to its floor, that no longer paid); "
-       "**no**: the budget, early stopping near or at the floor with no doubling to tell whether "
-       "the schedule ended it, or the cap on doublings while the last one still paid.\n\n"
+       "a tenth of the cosine's range above its floor, or a doubling, run down to its floor, "
+       "that no longer paid); **no**: the budget, early stopping in the cosine's last fifth or "
+       "at the floor with no doubling to tell whether the schedule ended it, or the cap on "
+       "doublings while the last one still paid.\n\n"
        "| augment | converged | budget (steps) | last doubling | steps | samples seen | "
        "best epoch | best validation MSE | samples/s | of GEMM peak | time (s) |\n"
        "|---|---|---|---|---|---|---|---|---|---|---|\n";
