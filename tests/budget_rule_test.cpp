@@ -107,6 +107,7 @@ TEST(BudgetRule, AnEarlierEdgesModelIsKeptWhereTheRuleDecidesAlike) {
   EXPECT_TRUE(decided("budget", 1000, 0));
   EXPECT_TRUE(decided("cap", 7500, 3));  // the first stage was doubled: still is
   EXPECT_TRUE(decided("rule", 3800, 2));
+  EXPECT_FALSE(decided("early stopping", 300, 1));  // early stopping after a doubling: no rule's
   model.info().training = "{\"end\": \"early stopping\"}";
   EXPECT_FALSE(decided_as_now(model, o));  // a record without the rule's fields: trained again
   o.schedule.decay_fraction = 0.9;  // the run's schedule decides: its cosine ends at step 900

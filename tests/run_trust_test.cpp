@@ -66,20 +66,26 @@ TEST_F(RunTrust, ResumeWithOtherOptionsMakesStagesAgain) {
             second.configuration.at("fingerprint"));
 }
 
+// The budget rule's rate-left edge in a record, as this version writes it and as runs made
+// before it moved wrote it.
+const std::string kEdgeNow = "rate left at a tenth of the cosine's range";
+const std::string kEarlierEdge = "rate left at 2x the floor";
+
+// Replaces the first `from` in a file by `to` (the file must hold it).
+void replace_in(const std::string& file, const std::string& from, const std::string& to) {
+  std::string text = text_of(file);
+  const auto at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << file << ": " << text;
+  std::ofstream(file, std::ios::binary) << text.replace(at, from.size(), to);
+}
+
 // A model trained when the budget rule's rate-left edge lay at twice the floor, whose training
 // the rule as it is now decides alike, is kept on --resume (hours of the standard preset's
 // models), its record rewritten; a record of any other rule is trained again.
 TEST_F(RunTrust, ResumeKeepsAModelTheChangedRuleDecidesAlike) {
   ASSERT_EQ(run(kQuiet + " --out " + path("x")).exit_code, 0);
   const std::string record = path("x/models/dnn_none.pt.provenance.json");
-  const std::string now = "rate left at a tenth of the cosine's range";
-  auto store_rule = [&](const std::string& edge) {
-    std::string text = text_of(record);
-    const auto at = text.find(now);
-    ASSERT_NE(at, std::string::npos) << text;
-    std::ofstream(record, std::ios::binary) << text.replace(at, now.size(), edge);
-  };
-  store_rule("rate left at 2x the floor");
+  replace_in(record, kEdgeNow, kEarlierEdge);
   const Result kept = run(kSmall + " --resume --out " + path("x"));
   ASSERT_EQ(kept.exit_code, 0) << kept.output;
   EXPECT_NE(
@@ -87,13 +93,37 @@ TEST_F(RunTrust, ResumeKeepsAModelTheChangedRuleDecidesAlike) {
       std::string::npos)
       << kept.output;
   EXPECT_NE(kept.output.find("dnn none: resumed from"), std::string::npos) << kept.output;
-  EXPECT_NE(text_of(record).find(now), std::string::npos);
-  store_rule("rate left at 3x the floor");
+  EXPECT_NE(text_of(record).find(kEdgeNow), std::string::npos);
+  replace_in(record, kEdgeNow, "rate left at 3x the floor");
   const Result again = run(kSmall + " --resume --out " + path("x"));
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NE(again.output.find("dnn none: trained again: it was made with other budget rule"),
             std::string::npos)
       << again.output;
+}
+
+// A sweep point's figures made under the earlier edge are kept only while its model is the one
+// they were measured on. A point whose model was trained again since (its record names the rule
+// as it is now: a run killed between the training and the score) is made again.
+TEST_F(RunTrust, ResumeKeepsASweepPointOnlyWithItsOwnModel) {
+  const std::string sweep =
+      "run --preset tiny --methods tikhonov --augment none,d16 --epochs 2 "
+      "--sweep 30 --out " +
+      path("s");
+  ASSERT_EQ(run(sweep + " --quiet").exit_code, 0);
+  for (const std::string point : {"efficiency_none_converged_30", "efficiency_d16_converged_30"})
+    replace_in(path("s/stages/" + point + ".json"), kEdgeNow, kEarlierEdge);
+  replace_in(path("s/models/efficiency_none_converged_30.pt.provenance.json"), kEdgeNow,
+             kEarlierEdge);
+  const Result r = run(sweep + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("efficiency_none_converged_30: kept: made with other budget rule"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("efficiency_d16_converged_30: made again: it was made with other "
+                          "budget rule"),
+            std::string::npos)
+      << r.output;
 }
 
 // A user's data set replaced by another between two runs: the stages are made again from it.

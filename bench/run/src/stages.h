@@ -111,8 +111,9 @@ LearnedSetup learned_setup(const RunConfig& config, const Dataset& source);
 Provenance training_provenance(const RunConfig& config, const RunData& data);
 // Keeps (StageCache::Keep) a record of the model in model_path made under the budget rule's
 // earlier rate-left edge, twice the floor, where its training took the decisions the rule takes
-// now (decided_as_now): hours of finished models need not be trained again for a change that
-// decided nothing for them.
+// now (decided_as_now) and the model's own record (<model>.provenance.json) still names that
+// edge: hours of finished models need not be trained again for a change that decided nothing
+// for them.
 StageCache::Keep kept_under_earlier_edge(const RunConfig& config, const Provenance& wanted,
                                          const std::string& model_path,
                                          const TrainingOptions& options);

@@ -67,10 +67,9 @@ void train_point(const Context& context, const LearnedSetup& setup, const RunDat
   Provenance provenance = training_provenance(context.config, data);
   provenance["point"] = name, provenance["steps"] = std::to_string(steps);
   provenance["subset"] = kSubsetRule;
-  run.resume =
-      context.cache.claim_model(run.label, run.out, provenance,
-                                kept_under_earlier_edge(context.config, provenance, run.out, o)) &&
-      resumable(run.out);
+  // No Keep here: train_point never reuses a finished model (run_sweep reuses its figures,
+  // through the stage record), only a checkpoint or the stages of one killed.
+  run.resume = context.cache.claim_model(run.label, run.out, provenance) && resumable(run.out);
   run.quiet = context.config.quiet;
   run.curves = false;
   // The converged arms follow the main models' rule; equal steps is exactly none's steps.
