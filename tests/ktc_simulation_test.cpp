@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <random>
 
+#include "eitbench/bench/ktc/ktc_learned.h"
 #include "eitbench/bench/ktc/tank_augmentation.h"
 #include "eitbench/bench/ktc/tank_simulation.h"
 #include "ktc_synthetic.h"
@@ -174,6 +175,28 @@ TEST(KtcSimulation, RepeatedPatternsMeasureTheNoise) {
   CurrentPatterns once = testing::ktc_patterns();
   once.injection = once.injection.leftCols(16).eval();  // the odd pairs alone: none repeated
   EXPECT_THROW(repeated_pattern_noise(Eigen::VectorXd::Zero(16 * 31), once), InputError);
+}
+
+// The learned rows train on tanks with the noise the reference's repeated patterns measure, the
+// noise their report names: not noise-free frames.
+TEST(KtcSimulation, TheLearnedRowsTanksCarryTheReferencesNoise) {
+  KtcTank tank = testing::ktc_coarse_tank();
+  tank.reference = tank.model->measured(Eigen::VectorXd::Constant(tank.mesh.num_triangles(), 0.8));
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0, 2e-4);
+  for (auto& v : tank.reference) v += noise(rng);
+  KtcLearnedOptions learned;
+  learned.tanks = 8;
+  KtcSimulationOptions o = ktc_training_simulation(learned, tank);
+  EXPECT_NEAR(o.noise, 2e-4, 0.3e-4);
+  EXPECT_EQ(o.samples, 8);
+  EXPECT_NEAR(o.resistive / o.contrast_spread, learned.resistive_low, 1e-12);
+  EXPECT_NEAR(o.conductive * o.contrast_spread, learned.conductive_high, 1e-9);
+  const KtcSimulatedSet noisy = simulate_ktc_tanks(tank, o);
+  const double measured = o.noise;
+  o.noise = 0;
+  const Eigen::MatrixXd added = noisy.frames - simulate_ktc_tanks(tank, o).frames;
+  EXPECT_NEAR(std::sqrt(added.squaredNorm() / added.size()), measured, 0.05 * measured);
 }
 
 // to_image undoes to_model, mirrored or not.

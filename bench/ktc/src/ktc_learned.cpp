@@ -278,6 +278,19 @@ KtcOneStep ktc_model_one_step(const LearnedModel& model, const std::string& sour
   return step;
 }
 
+KtcSimulationOptions ktc_training_simulation(const KtcLearnedOptions& options,
+                                             const KtcTank& tank) {
+  KtcSimulationOptions so;
+  so.samples = options.tanks;
+  so.seed = static_cast<unsigned>(options.network.seed);
+  // The band's geometric middle, spread to both ends.
+  so.resistive = std::sqrt(options.resistive_low * options.resistive_high);
+  so.conductive = std::sqrt(options.conductive_low * options.conductive_high);
+  so.contrast_spread = std::sqrt(options.resistive_high / options.resistive_low);
+  so.noise = repeated_pattern_noise(tank.reference, tank.protocol->patterns());
+  return so;
+}
+
 KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMeasurement>& samples,
                                   const std::vector<ClassImage>& truths,
                                   const std::vector<int>& levels, const KtcLearnedOptions& options,
@@ -289,14 +302,8 @@ KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMe
   std::vector<Eigen::VectorXd> changes;
   for (const KtcMeasurement& m : samples) changes.push_back(ktc_difference(m, setup, 1));
   r.contrasts = fit_ktc_contrasts_held_out(setup.tank, changes, truths, setup.orientation);
-  r.noise = repeated_pattern_noise(setup.tank.reference, patterns);
-  KtcSimulationOptions so;
-  so.samples = options.tanks;
-  so.seed = static_cast<unsigned>(options.network.seed);
-  // The band's geometric middle, spread to both ends.
-  so.resistive = std::sqrt(options.resistive_low * options.resistive_high);
-  so.conductive = std::sqrt(options.conductive_low * options.conductive_high);
-  so.contrast_spread = std::sqrt(options.resistive_high / options.resistive_low);
+  const KtcSimulationOptions so = ktc_training_simulation(options, setup.tank);
+  r.noise = so.noise;
   r.in_band = r.contrasts.best_within(options.resistive_low, options.resistive_high,
                                       options.conductive_low, options.conductive_high);
   if (!quiet)

@@ -86,6 +86,11 @@ struct KtcLearnedResults {
   std::vector<KtcLearnedArm> arms;
 };
 
+// The simulated tanks the learned rows train, validate and test on: `options.tanks` of them drawn
+// with the network's seed on the calibrated tank, each target's contrast in the options' band,
+// each value with the noise its reference's repeated patterns measure (V).
+KtcSimulationOptions ktc_training_simulation(const KtcLearnedOptions& options, const KtcTank& tank);
+
 // Simulates, trains every network and arm into <out>/ktc_<network>_<arm>.model (with its loss
 // curves) and scores
 // it on `samples` at `levels`. The model files record the protocol (the patterns), the tank, the
