@@ -210,5 +210,23 @@ TEST(SensorFilePressFit, RoundTripsAndRefusesBadFields) {
   std::filesystem::remove_all(dir);
 }
 
+// Only a sensor fitted to a frame replaces the forward model's impedances and current; a file of
+// a press fit alone holds nominal values, and the caller's stay.
+TEST(SensorFilePressFit, OnlyAFittedSensorSetsTheForwardModel) {
+  SensorFile s;
+  s.electrodes = 2, s.current = 3;
+  s.contact_impedances = Eigen::Vector2d(0.1, 0.2);
+  ForwardOptions forward;
+  forward.current = 1;
+  s.fitted = false;
+  EXPECT_FALSE(apply_fitted_sensor(s, forward));
+  EXPECT_EQ(forward.current, 1);
+  EXPECT_EQ(forward.contact_impedances.size(), 0);
+  s.fitted = true;
+  EXPECT_TRUE(apply_fitted_sensor(s, forward));
+  EXPECT_EQ(forward.current, 3);
+  EXPECT_EQ(forward.contact_impedances, s.contact_impedances);
+}
+
 }  // namespace
 }  // namespace eitbench

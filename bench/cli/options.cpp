@@ -201,10 +201,7 @@ std::optional<SensorFile> load_sensor(const std::string& path, int electrodes) {
 
 void apply_sensor(ModelSetup& s, const Mesh& mesh) {
   const auto sensor = load_sensor(s.sensor, mesh.num_electrodes());
-  if (sensor && sensor->fitted) {  // a file of a press fit alone keeps the nominal values
-    s.forward.contact_impedances = sensor->contact_impedances;
-    s.forward.current = sensor->current;
-  }
+  if (sensor) apply_fitted_sensor(*sensor, s.forward);
 }
 
 bool reduced_values(const ModelSetup& s, int L) {

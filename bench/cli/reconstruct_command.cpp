@@ -359,10 +359,7 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   forward.contact_impedance = s.data.contact_impedance;
   forward.current = s.data.current;
   forward.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(s.data));
-  if (sensor && sensor->fitted) {  // a file of a noise or press fit alone keeps the set's values
-    forward.contact_impedances = sensor->contact_impedances;
-    forward.current = sensor->current;
-  }
+  if (sensor) apply_fitted_sensor(*sensor, forward);
   const auto model = std::make_shared<const ForwardModel>(
       mesh, forward, args->mesh.file.empty() ? "mesh" : args->mesh.file);
   const auto problem =

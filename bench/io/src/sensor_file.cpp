@@ -6,6 +6,7 @@
 
 #include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/jacobian/forward_model.h"
 
 namespace eitbench {
 namespace {
@@ -204,6 +205,13 @@ SensorFile read_sensor_file(const std::string& path) {
   if (j.contains("press_fit")) s.press_fit = read_press_fit(j["press_fit"], path);
   if (j.contains("noise")) s.noise = read_noise(j["noise"], path);
   return s;
+}
+
+bool apply_fitted_sensor(const SensorFile& sensor, ForwardOptions& forward) {
+  if (!sensor.fitted) return false;
+  forward.contact_impedances = sensor.contact_impedances;
+  forward.current = sensor.current;
+  return true;
 }
 
 }  // namespace eitbench

@@ -7,7 +7,6 @@
 
 #include "eitbench/bench/data/sensor.h"
 #include "eitbench/bench/data/training_data.h"
-#include "eitbench/bench/io/atomic_file.h"
 #include "eitbench/bench/methods/model_file.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/methods/training_run.h"
@@ -109,14 +108,14 @@ StageCache::Keep kept_under_earlier_edge(const RunConfig& config, const Provenan
       return false;
     rule->second = budget_rule_text(budget, kRateLeftEdge);
     if (now != wanted || !fs::exists(model_path)) return false;
+    // The model file must be the one that record describes: a model trained again since (a sweep
+    // point killed between its training and its score) has the present rule in its own record,
+    // and the earlier point's figures are not its.
+    const Provenance own = model_provenance(model_path);
+    const auto own_rule = own.find("budget rule");
+    if (own_rule == own.end() || own_rule->second != budget_rule_text(budget, kEarlierRateLeftEdge))
+      return false;
     try {
-      // The model file must be the one that record describes: a model trained again since (a
-      // sweep point killed between its training and its score) has the present rule in its own
-      // record, and the earlier point's figures are not its.
-      const nlohmann::json own =
-          nlohmann::json::parse(read_file_bytes(model_path + ".provenance.json", 1 << 20));
-      if (own.at("provenance").at("budget rule") != budget_rule_text(budget, kEarlierRateLeftEdge))
-        return false;
       return decided_as_now(read_model_file(model_path), options);
     } catch (const std::exception&) {
       return false;  // unreadable: trained again

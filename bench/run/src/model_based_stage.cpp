@@ -42,11 +42,7 @@ Reconstruction set_up_reconstruction(const Context& context, const RunData& data
       throw InputError(context.config.sensor, "electrodes",
                        "calibrates " + std::to_string(calibrated.electrodes) +
                            " electrodes; the data have " + std::to_string(sensor.electrodes));
-    if (calibrated.fitted) {  // a file of a press fit alone keeps the data set's values
-      fo.contact_impedances = calibrated.contact_impedances;
-      fo.current = calibrated.current;
-      background = calibrated.background;
-    }
+    if (apply_fitted_sensor(calibrated, fo)) background = calibrated.background;
   }
   const auto model = std::make_shared<const ForwardModel>(r.mesh, fo);
   r.problem = std::make_shared<const LinearProblem>(make_linear_problem(model, background, r.grid));

@@ -36,7 +36,15 @@ void write_record(const fs::path& path, const nlohmann::json& record) {
   write_text_atomically(path.string(), [&](std::ostream& o) { o << record.dump() << '\n'; });
 }
 
+fs::path model_record(const std::string& model_path) {
+  return model_path + ".provenance.json";
+}
+
 }  // namespace
+
+Provenance model_provenance(const std::string& model_path) {
+  return read_provenance(read_record(model_record(model_path)));
+}
 
 StageCache::StageCache(fs::path folder, bool resume, Say say)
     : folder_(std::move(folder)), resume_(resume), say_(std::move(say)) {
@@ -78,10 +86,10 @@ void StageCache::save(const std::string& name, const Provenance& provenance,
 
 bool StageCache::claim_model(const std::string& label, const std::string& model_path,
                              const Provenance& wanted, const Keep& keep) const {
-  const fs::path record = model_path + ".provenance.json";
+  const fs::path record = model_record(model_path);
   const bool left = fs::exists(model_path) || fs::exists(checkpoint_path(model_path));
   if (resume_ && fs::exists(record)) {
-    const Provenance stored = read_provenance(read_record(record));
+    const Provenance stored = model_provenance(model_path);
     if (stored == wanted) return true;
     if (!stored.empty() && fs::exists(model_path) && !fs::exists(checkpoint_path(model_path)) &&
         keep && keep(stored)) {

@@ -12,6 +12,10 @@
 
 namespace eitbench::run {
 
+// The provenance recorded beside a trained model (<model>.provenance.json); empty when the
+// record is missing or unreadable.
+Provenance model_provenance(const std::string& model_path);
+
 class StageCache {
  public:
   using Say = std::function<void(const std::string&)>;

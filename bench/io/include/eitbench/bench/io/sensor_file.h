@@ -84,4 +84,10 @@ void write_sensor_file(const std::string& path, const SensorFile& sensor);
 // 256 electrodes, one impedance each) or a file that is not JSON.
 SensorFile read_sensor_file(const std::string& path);
 
+struct ForwardOptions;
+// A sensor fitted to a frame gives the forward model its contact impedances and current; true
+// then. A file of a press or noise fit alone (fitted false) holds nominal values, and the caller's
+// stay: false.
+bool apply_fitted_sensor(const SensorFile& sensor, ForwardOptions& forward);
+
 }  // namespace eitbench
