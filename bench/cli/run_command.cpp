@@ -209,7 +209,7 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
       ->group(group);
   cmd.add_option("--ktc-steps", k.learned.network.steps,
                  "with --ktc: each learned model's budget in optimiser steps (batch 64), before "
-                 "the doublings (--doublings, default 3 with --ktc)")
+                 "the doublings (--doublings, default 4 with --ktc)")
       ->capture_default_str()
       ->check(CLI::Range(1, 10000000))
       ->group(group);
@@ -393,7 +393,7 @@ std::function<void()> add_run_command(CLI::App& app) {
                   "after the budget, continue each learned model from its best over as many "
                   "steps again while the last doubling lowered its best validation loss by more "
                   "than --doubling-tolerance, at most this many times (default: the preset's; "
-                  "tiny and quick 0, standard and paper 3; docs/learned.md)")
+                  "tiny and quick 0, standard and paper 3, --ktc 4; docs/learned.md)")
       ->check(CLI::Range(0, 20));
   cmd->add_option("--doubling-tolerance", args->doubling_tolerance,
                   "the relative drop of the best validation loss a doubling must bring for another "
