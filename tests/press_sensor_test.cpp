@@ -228,5 +228,29 @@ TEST(SensorFilePressFit, OnlyAFittedSensorSetsTheForwardModel) {
   EXPECT_EQ(forward.contact_impedances, s.contact_impedances);
 }
 
+// A sensor file of another electrode count than the model it would calibrate is refused, naming
+// the file, the field and both counts; one of the same count reads as read_sensor_file reads it.
+TEST(SensorFilePressFit, AnotherElectrodeCountIsRefused) {
+  const auto dir = std::filesystem::temp_directory_path() / "eitbench_sensor_count_test";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "sensor.json").string();
+  SensorFile s;
+  s.electrodes = 16, s.background = 0.05;
+  s.contact_impedances = Eigen::VectorXd::Constant(16, 0.01);
+  write_sensor_file(path, s);
+  EXPECT_EQ(read_sensor_file(path, 16, "the mesh has").electrodes, 16);
+  EXPECT_EQ(testing::input_error_at([&] { read_sensor_file(path, 32, "the mesh has"); }),
+            path + ".electrodes");
+  try {
+    read_sensor_file(path, 32, "the data have");
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("calibrates 16 electrodes; the data have 32"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace eitbench

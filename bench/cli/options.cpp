@@ -191,12 +191,7 @@ void check_protocol_of(const ProtocolChoice& c, const MeasurementProtocol& data,
 
 std::optional<SensorFile> load_sensor(const std::string& path, int electrodes) {
   if (path.empty()) return std::nullopt;
-  SensorFile sensor = read_sensor_file(path);
-  if (sensor.electrodes != electrodes)
-    throw InputError(path, "electrodes",
-                     "calibrates " + std::to_string(sensor.electrodes) +
-                         " electrodes; the mesh has " + std::to_string(electrodes));
-  return sensor;
+  return read_sensor_file(path, electrodes, "the mesh has");
 }
 
 void apply_sensor(ModelSetup& s, const Mesh& mesh) {

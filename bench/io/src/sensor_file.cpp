@@ -207,6 +207,15 @@ SensorFile read_sensor_file(const std::string& path) {
   return s;
 }
 
+SensorFile read_sensor_file(const std::string& path, int electrodes, const std::string& whose) {
+  SensorFile sensor = read_sensor_file(path);
+  if (sensor.electrodes != electrodes)
+    throw InputError(path, "electrodes",
+                     "calibrates " + std::to_string(sensor.electrodes) + " electrodes; " + whose +
+                         " " + std::to_string(electrodes));
+  return sensor;
+}
+
 bool apply_fitted_sensor(const SensorFile& sensor, ForwardOptions& forward) {
   if (!sensor.fitted) return false;
   forward.contact_impedances = sensor.contact_impedances;

@@ -37,11 +37,8 @@ Reconstruction set_up_reconstruction(const Context& context, const RunData& data
   fo.protocol = std::make_shared<const MeasurementProtocol>(measurement_protocol(sensor));
   double background = sensor.background;
   if (!context.config.sensor.empty()) {  // a calibrated sensor replaces the data set's values
-    const SensorFile calibrated = read_sensor_file(context.config.sensor);
-    if (calibrated.electrodes != sensor.electrodes)
-      throw InputError(context.config.sensor, "electrodes",
-                       "calibrates " + std::to_string(calibrated.electrodes) +
-                           " electrodes; the data have " + std::to_string(sensor.electrodes));
+    const SensorFile calibrated =
+        read_sensor_file(context.config.sensor, sensor.electrodes, "the data have");
     if (apply_fitted_sensor(calibrated, fo)) background = calibrated.background;
   }
   const auto model = std::make_shared<const ForwardModel>(r.mesh, fo);

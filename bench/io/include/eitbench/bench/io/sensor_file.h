@@ -83,6 +83,10 @@ void write_sensor_file(const std::string& path, const SensorFile& sensor);
 // InputError naming the path and the field for a missing, mistyped or out-of-range field (at most
 // 256 electrodes, one impedance each) or a file that is not JSON.
 SensorFile read_sensor_file(const std::string& path);
+// read_sensor_file, refused unless it calibrates `electrodes` electrodes: InputError naming the
+// path and "electrodes", its message ending in `whose` ("the mesh has", "the data have") and the
+// count.
+SensorFile read_sensor_file(const std::string& path, int electrodes, const std::string& whose);
 
 struct ForwardOptions;
 // A sensor fitted to a frame gives the forward model its contact impedances and current; true
