@@ -4,6 +4,9 @@
 // cores must not change it.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "cli_fixture.h"
 #include "eitbench/jacobian/disk_mesh.h"
 #include "eitbench/learned/runtime.h"
@@ -56,14 +59,17 @@ class ThreadLayoutCli : public Cli {
 };
 
 // What a launcher may set (Slurm's OMP_NUM_THREADS, OpenBLAS's own count, OMP_DYNAMIC, a binding
-// to one core) changes neither the threads LibTorch trains with nor any figure.
+// to one core, the wait policy: the tests run passive) changes neither the threads LibTorch trains
+// with nor any figure.
 TEST_F(ThreadLayoutCli, TheLaunchersThreadSettingsChangeNoFigure) {
   ASSERT_EQ(run_under("EITBENCH_UNUSED=1", "plain").exit_code, 0);
   const auto plain = testing::results_without_timings(path("plain") + "/results.json");
   EXPECT_EQ(machine("plain")["torch_threads"], "2");
-  for (const char* const environment :
-       {"OMP_NUM_THREADS=1", "OPENBLAS_NUM_THREADS=1", "OMP_DYNAMIC=true"}) {
-    const std::string out = "env" + std::to_string(std::string(environment).size());
+  const std::vector<std::string> environments = {"OMP_NUM_THREADS=1", "OPENBLAS_NUM_THREADS=1",
+                                                 "OMP_DYNAMIC=true", "OMP_WAIT_POLICY=active"};
+  for (std::size_t k = 0; k < environments.size(); ++k) {
+    const std::string& environment = environments[k];
+    const std::string out = "env" + std::to_string(k);
     const Result r = run_under(environment, out);
     ASSERT_EQ(r.exit_code, 0) << environment << "\n" << r.output;
     EXPECT_EQ(testing::results_without_timings(path(out) + "/results.json"), plain) << environment;
