@@ -1,10 +1,10 @@
 #include "eitbench/solvers/tikhonov.h"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
 #include <cmath>
 #include <stdexcept>
 
+#include "dense_lapack.h"
 #include "eitbench/jacobian/error.h"
 #include "neighbour_graphs.h"
 
@@ -117,11 +117,11 @@ Tikhonov::Tikhonov(std::shared_ptr<const LinearProblem> shared, const TikhonovOp
       break;
     }
   }
-  const Eigen::MatrixXd G = A * B;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (G + G.transpose()));
-  g_ = eig.eigenvalues().cwiseMax(0.0);
-  U_ = eig.eigenvectors();
-  C_ = B * U_;
+  const Eigen::MatrixXd G = detail::product(A, B);
+  detail::SymmetricEigen eig = detail::symmetric_eigen(0.5 * (G + G.transpose()));
+  g_ = eig.values.cwiseMax(0.0);
+  U_ = std::move(eig.vectors);
+  C_ = detail::product(B, U_);
   factored_ = static_cast<double>(C_.rows()) * C_.cols() * C_.cols() > kFormLimit;
   const double scale = g_.sum() / static_cast<double>(g_.size());
   for (int k = 0; k < options.grid; ++k)

@@ -2,10 +2,10 @@
 
 #include <tbb/parallel_invoke.h>
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdio>
 
+#include "dense_lapack.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/solvers/tikhonov.h"
 #include "tv_gradient.h"
@@ -125,12 +125,12 @@ TotalVariation::TotalVariation(std::shared_ptr<const LinearProblem> shared,
   impl_->gradient = options.neighbours == Neighbours::elements
                         ? detail::TvGradient::elements(problem, sensitivity)
                         : detail::TvGradient::pixels(problem, sensitivity);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(problem.A * problem.A.transpose());
+  const detail::SymmetricEigen eig =
+      detail::symmetric_eigen(detail::product(problem.A, problem.A.transpose()));
   // Eigenvalues ascend: the rank largest are the last columns.
-  const Eigen::Index rank =
-      (eig.eigenvalues().array() > 1e-10 * eig.eigenvalues().maxCoeff()).count();
-  impl_->g = eig.eigenvalues().tail(rank);
-  impl_->Bt = (problem.A.transpose() * eig.eigenvectors().rightCols(rank)).cast<float>();
+  const Eigen::Index rank = (eig.values.array() > 1e-10 * eig.values.maxCoeff()).count();
+  impl_->g = eig.values.tail(rank);
+  impl_->Bt = detail::product(problem.A.transpose(), eig.vectors.rightCols(rank)).cast<float>();
   impl_->At = problem.A.transpose().cast<float>();
   impl_->kappa = problem.A.norm();
 

@@ -1,0 +1,83 @@
+// The Tikhonov family's and TV's dense linear algebra (solvers/src/dense_lapack.h): LAPACK's
+// eigendecomposition against Eigen's and against its own definition, and the same bits whatever
+// the calling thread's OpenMP thread count.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <Eigen/Eigenvalues>
+#include <random>
+
+#include "dense_lapack.h"  // solvers/src
+
+namespace eitbench {
+namespace {
+
+Eigen::MatrixXd random_matrix(int rows, int cols, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd m(rows, cols);
+  for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = normal(rng);
+  return m;
+}
+
+// G = A A^T of a tall A: positive semi-definite, with a null space, as the Tikhonov family's G.
+Eigen::MatrixXd gram(int n, int rank, unsigned seed) {
+  const Eigen::MatrixXd a = random_matrix(n, rank, seed);
+  return a * a.transpose();
+}
+
+TEST(DenseLapack, TheProductIsEigensProduct) {
+  const Eigen::MatrixXd a = random_matrix(70, 40, 1), b = random_matrix(40, 90, 2);
+  const Eigen::MatrixXd c = detail::product(a, b);
+  EXPECT_LE((c - a * b).norm(), 1e-13 * (a * b).norm());
+  EXPECT_EQ(detail::product(Eigen::MatrixXd(3, 0), Eigen::MatrixXd(0, 4)),
+            Eigen::MatrixXd::Zero(3, 4));
+  EXPECT_THROW(detail::product(a, a), std::invalid_argument);
+}
+
+// Eigenpairs by definition (G V = V diag(w), V orthonormal, w ascending), and Eigen's solver's
+// eigenvalues and sign-fixed eigenvectors, where an eigenvalue is apart from its neighbours.
+TEST(DenseLapack, TheEigendecompositionIsGsAndEigensUpToRounding) {
+  const int n = 300;
+  const Eigen::MatrixXd G = gram(n, 200, 3);
+  const detail::SymmetricEigen e = detail::symmetric_eigen(G);
+  ASSERT_EQ(e.values.size(), n);
+  for (int k = 1; k < n; ++k) EXPECT_LE(e.values[k - 1], e.values[k]);
+  EXPECT_LE((G * e.vectors - e.vectors * e.values.asDiagonal()).norm(), 1e-12 * G.norm());
+  EXPECT_LE((e.vectors.transpose() * e.vectors - Eigen::MatrixXd::Identity(n, n)).norm(), 1e-12);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(G);
+  EXPECT_LE((e.values - eigen.eigenvalues()).cwiseAbs().maxCoeff(), 1e-11 * e.values.maxCoeff());
+  int compared = 0;
+  for (int k = n - 150; k < n - 1; ++k) {  // the range's eigenvalues, each apart from the next
+    if (e.values[k + 1] - e.values[k] < 1e-3 * e.values[n - 1]) continue;
+    Eigen::VectorXd v = eigen.eigenvectors().col(k);
+    Eigen::Index at = 0;
+    v.cwiseAbs().maxCoeff(&at);
+    if (v[at] < 0) v = -v;
+    EXPECT_LE((e.vectors.col(k) - v).norm(), 1e-8) << k;
+    EXPECT_GT(e.vectors.col(k).maxCoeff(), -e.vectors.col(k).minCoeff()) << k;
+    ++compared;
+  }
+  EXPECT_GT(compared, 50);
+}
+
+// OpenBLAS would split the calls over the calling thread's OpenMP threads, and the
+// eigendecomposition's rounding then depends on their count: the calls keep to one.
+TEST(DenseLapack, TheCallingThreadsOpenMpThreadsChangeNoBit) {
+  const Eigen::MatrixXd G = gram(600, 500, 4), b = random_matrix(600, 300, 5);
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const detail::SymmetricEigen one = detail::symmetric_eigen(G);
+  const Eigen::MatrixXd one_product = detail::product(G, b);
+  omp_set_num_threads(4);
+  const detail::SymmetricEigen four = detail::symmetric_eigen(G);
+  const Eigen::MatrixXd four_product = detail::product(G, b);
+  EXPECT_EQ(omp_get_max_threads(), 4);  // the caller's setting is given back
+  omp_set_num_threads(before);
+  EXPECT_TRUE(one.values == four.values);
+  EXPECT_TRUE(one.vectors == four.vectors);
+  EXPECT_TRUE(one_product == four_product);
+}
+
+}  // namespace
+}  // namespace eitbench
