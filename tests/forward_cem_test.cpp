@@ -129,6 +129,33 @@ TEST(ForwardModel, OverflowIsANumericalErrorAndSpoilsNoLaterSolve) {
             ForwardModel(mesh).solve(sigma).electrode_potentials);
 }
 
+// A model moved to other contact impedances is the model built with them, bit for bit (frames,
+// a protocol of its own, the Jacobian), and leaves the one it came from as it was.
+TEST(ForwardModel, OtherContactImpedancesGiveTheModelBuiltWithThem) {
+  const Mesh& mesh = testing::disk(16, MeshDensity::coarse);
+  ForwardOptions options;
+  options.current = 0.8;
+  options.protocol = std::make_shared<const MeasurementProtocol>(opposite_protocol(16));
+  const ForwardModel base(mesh, options);
+  const Eigen::VectorXd sigma = contrast_1e4(mesh.num_triangles(), 3);
+  const Eigen::VectorXd before = base.measured(sigma);
+  const Eigen::VectorXd z = shuffled_impedances(16, 5);
+  options.contact_impedances = z;
+  const ForwardModel built(mesh, options);
+  const ForwardModel moved = base.with_contact_impedances(z);
+  EXPECT_EQ(moved.measured(sigma), built.measured(sigma));
+  EXPECT_EQ(moved.jacobian(sigma), built.jacobian(sigma));
+  EXPECT_EQ(moved.options().contact_impedances, z);
+  EXPECT_NE(moved.measured(sigma), before);  // the impedances do change the frame
+  EXPECT_EQ(base.measured(sigma), before);
+  EXPECT_EQ(testing::input_error_at([&] { base.with_contact_impedances(z.head(15)); }),
+            "ForwardOptions.contact_impedances");
+  Eigen::VectorXd negative = z;
+  negative[3] = -0.01;
+  EXPECT_EQ(testing::input_error_at([&] { base.with_contact_impedances(negative); }),
+            "ForwardOptions.contact_impedances");
+}
+
 INSTANTIATE_TEST_SUITE_P(ForwardModel, ElectrodeCount, ::testing::Values(8, 16, 32),
                          [](const auto& info) {
                            return std::to_string(info.param) + "electrodes";

@@ -332,6 +332,30 @@ ForwardModel::ForwardModel(const Mesh& mesh, const ForwardOptions& options,
   }
 }
 
+ForwardModel::ForwardModel(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+ForwardModel ForwardModel::with_contact_impedances(const Eigen::VectorXd& z) const {
+  const Impl& from = *impl_;
+  const int L = from.mesh.num_electrodes();
+  if (z.size() != L)
+    throw InputError("ForwardOptions", "contact_impedances",
+                     "needs one value per electrode (" + std::to_string(L) + ")");
+  ForwardOptions options = from.options;
+  options.contact_impedances = z;
+  options.validate();
+  auto impl = std::make_unique<Impl>(from.mesh, options);
+  Impl& to = *impl;
+  to.z = z;
+  to.dofs = from.dofs;
+  to.area = from.area, to.grad = from.grad, to.stiffness = from.stiffness;
+  to.scatter = from.scatter, to.col_ptr = from.col_ptr, to.row_idx = from.row_idx;
+  to.rhs = from.rhs;
+  to.electrode_blocks();  // the one part that depends on z; the pattern does not
+  to.symbolic = cholmod_copy_factor(from.symbolic, to.analysis_common.get());
+  if (!to.symbolic) throw std::runtime_error("CHOLMOD: out of memory");
+  return ForwardModel(std::move(impl));
+}
+
 ForwardModel::~ForwardModel() = default;
 ForwardModel::ForwardModel(ForwardModel&&) noexcept = default;
 ForwardModel& ForwardModel::operator=(ForwardModel&&) noexcept = default;

@@ -23,22 +23,20 @@ namespace {
 // The model's frame for p = [log sigma_0, log z_1, ..., log z_L], relative to the reference, on
 // the reference's finite values.
 struct FrameMisfit {
-  const Mesh& mesh;
-  ForwardOptions forward;
+  const ForwardModel& base;  // the start's model: each evaluation changes its impedances alone
   const Eigen::VectorXd& reference;
   std::function<Eigen::VectorXd(const ForwardModel&, const Eigen::VectorXd&)> frame;
   std::vector<int> used;  // the reference's finite values
   double scale;           // 1 / ||reference||
 
   bool operator()(double const* const* parameters, double* residuals) const {
-    const int L = mesh.num_electrodes();
+    const int L = base.mesh().num_electrodes();
     const double* p = parameters[0];
-    ForwardOptions o = forward;
-    o.contact_impedances.resize(L);
-    for (int e = 0; e < L; ++e) o.contact_impedances[e] = std::exp(p[1 + e]);
-    const ForwardModel model(mesh, o);
+    Eigen::VectorXd z(L);
+    for (int e = 0; e < L; ++e) z[e] = std::exp(p[1 + e]);
+    const ForwardModel model = base.with_contact_impedances(z);
     const Eigen::VectorXd v =
-        frame(model, Eigen::VectorXd::Constant(mesh.num_triangles(), std::exp(p[0])));
+        frame(model, Eigen::VectorXd::Constant(base.mesh().num_triangles(), std::exp(p[0])));
     bool finite = true;
     for (std::size_t i = 0; i < used.size(); ++i) {
       residuals[i] = (v[used[i]] - reference[used[i]]) * scale;
@@ -67,9 +65,9 @@ Calibration fit(const Mesh& mesh, const ForwardOptions& forward, double backgrou
     p[1 + e] = std::log(forward.contact_impedances.size() == L ? forward.contact_impedances[e]
                                                                : forward.contact_impedance);
   const int residuals = static_cast<int>(used.size());
-  auto* cost =
-      new ceres::DynamicNumericDiffCostFunction<FrameMisfit, ceres::CENTRAL>(new FrameMisfit{
-          mesh, forward, reference, std::move(frame), std::move(used), 1 / std::sqrt(norm2)});
+  const ForwardModel base(mesh, forward);
+  auto* cost = new ceres::DynamicNumericDiffCostFunction<FrameMisfit, ceres::CENTRAL>(
+      new FrameMisfit{base, reference, std::move(frame), std::move(used), 1 / std::sqrt(norm2)});
   cost->AddParameterBlock(L + 1);
   cost->SetNumResiduals(residuals);
   ceres::Problem problem;

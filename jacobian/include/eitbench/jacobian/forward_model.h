@@ -48,6 +48,12 @@ class ForwardModel {
   const MeasurementProtocol& measurement_protocol() const;
   const ForwardOptions& options() const;
 
+  // This model with other contact impedances (one an electrode, each positive and finite:
+  // InputError otherwise): the same frames as a ForwardModel built with them, bit for bit,
+  // without checking the mesh or analysing the pattern again. A calibration builds one a
+  // parameter of every Jacobian it takes.
+  ForwardModel with_contact_impedances(const Eigen::VectorXd& contact_impedances) const;
+
   // Solves all drives; sigma has one positive, finite value per triangle (InputError otherwise).
   ForwardSolution solve(const Eigen::VectorXd& sigma) const;
 
@@ -106,6 +112,7 @@ class ForwardModel {
 
  private:
   struct Impl;
+  explicit ForwardModel(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
 
