@@ -185,7 +185,9 @@ Eigen::VectorXd randomised_change(const ForwardModel& nominal, const Eigen::Vect
         z = forward.contact_impedance *
             std::exp(rng.uniform(-v.impedance_spread, v.impedance_spread));
     }
-    const ForwardModel model(own_mesh, own);
+    // Impedances alone: the nominal model's checks, pattern and analysis serve (the same bits).
+    const ForwardModel model = shifted ? ForwardModel(own_mesh, own)
+                                       : nominal.with_contact_impedances(own.contact_impedances);
     const Eigen::VectorXd own_sigma =
         shifted ? conductivity_from_circles(own_mesh, circles, background) : sigma;
     change = model.measured(own_sigma) -
