@@ -1,10 +1,12 @@
-// The Tikhonov family's and TV's dense linear algebra (solvers/src/dense_lapack.h): LAPACK's
-// eigendecomposition against Eigen's and against its own definition, and the same bits whatever
-// the calling thread's OpenMP thread count.
+// The Tikhonov family's, TV's and Gauss-Newton's dense linear algebra (solvers/src/dense_lapack.h):
+// LAPACK's eigendecomposition against Eigen's and against its own definition, the rank update and
+// the Cholesky solve against their definitions, and the same bits whatever the calling thread's
+// OpenMP thread count.
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include <Eigen/Eigenvalues>
+#include <cmath>
 #include <random>
 
 #include "dense_lapack.h"  // solvers/src
@@ -61,6 +63,39 @@ TEST(DenseLapack, TheEigendecompositionIsGsAndEigensUpToRounding) {
   EXPECT_GT(compared, 50);
 }
 
+// shift I + a a^T in the lower triangle, nothing above it.
+TEST(DenseLapack, TheLowerGramIsTheShiftedProductsLowerTriangle) {
+  const Eigen::MatrixXd a = random_matrix(80, 50, 6);
+  const Eigen::MatrixXd expected = 2.5 * Eigen::MatrixXd::Identity(80, 80) + a * a.transpose();
+  const Eigen::MatrixXd c = detail::lower_gram(a, 2.5);
+  ASSERT_EQ(c.rows(), 80);
+  ASSERT_EQ(c.cols(), 80);
+  const Eigen::MatrixXd lower = expected.triangularView<Eigen::Lower>();
+  EXPECT_LE((c - lower).norm(), 1e-13 * expected.norm());
+  EXPECT_TRUE(c.triangularView<Eigen::StrictlyUpper>().toDenseMatrix().isZero(0));
+  EXPECT_EQ(detail::lower_gram(Eigen::MatrixXd(3, 0), 1), Eigen::MatrixXd::Identity(3, 3));
+}
+
+// s x = b to rounding from s's lower triangle alone (the upper one is garbage here); nothing for
+// an indefinite or non-finite s.
+TEST(DenseLapack, TheCholeskySolveSolvesAndRefusesWhatIsNotPositiveDefinite) {
+  const int n = 120;
+  Eigen::MatrixXd s = detail::lower_gram(random_matrix(n, 60, 7), 1);
+  const Eigen::MatrixXd full = s.selfadjointView<Eigen::Lower>();
+  s.triangularView<Eigen::StrictlyUpper>().setConstant(1e3);
+  const Eigen::VectorXd b = random_matrix(n, 1, 8);
+  const auto x = detail::cholesky_solve(s, b);
+  ASSERT_TRUE(x.has_value());
+  EXPECT_LE((full * *x - b).norm(), 1e-12 * b.norm());
+  Eigen::MatrixXd indefinite = s;
+  indefinite(n / 2, n / 2) = -1e4;
+  EXPECT_FALSE(detail::cholesky_solve(indefinite, b).has_value());
+  Eigen::MatrixXd not_finite = s;
+  not_finite(n - 1, 3) = std::nan("");
+  EXPECT_FALSE(detail::cholesky_solve(not_finite, b).has_value());
+  EXPECT_THROW(detail::cholesky_solve(s, Eigen::VectorXd::Ones(n - 1)), std::invalid_argument);
+}
+
 // OpenBLAS would split the calls over the calling thread's OpenMP threads, and the
 // eigendecomposition's rounding then depends on their count: the calls keep to one.
 TEST(DenseLapack, TheCallingThreadsOpenMpThreadsChangeNoBit) {
@@ -69,14 +104,21 @@ TEST(DenseLapack, TheCallingThreadsOpenMpThreadsChangeNoBit) {
   omp_set_num_threads(1);
   const detail::SymmetricEigen one = detail::symmetric_eigen(G);
   const Eigen::MatrixXd one_product = detail::product(G, b);
+  const Eigen::MatrixXd one_gram = detail::lower_gram(b, 1);
+  const auto one_solve = detail::cholesky_solve(one_gram, b.col(0));
   omp_set_num_threads(4);
   const detail::SymmetricEigen four = detail::symmetric_eigen(G);
   const Eigen::MatrixXd four_product = detail::product(G, b);
+  const Eigen::MatrixXd four_gram = detail::lower_gram(b, 1);
+  const auto four_solve = detail::cholesky_solve(four_gram, b.col(0));
   EXPECT_EQ(omp_get_max_threads(), 4);  // the caller's setting is given back
   omp_set_num_threads(before);
   EXPECT_TRUE(one.values == four.values);
   EXPECT_TRUE(one.vectors == four.vectors);
   EXPECT_TRUE(one_product == four_product);
+  EXPECT_TRUE(one_gram == four_gram);
+  ASSERT_TRUE(one_solve && four_solve);
+  EXPECT_TRUE(*one_solve == *four_solve);
 }
 
 }  // namespace

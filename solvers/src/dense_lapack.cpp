@@ -1,5 +1,6 @@
 #include "dense_lapack.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <limits>
 #include <stdexcept>
@@ -20,6 +21,13 @@ void dgemm_(const char* transa, const char* transb, const int* m, const int* n, 
 void dsyevd_(const char* jobz, const char* uplo, const int* n, double* a, const int* lda, double* w,
              double* work, const int* lwork, int* iwork, const int* liwork, int* info,
              std::size_t jobz_length, std::size_t uplo_length);
+void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+            const double* a, const int* lda, const double* beta, double* c, const int* ldc,
+            std::size_t uplo_length, std::size_t trans_length);
+void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info,
+             std::size_t uplo_length);
+void dpotrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda,
+             double* b, const int* ldb, int* info, std::size_t uplo_length);
 }
 #endif
 
@@ -107,6 +115,43 @@ SymmetricEigen symmetric_eigen(Eigen::MatrixXd a) {
 #endif
   orient_columns(e.vectors);
   return e;
+}
+
+Eigen::MatrixXd lower_gram(const Eigen::MatrixXd& a, double shift) {
+  Eigen::MatrixXd c = shift * Eigen::MatrixXd::Identity(a.rows(), a.rows());
+#ifdef EITBENCH_WITH_LAPACK
+  if (c.size() == 0 || a.cols() == 0) return c;
+  const int n = fortran_size(a.rows()), k = fortran_size(a.cols());
+  const double one = 1;
+  const OneBlasThread one_thread;
+  dsyrk_("L", "N", &n, &k, &one, a.data(), &n, &one, c.data(), &n, 1, 1);
+#else
+  c.selfadjointView<Eigen::Lower>().rankUpdate(a);
+#endif
+  return c;
+}
+
+std::optional<Eigen::VectorXd> cholesky_solve(Eigen::MatrixXd s, const Eigen::VectorXd& b) {
+  if (s.rows() != s.cols() || s.rows() != b.size())
+    throw std::invalid_argument("cholesky_solve: the sizes do not match");
+  if (!b.allFinite()) return {};
+  for (Eigen::Index j = 0; j < s.cols(); ++j)
+    if (!s.col(j).tail(s.rows() - j).allFinite()) return {};
+#ifdef EITBENCH_WITH_LAPACK
+  Eigen::VectorXd x = b;
+  if (x.size() == 0) return x;
+  const int n = fortran_size(s.rows()), nrhs = 1;
+  int info = 0;
+  const OneBlasThread one_thread;
+  dpotrf_("L", &n, s.data(), &n, &info, 1);
+  if (info != 0) return {};
+  dpotrs_("L", &n, &nrhs, s.data(), &n, x.data(), &n, &info, 1);
+  return x;
+#else
+  const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(s);
+  if (llt.info() != Eigen::Success) return {};
+  return llt.solve(b).eval();
+#endif
 }
 
 }  // namespace eitbench::detail

@@ -126,7 +126,7 @@ TotalVariation::TotalVariation(std::shared_ptr<const LinearProblem> shared,
                         ? detail::TvGradient::elements(problem, sensitivity)
                         : detail::TvGradient::pixels(problem, sensitivity);
   const detail::SymmetricEigen eig =
-      detail::symmetric_eigen(detail::product(problem.A, problem.A.transpose()));
+      detail::symmetric_eigen(detail::lower_gram(problem.A));  // A A^T's lower triangle
   // Eigenvalues ascend: the rank largest are the last columns.
   const Eigen::Index rank = (eig.values.array() > 1e-10 * eig.values.maxCoeff()).count();
   impl_->g = eig.values.tail(rank);
