@@ -11,6 +11,7 @@
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/report/figures.h"
 #include "eitbench/bench/support/allocator.h"
+#include "eitbench/bench/support/blas_kernels.h"
 #include "eitbench/bench/support/version.h"
 #include "eitbench/jacobian/disk_mesh.h"
 #include "eitbench/jacobian/error.h"
@@ -19,6 +20,7 @@
 #include "world.h"
 
 int main(int argc, char** argv) {
+  eitbench::use_the_cpus_blas_kernels(argv);  // may run the program again, before anything else
   eitbench::keep_freed_memory();
   eitbench::cli::join_world(argc, argv);  // under mpirun: this rank's place (docs/scaling.md)
   CLI::App app{
@@ -27,11 +29,14 @@ int main(int argc, char** argv) {
     // What this build can do: the optional parts (docs/gpu.md) and where training runs.
     const auto& methods = eitbench::method_names();
     const bool shape = std::find(methods.begin(), methods.end(), "shape") != methods.end();
-    return fmt::format("{}\nGmsh meshing: {}; PNG figures: {}; shape fit (Ceres): {}; MPI: {}; {}",
-                       eitbench::program_version(),
-                       eitbench::can_generate_disk_mesh() ? "yes" : "no (EITBENCH_MESH_DIR)",
-                       eitbench::can_draw_figures() ? "yes" : "no", shape ? "yes" : "no",
-                       eitbench::cli::built_with_mpi() ? "yes" : "no", eitbench::torch_runtime());
+    return fmt::format(
+        "{}\nGmsh meshing: {}; PNG figures: {}; shape fit (Ceres): {}; MPI: {}; "
+        "BLAS kernels: {}; {}",
+        eitbench::program_version(),
+        eitbench::can_generate_disk_mesh() ? "yes" : "no (EITBENCH_MESH_DIR)",
+        eitbench::can_draw_figures() ? "yes" : "no", shape ? "yes" : "no",
+        eitbench::cli::built_with_mpi() ? "yes" : "no", eitbench::blas_kernels(),
+        eitbench::torch_runtime());
   });
   app.require_subcommand(1);
   std::map<CLI::App*, std::function<void()>> actions;
