@@ -4,7 +4,6 @@
 #include <fstream>
 #include <thread>
 
-#include "eitbench/bench/support/blas_kernels.h"
 #include "eitbench/learned/runtime.h"
 
 namespace eitbench {
@@ -37,7 +36,6 @@ std::map<std::string, std::string> describe_machine() {
   const auto blas =
       std::filesystem::canonical("/usr/lib/x86_64-linux-gnu/libblas.so.3", error).string();
   m["blas"] = error ? "unknown" : blas;
-  m["blas_kernels"] = blas_kernels();
   m["torch_threads"] = std::to_string(torch_threads());
   m["thread_layout"] = thread_layout().describe();
   m["gpu"] = cuda_available() ? "cuda" : "none";

@@ -1,5 +1,5 @@
 #pragma once
-// What a figure was measured on: CPU, cores, memory, operating system, BLAS and its kernels, LibTorch's threads
+// What a figure was measured on: CPU, cores, memory, operating system, BLAS, LibTorch's threads
 // and whether a GPU was usable.
 #include <map>
 #include <string>
