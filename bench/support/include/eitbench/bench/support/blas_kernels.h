@@ -1,8 +1,8 @@
 #pragma once
 // OpenBLAS's kernels for the CPU it runs on. The OpenBLAS of Debian 12 (0.3.21) picks them by the
-// CPU's model number and, for a model it does not know (every Xeon since 2023, such as the 2-core
-// Intel Xeon of docs/building.md, model 207), falls back to its SSE3 "Prescott" kernels, although
-// the CPU has AVX2 and AVX-512. It reads OPENBLAS_CORETYPE once, as it loads, before main().
+// CPU's model number and, for a model newer than it (such as the 2-core Intel Xeon of
+// docs/building.md, family 6 model 207), falls back to its SSE3 "Prescott" kernels, although the
+// CPU has AVX2 and AVX-512. It reads OPENBLAS_CORETYPE once, as it loads, before main().
 // Measured there: a KTC frame's Gauss-Newton reconstruction 14.1 s with the fallback, 5.6 s with
 // the SkylakeX kernels (docs/building.md).
 #include <string>
