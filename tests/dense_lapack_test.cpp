@@ -1,7 +1,7 @@
-// The Tikhonov family's, TV's and Gauss-Newton's dense linear algebra (solvers/src/dense_lapack.h):
-// LAPACK's eigendecomposition against Eigen's and against its own definition, the rank update and
-// the Cholesky solve against their definitions, and the same bits whatever the calling thread's
-// OpenMP thread count.
+// The Tikhonov family's, TV's, GREIT's and Gauss-Newton's dense linear algebra
+// (solvers/src/dense_lapack.h): LAPACK's eigendecomposition against Eigen's and against its own
+// definition, the rank update and the Cholesky solve against their definitions, and the same bits
+// whatever the calling thread's OpenMP thread count.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -94,6 +94,16 @@ TEST(DenseLapack, TheCholeskySolveSolvesAndRefusesWhatIsNotPositiveDefinite) {
   not_finite(n - 1, 3) = std::nan("");
   EXPECT_FALSE(detail::cholesky_solve(not_finite, b).has_value());
   EXPECT_THROW(detail::cholesky_solve(s, Eigen::VectorXd::Ones(n - 1)), std::invalid_argument);
+  // Many right-hand sides, one factorisation (GREIT's): each column solved, the same refusals.
+  const Eigen::MatrixXd B = random_matrix(n, 5, 9);
+  const auto X = detail::cholesky_solve_columns(s, B);
+  ASSERT_TRUE(X.has_value());
+  ASSERT_EQ(X->cols(), 5);
+  for (int k = 0; k < 5; ++k)
+    EXPECT_LE((full * X->col(k) - B.col(k)).norm(), 1e-12 * B.col(k).norm()) << k;
+  EXPECT_FALSE(detail::cholesky_solve_columns(indefinite, B).has_value());
+  EXPECT_FALSE(detail::cholesky_solve_columns(not_finite, B).has_value());
+  EXPECT_THROW(detail::cholesky_solve_columns(s, B.topRows(n - 1)), std::invalid_argument);
 }
 
 // OpenBLAS would split the calls over the calling thread's OpenMP threads, and the
@@ -106,11 +116,13 @@ TEST(DenseLapack, TheCallingThreadsOpenMpThreadsChangeNoBit) {
   const Eigen::MatrixXd one_product = detail::product(G, b);
   const Eigen::MatrixXd one_gram = detail::lower_gram(b, 1);
   const auto one_solve = detail::cholesky_solve(one_gram, b.col(0));
+  const auto one_columns = detail::cholesky_solve_columns(one_gram, b);
   omp_set_num_threads(4);
   const detail::SymmetricEigen four = detail::symmetric_eigen(G);
   const Eigen::MatrixXd four_product = detail::product(G, b);
   const Eigen::MatrixXd four_gram = detail::lower_gram(b, 1);
   const auto four_solve = detail::cholesky_solve(four_gram, b.col(0));
+  const auto four_columns = detail::cholesky_solve_columns(four_gram, b);
   EXPECT_EQ(omp_get_max_threads(), 4);  // the caller's setting is given back
   omp_set_num_threads(before);
   EXPECT_TRUE(one.values == four.values);
@@ -119,6 +131,8 @@ TEST(DenseLapack, TheCallingThreadsOpenMpThreadsChangeNoBit) {
   EXPECT_TRUE(one_gram == four_gram);
   ASSERT_TRUE(one_solve && four_solve);
   EXPECT_TRUE(*one_solve == *four_solve);
+  ASSERT_TRUE(one_columns && four_columns);
+  EXPECT_TRUE(*one_columns == *four_columns);
 }
 
 }  // namespace

@@ -131,27 +131,32 @@ Eigen::MatrixXd lower_gram(const Eigen::MatrixXd& a, double shift) {
   return c;
 }
 
-std::optional<Eigen::VectorXd> cholesky_solve(Eigen::MatrixXd s, const Eigen::VectorXd& b) {
-  if (s.rows() != s.cols() || s.rows() != b.size())
+std::optional<Eigen::MatrixXd> cholesky_solve_columns(Eigen::MatrixXd s, Eigen::MatrixXd b) {
+  if (s.rows() != s.cols() || s.rows() != b.rows())
     throw std::invalid_argument("cholesky_solve: the sizes do not match");
   if (!b.allFinite()) return {};
   for (Eigen::Index j = 0; j < s.cols(); ++j)
     if (!s.col(j).tail(s.rows() - j).allFinite()) return {};
 #ifdef EITBENCH_WITH_LAPACK
-  Eigen::VectorXd x = b;
-  if (x.size() == 0) return x;
-  const int n = fortran_size(s.rows()), nrhs = 1;
+  if (b.size() == 0) return b;
+  const int n = fortran_size(s.rows()), nrhs = fortran_size(b.cols());
   int info = 0;
   const OneBlasThread one_thread;
   dpotrf_("L", &n, s.data(), &n, &info, 1);
   if (info != 0) return {};
-  dpotrs_("L", &n, &nrhs, s.data(), &n, x.data(), &n, &info, 1);
-  return x;
+  dpotrs_("L", &n, &nrhs, s.data(), &n, b.data(), &n, &info, 1);
+  return b;
 #else
   const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(s);
   if (llt.info() != Eigen::Success) return {};
   return llt.solve(b).eval();
 #endif
+}
+
+std::optional<Eigen::VectorXd> cholesky_solve(Eigen::MatrixXd s, const Eigen::VectorXd& b) {
+  std::optional<Eigen::MatrixXd> x = cholesky_solve_columns(std::move(s), Eigen::MatrixXd(b));
+  if (!x) return {};
+  return Eigen::VectorXd(x->col(0));
 }
 
 }  // namespace eitbench::detail

@@ -1,9 +1,9 @@
 #pragma once
 // The dense products, symmetric eigendecompositions and Cholesky solves that build the Tikhonov
-// family and TV and take Gauss-Newton's steps, through the system's BLAS and LAPACK where the build
-// found them (EITBENCH_WITH_LAPACK), else through Eigen. On KTC's 2,356-value frame (2-core Intel
-// Xeon) LAPACK's divide and conquer took 1.7 s where Eigen's QR iteration took 7.6 s, and
-// OpenBLAS's product 0.45 s against 2.3 s.
+// family, TV and GREIT and take Gauss-Newton's steps, through the system's BLAS and LAPACK where
+// the build found them (EITBENCH_WITH_LAPACK), else through Eigen. On KTC's 2,356-value frame
+// (2-core Intel Xeon) LAPACK's divide and conquer took 1.7 s where Eigen's QR iteration took 7.6 s,
+// and OpenBLAS's product 0.45 s against 2.3 s.
 //
 // Each call runs on one thread: OpenBLAS (its OpenMP build, the one scripts/install.sh sets up)
 // splits a call over the calling thread's OpenMP threads, and the eigendecomposition's
@@ -33,5 +33,7 @@ Eigen::MatrixXd lower_gram(const Eigen::MatrixXd& a, double shift = 0);
 // s^-1 b for a symmetric positive definite s, by its Cholesky factor; only s's lower triangle is
 // read. Empty where s is not positive definite to working precision (or not finite).
 std::optional<Eigen::VectorXd> cholesky_solve(Eigen::MatrixXd s, const Eigen::VectorXd& b);
+// The same for every column of b at once (one factorisation).
+std::optional<Eigen::MatrixXd> cholesky_solve_columns(Eigen::MatrixXd s, Eigen::MatrixXd b);
 
 }  // namespace eitbench::detail

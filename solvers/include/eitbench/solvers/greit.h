@@ -50,7 +50,10 @@ class Greit : public Reconstructor {
  private:
   std::shared_ptr<const LinearProblem> problem_;  // never null
   GreitOptions options_;
-  Eigen::MatrixXd DYt_, YYt_, N_;  // the training products, kept to change lambda
+  // The training products, kept to change lambda: Y D^T, the lower triangle of Y Y^T (its strict
+  // upper triangle zero) and the noise N, diag(Y Y^T).
+  Eigen::MatrixXd YDt_, YYt_;
+  Eigen::VectorXd N_;
   double lambda_;
   std::string how_ = "default";
   Eigen::MatrixXf R_;  // n x m
