@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -18,6 +19,15 @@
 
 namespace eitbench {
 namespace fs = std::filesystem;
+
+// The bad-input corpus (tests/bad_inputs): files every command must refuse.
+inline const std::string kCorpus = EITBENCH_BAD_INPUTS;
+
+// A file's bytes; empty when it cannot be read.
+inline std::string file_text(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 struct Result {
   int exit_code;

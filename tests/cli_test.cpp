@@ -19,7 +19,6 @@ namespace eitbench {
 namespace {
 namespace fs = std::filesystem;
 
-const std::string kCorpus = EITBENCH_BAD_INPUTS;
 const std::string kSquare = kCorpus + "/../square_points.msh";
 
 TEST_F(Cli, MeshWritesGmshAndPng) {

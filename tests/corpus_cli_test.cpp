@@ -7,8 +7,6 @@
 namespace eitbench {
 namespace {
 
-const std::string kCorpus = EITBENCH_BAD_INPUTS;
-
 class BadInputCorpus : public Cli {
  protected:
   // Every file of one corpus folder through each command (FILE stands for the file).

@@ -22,7 +22,7 @@ namespace eitbench {
 namespace {
 namespace fs = std::filesystem;
 
-std::string temp_path(const std::string& name) {
+std::string dataset_path(const std::string& name) {
   return (fs::temp_directory_path() / ("eitbench_ds_" + std::to_string(::getpid()) + "_" + name))
       .string();
 }
@@ -36,7 +36,7 @@ SimulationOptions tiny_options(std::uint64_t seed, MeshDensity density) {
   return o;
 }
 
-const Dataset& tiny() {
+const Dataset& tiny_set() {
   static const Dataset data = [] {
     return simulate_dataset(tiny_options(11, MeshDensity::medium));
   }();
@@ -59,7 +59,7 @@ TEST(Presets, PaperCountsAreEdEITs) {
 }
 
 TEST(Simulate, SplitsFollowTheCircleCounts) {
-  const Dataset& d = tiny();
+  const Dataset& d = tiny_set();
   const PresetCounts counts = preset_counts("tiny");
   ASSERT_EQ(d.size(),
             counts.circles[0] + counts.circles[1] + counts.circles[2] + counts.circles[3]);
@@ -74,7 +74,7 @@ TEST(Simulate, SplitsFollowTheCircleCounts) {
 // (one touch first), so a subset must be drawn, not taken from the front, or every small size
 // trains on one-touch frames alone.
 TEST(TrainingSubset, DrawnNestedAndFromEveryTouchCount) {
-  const std::vector<int> train = tiny().indices(Split::train);
+  const std::vector<int> train = tiny_set().indices(Split::train);
   const auto twenty = subset_rows(train, 20, 1), forty = subset_rows(train, 40, 1);
   ASSERT_EQ(twenty.size(), 20u);
   EXPECT_TRUE(std::is_sorted(twenty.begin(), twenty.end()));
@@ -86,16 +86,17 @@ TEST(TrainingSubset, DrawnNestedAndFromEveryTouchCount) {
   EXPECT_EQ(subset_rows(train, 0, 1), train);
   EXPECT_EQ(subset_rows(train, 1000, 1), train);
   std::set<std::size_t> touches;
-  for (int row : twenty) touches.insert(tiny().circles[row].size());
+  for (int row : twenty) touches.insert(tiny_set().circles[row].size());
   EXPECT_EQ(touches, (std::set<std::size_t>{1, 2, 3}));
   // labelled_frames takes those rows.
-  const LabelledFrames frames = labelled_frames(tiny(), Split::train, 20, 1);
+  const LabelledFrames frames = labelled_frames(tiny_set(), Split::train, 20, 1);
   ASSERT_EQ(frames.frames.rows(), 20);
-  for (int k = 0; k < 20; ++k) EXPECT_EQ(frames.frames.row(k), tiny().differences.row(twenty[k]));
+  for (int k = 0; k < 20; ++k)
+    EXPECT_EQ(frames.frames.row(k), tiny_set().differences.row(twenty[k]));
 }
 
 TEST(Simulate, CirclesAreInsideAndApart) {
-  const Dataset& d = tiny();
+  const Dataset& d = tiny_set();
   for (const auto& circles : d.circles)
     for (std::size_t a = 0; a < circles.size(); ++a) {
       const Circle& c = circles[a];
@@ -111,7 +112,7 @@ TEST(Simulate, CirclesAreInsideAndApart) {
 
 TEST(Simulate, LabelsConserveTheTouch) {
   // sum of intensities x pixel area = sum of pi r^2 (sigma_0 - sigma) / sigma_0, within 1 %.
-  const Dataset& d = tiny();
+  const Dataset& d = tiny_set();
   const double pixel_area = std::pow(2 * d.radius / d.image_size, 2);
   for (int i = 0; i < d.size(); ++i) {
     double expected = 0;
@@ -124,7 +125,7 @@ TEST(Simulate, LabelsConserveTheTouch) {
 }
 
 TEST(Simulate, FramesAreForwardSolutionsAndDifferencesFollow) {
-  const Dataset& d = tiny();
+  const Dataset& d = tiny_set();
   const Mesh mesh = generate_disk_mesh({16, MeshDensity::medium});
   const ForwardModel model(mesh);
   const Protocol& p = model.protocol();
@@ -145,11 +146,11 @@ TEST(Simulate, IsDeterministicWhateverTheThreadCount) {
   SimulationOptions o = tiny_options(11, MeshDensity::medium);
   o.threads = 1;
   const Dataset one = simulate_dataset(o);
-  const Dataset& many = tiny();  // all cores
+  const Dataset& many = tiny_set();  // all cores
   EXPECT_EQ(one.frames, many.frames);
   EXPECT_EQ(one.labels, many.labels);
   // And through the file: the same seed gives the same data sets.
-  const std::string a = temp_path("a.h5"), b = temp_path("b.h5");
+  const std::string a = dataset_path("a.h5"), b = dataset_path("b.h5");
   write_dataset(a, one);
   write_dataset(b, many);
   const Dataset ra = read_dataset(a), rb = read_dataset(b);
@@ -287,7 +288,7 @@ TEST(Simulate, ElectrodeShiftsGiveEachSampleItsOwnSensor) {
 // writing nothing.
 TEST(Shards, JoinedShardsAreTheWholeSet) {
   SimulationOptions o = tiny_options(21, MeshDensity::coarse);
-  const std::string whole_path = temp_path("whole.h5");
+  const std::string whole_path = dataset_path("whole.h5");
   write_dataset(whole_path, simulate_dataset(o));
   const Dataset whole = read_dataset(whole_path);
   std::vector<std::string> three;
@@ -298,10 +299,10 @@ TEST(Shards, JoinedShardsAreTheWholeSet) {
       const Dataset part = simulate_dataset(o);
       EXPECT_EQ(part.shard.first, static_cast<long long>(whole.size()) * K / N);
       EXPECT_EQ(part.shard.total, whole.size());
-      paths.push_back(temp_path("shard" + std::to_string(K) + "of" + std::to_string(N) + ".h5"));
+      paths.push_back(dataset_path("shard" + std::to_string(K) + "of" + std::to_string(N) + ".h5"));
       write_dataset(paths.back(), part);
     }
-    const std::string out = temp_path("merged.h5");
+    const std::string out = dataset_path("merged.h5");
     const ShardMerge merged = merge_dataset_shards(paths, out);
     EXPECT_EQ(merged.shards, N);
     EXPECT_EQ(merged.samples, whole.size());
@@ -334,7 +335,7 @@ TEST(Shards, JoinedShardsAreTheWholeSet) {
     EXPECT_EQ(e.field(), "shard_index");
     EXPECT_NE(e.message().find("eitbench merge"), std::string::npos) << e.what();
   }
-  const std::string out = temp_path("refused.h5");
+  const std::string out = dataset_path("refused.h5");
   const auto refused = [&](const std::vector<std::string>& paths, const std::string& field) {
     try {
       merge_dataset_shards(paths, out);
@@ -348,7 +349,7 @@ TEST(Shards, JoinedShardsAreTheWholeSet) {
   refused({three[0], three[1], three[2], three[1]}, "shard_index");
   refused({three[0], three[1], whole_path}, "");
   o.seed = 22, o.shard_index = 1, o.shard_count = 3;
-  const std::string foreign = temp_path("foreign.h5");
+  const std::string foreign = dataset_path("foreign.h5");
   write_dataset(foreign, simulate_dataset(o));
   refused({three[0], foreign, three[2]}, "seed");
   o.shard_index = 3;
@@ -358,8 +359,8 @@ TEST(Shards, JoinedShardsAreTheWholeSet) {
 }
 
 TEST(DatasetFile, RoundTrips) {
-  const Dataset& d = tiny();
-  const std::string path = temp_path("round.h5");
+  const Dataset& d = tiny_set();
+  const std::string path = dataset_path("round.h5");
   write_dataset(path, d);
   ASSERT_TRUE(is_hdf5_file(path));
   const Dataset r = read_dataset(path);
@@ -381,8 +382,8 @@ TEST(DatasetFile, RoundTrips) {
 }
 
 TEST(DatasetFile, AnUncommittedWriterLeavesNothingBehind) {
-  const Dataset& d = tiny();
-  const std::string path = temp_path("never.h5");
+  const Dataset& d = tiny_set();
+  const std::string path = dataset_path("never.h5");
   std::ofstream(path) << "an older file";
   {
     DatasetWriter writer(path, d, true, true);
@@ -401,7 +402,7 @@ TEST(DatasetFile, AnUncommittedWriterLeavesNothingBehind) {
 }
 
 TEST(Noise, MeasuredSnrMatchesTheRequest) {
-  const Dataset& d = tiny();
+  const Dataset& d = tiny_set();
   for (double snr : {50.0, 40.0, 30.0}) {
     SampleMatrix noisy = d.differences;
     add_noise(noisy, snr, 3);
@@ -422,8 +423,8 @@ TEST(Noise, MeasuredSnrMatchesTheRequest) {
 }
 
 TEST(AugmentFile, ExpandsTheTrainingSplitConsistentlyWithTheForwardModel) {
-  const Dataset& d = tiny();
-  const std::string in = temp_path("in.h5"), out = temp_path("out.h5");
+  const Dataset& d = tiny_set();
+  const std::string in = dataset_path("in.h5"), out = dataset_path("out.h5");
   write_dataset(in, d);
   FileAugmentOptions o;
   o.block = 7;  // several blocks, boundaries inside the data
@@ -483,8 +484,8 @@ TEST(AugmentFile, ExpandsTheTrainingSplitConsistentlyWithTheForwardModel) {
 class BadDatasetFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    path_ = temp_path("bad.h5");
-    write_dataset(path_, tiny());
+    path_ = dataset_path("bad.h5");
+    write_dataset(path_, tiny_set());
   }
   void TearDown() override { fs::remove(path_); }
   void expect_rejected(const std::string& field) {

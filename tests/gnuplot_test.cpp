@@ -13,11 +13,6 @@
 namespace eitbench {
 namespace {
 
-std::string text_of(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 LinePlot efficiency_like() {
   LinePlot plot;
   plot.title = "test CC against training-set size";
@@ -38,7 +33,8 @@ class Gnuplot : public Cli {};
 
 TEST_F(Gnuplot, DataAndScriptBesideTheFigure) {
   const bool drawn = write_plot(efficiency_like(), path("efficiency.png"));
-  const std::string data = text_of(path("efficiency.dat")), script = text_of(path("efficiency.gp"));
+  const std::string data = file_text(path("efficiency.dat")),
+                    script = file_text(path("efficiency.gp"));
   // Two blocks (gnuplot's index 0 and 1); the point at x = 0 is left out on the log axis.
   EXPECT_NE(data.find("# none\n250 0.7 0.69 0.71\n500"), std::string::npos) << data;
   EXPECT_EQ(data.find("\n0 0.1"), std::string::npos) << data;
@@ -50,9 +46,9 @@ TEST_F(Gnuplot, DataAndScriptBesideTheFigure) {
   EXPECT_NE(script.find("set output 'efficiency.svg'"), std::string::npos) << script;
   ASSERT_EQ(drawn, !gnuplot_program().empty());
   if (!drawn) GTEST_SKIP() << "no gnuplot here: data and script checked, drawing not";
-  const std::string png = text_of(path("efficiency.png"));
+  const std::string png = file_text(path("efficiency.png"));
   EXPECT_EQ(png.substr(1, 3), "PNG");
-  EXPECT_NE(text_of(path("efficiency.svg")).find("<svg"), std::string::npos);
+  EXPECT_NE(file_text(path("efficiency.svg")).find("<svg"), std::string::npos);
   for (const auto& entry : fs::directory_iterator(dir_))  // the drawing folder is gone
     EXPECT_EQ(entry.path().filename().string().find(".gnuplot"), std::string::npos) << entry.path();
 }

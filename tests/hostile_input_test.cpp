@@ -117,17 +117,13 @@ TEST(Evaluate, RefusesImagesThatAreNotFinite) {
   }
 }
 
-std::string file_text(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 // --out onto an input, whatever the spelling, is refused and the input is left as it was.
 TEST_F(Cli, OutputOntoAnInputIsRefused) {
   write_csv(path("fr.csv"), {ramp(1), ramp(1.5)});
   const std::string before = file_text(path("fr.csv"));
   ASSERT_EQ(::link(path("fr.csv").c_str(), path("hard.csv").c_str()), 0);
-  for (const std::string& out : {path("fr.csv"), path("hard.csv"), (dir_ / "." / "fr.csv").string()}) {
+  for (const std::string& out :
+       {path("fr.csv"), path("hard.csv"), (dir_ / "." / "fr.csv").string()}) {
     const Result r = run("augment --in " + path("fr.csv") + " --element rot:1 --out " + out);
     EXPECT_EQ(r.exit_code, 2) << out << "\n" << r.output;
     EXPECT_NE(r.output.find("is the same file as the input"), std::string::npos) << r.output;
@@ -147,16 +143,16 @@ TEST_F(Cli, OutputOntoAnInputIsRefused) {
 TEST_F(Cli, OutputsAreRegularFilesAndLinksAreFollowed) {
   write_csv(path("fr.csv"), {ramp(1), ramp(1.5)});
   ASSERT_EQ(::mkfifo(path("fifo.csv").c_str(), 0600), 0);
-  const Result fifo = run("augment --in " + path("fr.csv") + " --element rot:1 --out " +
-                          path("fifo.csv"));
+  const Result fifo =
+      run("augment --in " + path("fr.csv") + " --element rot:1 --out " + path("fifo.csv"));
   EXPECT_EQ(fifo.exit_code, 2) << fifo.output;
   EXPECT_NE(fifo.output.find("a FIFO, a device or a socket"), std::string::npos) << fifo.output;
   EXPECT_EQ(fs::status(path("fifo.csv")).type(), fs::file_type::fifo);
 
   { std::ofstream(path("target.csv")) << "old\n"; }
   fs::create_symlink(path("target.csv"), path("link.csv"));
-  const Result link = run("augment --in " + path("fr.csv") + " --element rot:1 --out " +
-                          path("link.csv"));
+  const Result link =
+      run("augment --in " + path("fr.csv") + " --element rot:1 --out " + path("link.csv"));
   ASSERT_EQ(link.exit_code, 0) << link.output;
   EXPECT_TRUE(fs::is_symlink(path("link.csv")));
   EXPECT_NE(file_text(path("target.csv")), "old\n");
@@ -166,8 +162,8 @@ TEST_F(Cli, OutputsAreRegularFilesAndLinksAreFollowed) {
   EXPECT_EQ(file_text(path("target.csv")), file_text(path("plain.csv")));
 
   fs::create_symlink(path("nowhere.csv"), path("dangling.csv"));
-  const Result dangling = run("augment --in " + path("fr.csv") + " --element rot:1 --out " +
-                              path("dangling.csv"));
+  const Result dangling =
+      run("augment --in " + path("fr.csv") + " --element rot:1 --out " + path("dangling.csv"));
   EXPECT_EQ(dangling.exit_code, 2) << dangling.output;
   EXPECT_NE(dangling.output.find("symbolic link to nothing"), std::string::npos);
   EXPECT_FALSE(fs::exists(path("nowhere.csv")));

@@ -101,14 +101,10 @@ TEST(KtcFiles, AMeasurementIsCheckedFieldByField) {
 }
 
 // ../shared/data/ktc2023 (the challenge's training set; never committed).
-std::string ktc_folder() {
-  return std::string(EITBENCH_SOURCE_DIR) + "/../shared/data/ktc2023";
-}
-
 TEST(KtcData, TheTrainingFilesAreKtcsProtocol) {
-  if (!fs::exists(ktc_folder() + "/ref.mat"))
-    GTEST_SKIP() << "no " << ktc_folder() << " (not committed)";
-  const KtcFolder folder = scan_ktc_folder(ktc_folder());
+  if (!fs::exists(testing::ktc_folder() + "/ref.mat"))
+    GTEST_SKIP() << "no " << testing::ktc_folder() << " (not committed)";
+  const KtcFolder folder = scan_ktc_folder(testing::ktc_folder());
   ASSERT_EQ(folder.samples.size(), 4u);
   const KtcMeasurement ref = read_ktc_measurement(folder.reference);
   const CurrentPatterns described = testing::ktc_patterns();
@@ -137,9 +133,9 @@ TEST(KtcData, TheTrainingFilesAreKtcsProtocol) {
 // more than the smallest target's change): augment difference frames, in which it cancels, not raw
 // ones.
 TEST(KtcData, TheTanksRealPatternsKeepTheQuarterTurnsAndTheirMirrors) {
-  if (!fs::exists(ktc_folder() + "/ref.mat"))
-    GTEST_SKIP() << "no " << ktc_folder() << " (not committed)";
-  const KtcFolder folder = scan_ktc_folder(ktc_folder());
+  if (!fs::exists(testing::ktc_folder() + "/ref.mat"))
+    GTEST_SKIP() << "no " << testing::ktc_folder() << " (not committed)";
+  const KtcFolder folder = scan_ktc_folder(testing::ktc_folder());
   const KtcMeasurement ref = read_ktc_measurement(folder.reference);
   const MeasurementProtocol protocol("ktc", ref.patterns);
   const auto kept = protocol_elements(protocol, group_elements(AugmentGroup::dihedral, 32));
@@ -177,7 +173,7 @@ struct KtcFixture {
 const KtcFixture& ktc_fixture() {
   static const KtcFixture f = [] {
     KtcFixture f;
-    const KtcFolder folder = scan_ktc_folder(ktc_folder());
+    const KtcFolder folder = scan_ktc_folder(testing::ktc_folder());
     KtcTankOptions o;
     o.density = MeshDensity::coarse;
     f.setup = make_ktc_setup(calibrate_ktc_tank(read_ktc_measurement(folder.reference), o), 48);
@@ -193,8 +189,8 @@ const KtcFixture& ktc_fixture() {
 }
 
 TEST(KtcData, TheEmptyTanksModelFitsItsFrameAndTheSamplesDifferFromIt) {
-  if (!fs::exists(ktc_folder() + "/ref.mat"))
-    GTEST_SKIP() << "no " << ktc_folder() << " (not committed)";
+  if (!fs::exists(testing::ktc_folder() + "/ref.mat"))
+    GTEST_SKIP() << "no " << testing::ktc_folder() << " (not committed)";
   const KtcFixture& f = ktc_fixture();
   const KtcTank& tank = f.setup.tank;
   // docs/ktc.md: the 2-D model explains the empty tank's frame to 6.6 % on this mesh (7.6 % on
@@ -228,8 +224,8 @@ double correlation(const Eigen::MatrixXd& x, const ClassImage& truth) {
 }
 
 TEST(KtcData, TheGridsOrientationIsTheOneTheTruthsGive) {
-  if (!fs::exists(ktc_folder() + "/ref.mat"))
-    GTEST_SKIP() << "no " << ktc_folder() << " (not committed)";
+  if (!fs::exists(testing::ktc_folder() + "/ref.mat"))
+    GTEST_SKIP() << "no " << testing::ktc_folder() << " (not committed)";
   const KtcFixture& f = ktc_fixture();
   const std::vector<Eigen::VectorXd>& images = f.noser;
   auto mean_correlation = [&](const KtcOrientation& o) {
@@ -255,8 +251,8 @@ TEST(KtcData, TheGridsOrientationIsTheOneTheTruthsGive) {
 }
 
 TEST(KtcData, ScoresOnTheTrainingSamplesBeatTheChallengesBaseline) {
-  if (!fs::exists(ktc_folder() + "/ref.mat"))
-    GTEST_SKIP() << "no " << ktc_folder() << " (not committed)";
+  if (!fs::exists(testing::ktc_folder() + "/ref.mat"))
+    GTEST_SKIP() << "no " << testing::ktc_folder() << " (not committed)";
   const KtcFixture& f = ktc_fixture();
   // NOSER at level 1 with Otsu, lambda from the run's grid: every sample scores well above a
   // blank image (about 0.5 of a sample's 1 on this set's masks), and above the same image turned

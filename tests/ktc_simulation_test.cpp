@@ -11,6 +11,7 @@
 #include "eitbench/bench/ktc/tank_augmentation.h"
 #include "eitbench/bench/ktc/tank_simulation.h"
 #include "ktc_synthetic.h"
+#include "test_support.h"
 
 namespace eitbench {
 namespace {
@@ -297,16 +298,12 @@ TEST(KtcSimulation, TheContrastsFitBackFromLabelledTanks) {
   EXPECT_THROW(fit_ktc_contrasts(tank, changes, {}, {}), InputError);
 }
 
-std::string ktc_folder() {
-  return std::string(EITBENCH_SOURCE_DIR) + "/../shared/data/ktc2023";
-}
-
 // The real frames: their noise from the repeated pairs, the targets' contrasts fitted to the four
 // truths, and the size of a sample's change against the simulated tanks' at those contrasts.
 TEST(KtcSimulation, TheRealFramesNoiseAndChangeBesideTheSimulatedOnes) {
-  if (!std::filesystem::exists(ktc_folder() + "/ref.mat"))
-    GTEST_SKIP() << "no " << ktc_folder() << " (not committed)";
-  const KtcFolder folder = scan_ktc_folder(ktc_folder());
+  if (!std::filesystem::exists(testing::ktc_folder() + "/ref.mat"))
+    GTEST_SKIP() << "no " << testing::ktc_folder() << " (not committed)";
+  const KtcFolder folder = scan_ktc_folder(testing::ktc_folder());
   const KtcMeasurement ref = read_ktc_measurement(folder.reference);
   const double noise = repeated_pattern_noise(ref.voltages, ref.patterns);
   std::vector<double> changes;

@@ -143,8 +143,9 @@ TEST(MeasurementProtocol, OppositeAndSkipConvergeToThePointElectrodeSolution) {
 }
 
 // Central differences of the inputs along `dir`.
-Eigen::VectorXd central_difference(const ForwardModel& model, const Eigen::VectorXd& sigma,
-                                   const Eigen::VectorXd& dir) {
+Eigen::VectorXd central_difference_of_inputs(const ForwardModel& model,
+                                             const Eigen::VectorXd& sigma,
+                                             const Eigen::VectorXd& dir) {
   const double h = 1e-4 * sigma.cwiseAbs().maxCoeff() / dir.cwiseAbs().maxCoeff();
   return (model.inputs(sigma + h * dir) - model.inputs(sigma - h * dir)) / (2 * h);
 }
@@ -164,7 +165,7 @@ TEST(MeasurementProtocol, JacobiansMatchFiniteDifferencesSignedAndMagnitude) {
         EXPECT_GE(v.minCoeff(), 0.0);
       }
       const Eigen::VectorXd jd = model.input_jacobian(s) * dir;
-      const Eigen::VectorXd fd = central_difference(model, sigma, dir);
+      const Eigen::VectorXd fd = central_difference_of_inputs(model, sigma, dir);
       EXPECT_LT((jd - fd).norm() / fd.norm(), 1e-6) << p.name() << " magnitude " << magnitude;
     }
   }

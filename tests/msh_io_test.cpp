@@ -19,7 +19,7 @@ void PrintTo(MshVersion v, std::ostream* os) {
 namespace {
 namespace fs = std::filesystem;
 
-std::string temp_path(const std::string& name) {
+std::string msh_path(const std::string& name) {
   return (fs::temp_directory_path() / ("eitbench_test_" + std::to_string(::getpid()) + "_" + name))
       .string();
 }
@@ -56,7 +56,7 @@ TEST_P(MshRoundTrip, PointElectrodesRoundTrip) {
 
 TEST_P(MshRoundTrip, GmshReadsWhatWeWrite) {
   const Mesh& mesh = testing::disk(8, MeshDensity::coarse);
-  const std::string path = temp_path("ours.msh");
+  const std::string path = msh_path("ours.msh");
   {
     std::ofstream out(path);
     write_msh(out, mesh, GetParam());
@@ -118,7 +118,7 @@ void gmsh_disk(const std::string& path, int L, bool point_electrodes, const std:
 TEST(MshImport, ReadsMeshesThatGmshWrites) {
   for (const std::string version : {"2.2", "4.1"})
     for (bool points : {false, true}) {
-      const std::string path = temp_path("gmsh.msh");
+      const std::string path = msh_path("gmsh.msh");
       gmsh_disk(path, 8, points, version);
       const Mesh mesh = read_msh_file(path);
       fs::remove(path);

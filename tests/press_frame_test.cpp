@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "eitbench/jacobian.h"
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/solvers.h"
 #include "test_support.h"
@@ -13,20 +14,18 @@
 namespace eitbench {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-struct Recording {
+struct PressRecording {
   SampleMatrix differences;
   Eigen::MatrixX2d positions;  // in the recording's own frame
 };
 
 // Presses on a spiral, simulated where they truly are, written down as p_file = M R(-turn) p.
-Recording stand_in(const ForwardModel& model, double turn_degrees, bool mirror, int presses) {
+PressRecording stand_in(const ForwardModel& model, double turn_degrees, bool mirror, int presses) {
   auto inputs = [&](const std::vector<Circle>& c) {
     return model.inputs(model.solve(conductivity_from_circles(model.mesh(), c, 1.0)));
   };
   const Eigen::VectorXd none = inputs({});
-  Recording r{SampleMatrix(presses, none.size()), Eigen::MatrixX2d(presses, 2)};
+  PressRecording r{SampleMatrix(presses, none.size()), Eigen::MatrixX2d(presses, 2)};
   const double a = -turn_degrees * kPi / 180;
   for (int i = 0; i < presses; ++i) {
     const double rho = 0.3 + 0.4 * i / presses, phi = 2.39996 * i;  // the golden angle
@@ -44,7 +43,7 @@ TEST(PressFrame, RecoversTheTurnAndTheMirrorOfAStandInRecording) {
   PressFrameOptions o;
   o.step_degrees = 2;
   for (const auto& [turn, mirror] : {std::pair{100.0, true}, std::pair{282.0, false}}) {
-    const Recording r = stand_in(*model, turn, mirror, 30);
+    const PressRecording r = stand_in(*model, turn, mirror, 30);
     const PressFrame f = fit_press_frame(problem, r.differences, r.positions, o);
     EXPECT_EQ(f.mirror, mirror) << turn;
     EXPECT_NEAR(f.rotate_degrees, turn, 2.0) << turn;
@@ -57,7 +56,7 @@ TEST(PressFrame, RecoversTheTurnAndTheMirrorOfAStandInRecording) {
 TEST(PressFrame, BadInputIsRefused) {
   const auto model = std::make_shared<const ForwardModel>(testing::disk(16, MeshDensity::coarse));
   const LinearProblem problem = make_linear_problem(model, 1.0, PixelGrid(32, 1.0));
-  const Recording r = stand_in(*model, 0, false, 4);
+  const PressRecording r = stand_in(*model, 0, false, 4);
   EXPECT_EQ(testing::input_error_at(
                 [&] { fit_press_frame(problem, r.differences, r.positions.topRows(3)); }),
             "presses.positions");

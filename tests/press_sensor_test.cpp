@@ -12,6 +12,7 @@
 
 #include "eitbench/bench/io/sensor_file.h"
 #include "eitbench/jacobian.h"
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/solvers.h"
 #include "test_support.h"
@@ -19,19 +20,17 @@
 namespace eitbench {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 struct Truth {
   double turn_degrees = 0, scale = 1, radius = 0.12, contrast_per_depth = 0.15;
 };
 
-struct Recording {
+struct SensorRecording {
   SampleMatrix differences;
   Eigen::MatrixX2d positions;  // in the recording's frame and unit
   Eigen::VectorXd depths;
 };
 
-Recording stand_in(const Truth& t, int presses) {
+SensorRecording stand_in(const Truth& t, int presses) {
   ForwardOptions o;
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> factor(std::log(0.5), std::log(2.0));
@@ -42,8 +41,8 @@ Recording stand_in(const Truth& t, int presses) {
     return sensor.inputs(sensor.solve(conductivity_from_circles(sensor.mesh(), c, 1.0)));
   };
   const Eigen::VectorXd none = inputs({});
-  Recording r{SampleMatrix(presses, none.size()), Eigen::MatrixX2d(presses, 2),
-              Eigen::VectorXd(presses)};
+  SensorRecording r{SampleMatrix(presses, none.size()), Eigen::MatrixX2d(presses, 2),
+                    Eigen::VectorXd(presses)};
   const double a = -t.turn_degrees * kPi / 180;
   for (int i = 0; i < presses; ++i) {
     const double rho = 0.15 + 0.6 * i / presses, phi = 2.39996 * i;  // the golden angle
@@ -73,7 +72,7 @@ Truth turned_and_scaled() {
 }
 
 // The frame search on a coarse grid of turns: the fit finds the rest.
-PressFrame coarse_search(const LinearProblem& problem, const Recording& r) {
+PressFrame coarse_search(const LinearProblem& problem, const SensorRecording& r) {
   PressFrameOptions o;
   o.step_degrees = 5;
   return fit_press_frame(problem, r.differences, r.positions, o);
@@ -82,7 +81,7 @@ PressFrame coarse_search(const LinearProblem& problem, const Recording& r) {
 TEST(PressSensor, RecoversTheFrameAndTheTouchOfAStandInSensor) {
   const LinearProblem problem = nominal_problem();
   const Truth t = turned_and_scaled();
-  const Recording r = stand_in(t, 40);
+  const SensorRecording r = stand_in(t, 40);
   const PressFrame start = coarse_search(problem, r);
   const PressSensor s = fit_press_sensor(problem, r.differences, r.positions, r.depths, start);
   EXPECT_FALSE(s.mirror);
@@ -95,7 +94,7 @@ TEST(PressSensor, RecoversTheFrameAndTheTouchOfAStandInSensor) {
   EXPECT_LT(s.relative_residual, 0.25);
 
   // The fit's frame takes each recorded position to where the press truly was.
-  const Recording truth = stand_in({}, 40);  // the same presses, recorded as they are
+  const SensorRecording truth = stand_in({}, 40);  // the same presses, recorded as they are
   double worst = 0;
   for (int i = 0; i < 40; ++i)
     worst = std::max(worst, (model_position(r.positions.row(i).transpose(), s.rotate_degrees,
@@ -116,7 +115,7 @@ TEST(PressSensor, RecoversTheFrameAndTheTouchOfAStandInSensor) {
 TEST(PressSensor, AHuberLossKeepsTheFrameAgainstOutliers) {
   const LinearProblem problem = nominal_problem();
   const Truth t = turned_and_scaled();
-  Recording r = stand_in(t, 40);
+  SensorRecording r = stand_in(t, 40);
   for (int i : {3, 17, 29}) r.differences.row(i) = 10 * r.differences.row((i + 20) % 40);
   const PressFrame start = coarse_search(problem, r);
   PressSensorOptions o;
@@ -147,7 +146,7 @@ TEST(PressSensor, ModelAndRecordedPositionsAreInverse) {
 
 TEST(PressSensor, BadInputIsRefused) {
   const LinearProblem problem = nominal_problem();
-  const Recording r = stand_in({}, 4);
+  const SensorRecording r = stand_in({}, 4);
   const PressFrame start;
   EXPECT_EQ(testing::input_error_at([&] {
               fit_press_sensor(problem, r.differences, r.positions, r.depths.head(3), start);

@@ -18,14 +18,13 @@
 #include "eitbench/bench/methods/press_labels.h"
 #include "eitbench/bench/report/press_pick.h"
 #include "eitbench/bench/report/results.h"
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/error.h"
 #include "learned_support.h"
 #include "test_support.h"
 
 namespace eitbench {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Frames that vary smoothly with the press position: a fingerprint's neighbours are its
 // neighbours on the sensor.
@@ -95,7 +94,7 @@ TEST(PressLabels, ADiscAtEachPressWhoseCentreTheScoreFinds) {
   EXPECT_EQ(testing::input_error_at([&] { press_labels(two, grid, "cal.h5"); }), "cal.h5.touches");
 }
 
-double mse(const SampleMatrix& a, const SampleMatrix& b) {
+double image_mse(const SampleMatrix& a, const SampleMatrix& b) {
   return (a - b).squaredNorm() / static_cast<double>(a.size());
 }
 
@@ -128,7 +127,7 @@ TEST(Finetune, StartsFromTheTrainedModelAndLowersItsErrorOnNewFrames) {
   EXPECT_EQ(tune.best_model().reconstruct(validation.frames), before);
   while (!tune.done()) tune.run_round();
   const SampleMatrix after = tune.best_model().reconstruct(validation.frames);
-  EXPECT_LT(mse(after, labels), 0.9 * mse(before, labels));
+  EXPECT_LT(image_mse(after, labels), 0.9 * image_mse(before, labels));
 
   NetworkOptions other = network;
   other.hidden = {32};

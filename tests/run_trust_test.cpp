@@ -19,24 +19,19 @@ namespace {
 const std::string kSmall = "run --preset tiny --methods tikhonov --augment none --epochs 2";
 const std::string kQuiet = kSmall + " --quiet";
 
-std::string text_of(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 class RunTrust : public Cli {};
 
 // The measured failure: a tiny run's folder resumed by the quick preset re-simulated its data and
 // then reused every tiny stage and model. Now the folder's data set is checked first.
 TEST_F(RunTrust, ResumeOntoAnotherPresetsDataStops) {
   ASSERT_EQ(run(kQuiet + " --out " + path("x")).exit_code, 0);
-  const std::string results = text_of(path("x/results.json"));
+  const std::string results = file_text(path("x/results.json"));
   const Result r = run("run --preset quick --quiet --resume --out " + path("x"));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("data.h5"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("preset tiny (this run: quick)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("choose a new --out"), std::string::npos) << r.output;
-  EXPECT_EQ(text_of(path("x/results.json")), results);
+  EXPECT_EQ(file_text(path("x/results.json")), results);
 }
 
 // Other options on the same data: every stage they touch is made again, none is reused, and the
@@ -73,7 +68,7 @@ const std::string kEarlierEdge = "rate left at 2x the floor";
 
 // Replaces the first `from` in a file by `to` (the file must hold it).
 void replace_in(const std::string& file, const std::string& from, const std::string& to) {
-  std::string text = text_of(file);
+  std::string text = file_text(file);
   const auto at = text.find(from);
   ASSERT_NE(at, std::string::npos) << file << ": " << text;
   std::ofstream(file, std::ios::binary) << text.replace(at, from.size(), to);
@@ -93,7 +88,7 @@ TEST_F(RunTrust, ResumeKeepsAModelTheChangedRuleDecidesAlike) {
       std::string::npos)
       << kept.output;
   EXPECT_NE(kept.output.find("dnn none: resumed from"), std::string::npos) << kept.output;
-  EXPECT_NE(text_of(record).find(kEdgeNow), std::string::npos);
+  EXPECT_NE(file_text(record).find(kEdgeNow), std::string::npos);
   replace_in(record, kEdgeNow, "rate left at 3x the floor");
   const Result again = run(kSmall + " --resume --out " + path("x"));
   ASSERT_EQ(again.exit_code, 0) << again.output;
@@ -165,8 +160,8 @@ TEST_F(RunTrust, OneWriterPerFolder) {
   // lock, and reading the file never takes the lock from under it (locked() would: CI once saw
   // the run refused by the probe itself, and the test wait 300 s for a lock never taken).
   ASSERT_TRUE(kill_when(longer + " --out " + path("x"), [&] {
-    const std::string pid = text_of(path("pid"));
-    const std::string holder = text_of(path("x/.eitbench.lock"));
+    const std::string pid = file_text(path("pid"));
+    const std::string holder = file_text(path("x/.eitbench.lock"));
     if (holder.empty() || pid.find_first_not_of(" \n") == std::string::npos ||
         std::stol(pid) != std::stol(holder))
       return false;
@@ -192,20 +187,20 @@ class WriteFailures : public Cli {
     const std::string command = "sh -c \"trap '' XFSZ; ulimit -f " + std::to_string(kib * 2) +
                                 "; exec " + EITBENCH_CLI + " " + args + "\" > " + log + " 2>&1";
     const int status = std::system(command.c_str());
-    return {WEXITSTATUS(status), text_of(log)};
+    return {WEXITSTATUS(status), file_text(log)};
   }
   // Exit 2 naming a file of the test's folder, no crash, nothing partial left, and an existing
   // `file` as it was.
   void expect_clean_failure(const std::string& args, const std::string& file, int kib) {
     const bool existed = fs::exists(file);
-    const std::string before = existed ? text_of(file) : "";
+    const std::string before = existed ? file_text(file) : "";
     const Result r = limited(args, kib);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find("error: " + dir_.string()), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("Segmentation"), std::string::npos) << r.output;
     EXPECT_EQ(fs::exists(file), existed) << file;
     if (existed) {
-      EXPECT_EQ(text_of(file), before) << file;
+      EXPECT_EQ(file_text(file), before) << file;
     }
     for (const auto& entry : fs::recursive_directory_iterator(dir_)) {
       EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos)
@@ -246,7 +241,7 @@ TEST_F(WriteFailures, SimulateOntoAFullDisk) {
                               mount + "/d.h5; echo \"exit $?\"; ls -A " + mount + "' > " +
                               path("log.txt") + " 2>&1";
   std::system(command.c_str());
-  const std::string log = text_of(path("log.txt"));
+  const std::string log = file_text(path("log.txt"));
   if (log.find("exit ") == std::string::npos) GTEST_SKIP() << "cannot mount a tmpfs: " << log;
   EXPECT_NE(log.find("exit 2"), std::string::npos) << log;
   EXPECT_NE(log.find("disk full?"), std::string::npos) << log;

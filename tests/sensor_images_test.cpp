@@ -26,7 +26,7 @@ Mesh shape_mesh(SensorShape shape, double width, double height) {
   return generate_shape_mesh(o);
 }
 
-const Mesh& square() {
+const Mesh& square_mesh() {
   static const Mesh mesh = shape_mesh(SensorShape::rectangle, 2, 2);
   return mesh;
 }
@@ -37,7 +37,7 @@ const Mesh& ellipse() {  // 2:1
 }
 
 TEST(SensorGrid, CoversTheMeshsBoundingBoxAndMasksWhatLiesOutside) {
-  const PixelGrid sq = PixelGrid::covering(square(), 32);
+  const PixelGrid sq = PixelGrid::covering(square_mesh(), 32);
   EXPECT_FALSE(sq.is_disk());
   EXPECT_NEAR(sq.radius(), 1.0, 1e-12);
   EXPECT_NEAR(sq.box_centre().norm(), 0.0, 1e-12);
@@ -81,8 +81,8 @@ TEST(SensorGrid, TheDisksGridIsUnchanged) {
 }
 
 TEST(SensorGrid, TheLinearProblemAcceptsTheGridOfItsOwnMeshOnly) {
-  const auto model = std::make_shared<const ForwardModel>(square(), ForwardOptions{});
-  const LinearProblem p = make_linear_problem(model, 1.0, PixelGrid::covering(square(), 32));
+  const auto model = std::make_shared<const ForwardModel>(square_mesh(), ForwardOptions{});
+  const LinearProblem p = make_linear_problem(model, 1.0, PixelGrid::covering(square_mesh(), 32));
   EXPECT_EQ(p.unknowns(), 32 * 32);
   // Element conductivities from pixels: every row of P sums to one.
   const Eigen::VectorXd ones = p.element_from_pixels * Eigen::VectorXd::Ones(p.unknowns());
@@ -97,7 +97,7 @@ TEST(SensorGrid, TheLinearProblemAcceptsTheGridOfItsOwnMeshOnly) {
 TEST(SensorImages, LabelsMoveAsTheirTouchesUnderEveryElement) {
   Mesh away = ellipse();  // the same ellipse off the origin: its box and isometries move with it
   away.nodes.col(0).array() += 3.0, away.nodes.col(1).array() -= 2.0;
-  for (const Mesh* mesh : {&square(), &ellipse(), static_cast<const Mesh*>(&away)}) {
+  for (const Mesh* mesh : {&square_mesh(), &ellipse(), static_cast<const Mesh*>(&away)}) {
     const auto sensor = std::make_shared<const ShapedSensor>(shaped_sensor(*mesh, 48));
     const ImageSymmetry images(sensor);
     const Eigen::Vector2d o = sensor->grid.box_centre();
@@ -121,7 +121,7 @@ TEST(SensorImages, LabelsMoveAsTheirTouchesUnderEveryElement) {
 TEST(SensorImages, AugmentationTakesTheSensorsElements) {
   AugmentSetup setup;
   setup.image_size = 16;
-  setup.sensor = std::make_shared<const ShapedSensor>(shaped_sensor(square(), 16));
+  setup.sensor = std::make_shared<const ShapedSensor>(shaped_sensor(square_mesh(), 16));
   const std::pair<AugmentGroup, std::size_t> expected[] = {{AugmentGroup::dihedral, 8},
                                                            {AugmentGroup::rotations, 4},
                                                            {AugmentGroup::mirror, 2},
@@ -153,21 +153,21 @@ TEST(SensorImages, AugmentationTakesTheSensorsElements) {
 }
 
 TEST(SensorData, RefinedMeshIsTheSameSensorFourTimesFiner) {
-  const Mesh fine = refine_mesh(square());
+  const Mesh fine = refine_mesh(square_mesh());
   EXPECT_NO_THROW(validate_mesh(fine, "refined"));
-  EXPECT_EQ(fine.num_triangles(), 4 * square().num_triangles());
-  EXPECT_NEAR(triangle_areas(fine).sum(), triangle_areas(square()).sum(), 1e-12);
+  EXPECT_EQ(fine.num_triangles(), 4 * square_mesh().num_triangles());
+  EXPECT_NEAR(triangle_areas(fine).sum(), triangle_areas(square_mesh()).sum(), 1e-12);
   ASSERT_EQ(fine.num_electrodes(), 16);
   for (int e = 0; e < 16; ++e)
     EXPECT_NEAR(fine.electrodes[e].length(fine.nodes),
-                square().electrodes[e].length(square().nodes), 1e-12);
+                square_mesh().electrodes[e].length(square_mesh().nodes), 1e-12);
   // The same physics: the empty sensor's frames converge as the mesh is refined again (each
   // refinement changes them less), and so do not drift to another sensor's.
   const Mesh finer = refine_mesh(fine);
   auto frame = [](const Mesh& mesh) {
     return ForwardModel(mesh, ForwardOptions{}).frame(Eigen::VectorXd::Ones(mesh.num_triangles()));
   };
-  const Eigen::VectorXd a = frame(square()), b = frame(fine), c = frame(finer);
+  const Eigen::VectorXd a = frame(square_mesh()), b = frame(fine), c = frame(finer);
   const double first = (a - b).norm() / b.norm(), second = (b - c).norm() / c.norm();
   EXPECT_LT(first, 0.1);
   EXPECT_LT(second, 0.6 * first) << first << " then " << second;
@@ -216,11 +216,11 @@ TEST(SensorData, SimulatedSetKeepsTouchesInsideAndRecordsItsSensor) {
 // GREIT's targets and the shape fit follow the sensor: on the square, one touch's frame (made on
 // the refined mesh) puts GREIT's peak and the fitted circle where the touch is, near a side too.
 TEST(SensorMethods, GreitAndTheShapeFitFindATouchOnTheSquare) {
-  const auto model = std::make_shared<const ForwardModel>(square(), ForwardOptions{});
+  const auto model = std::make_shared<const ForwardModel>(square_mesh(), ForwardOptions{});
   const double background = 0.05;
   const auto problem = std::make_shared<const LinearProblem>(
-      make_linear_problem(model, background, PixelGrid::covering(square(), 32)));
-  const Mesh fine = refine_mesh(square());
+      make_linear_problem(model, background, PixelGrid::covering(square_mesh(), 32)));
+  const Mesh fine = refine_mesh(square_mesh());
   const ForwardModel truth_model(fine, ForwardOptions{});
   const Eigen::VectorXd empty =
       truth_model.frame(Eigen::VectorXd::Constant(fine.num_triangles(), background));

@@ -17,7 +17,7 @@
 namespace eitbench {
 namespace {
 
-struct Recording {
+struct NoiseRecording {
   Dataset set;
   Eigen::VectorXd base;   // the untouched sensor's frame, without noise or drift
   double sigma = 0;       // each channel's noise, one frame
@@ -28,10 +28,10 @@ struct Recording {
 // N references of the adjacent protocol: base + a linear drift from -a to a on every channel +
 // white noise; each difference frame is a fixed pattern of RMS `signal` plus the noise of two
 // frames (its own and its reference's), as a pressed frame minus its reference has.
-Recording recording(int n, double sigma, double drift, double signal, unsigned seed) {
+NoiseRecording recording(int n, double sigma, double drift, double signal, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal;
-  Recording r;
+  NoiseRecording r;
   r.set.electrodes = 16;
   const MeasurementProtocol protocol = measurement_protocol(r.set);
   const int c = protocol.size();
@@ -60,7 +60,7 @@ double rms(const Eigen::VectorXd& v) {
 }
 
 TEST(SensorNoise, RecoversTheNoiseTheDriftAndTheSignalOfARecording) {
-  const Recording r = recording(600, 0.01, 0.05, 0.1, 1);
+  const NoiseRecording r = recording(600, 0.01, 0.05, 0.1, 1);
   const SensorNoise n = measure_sensor_noise(r.set, "rec.h5", 0, 600, Eigen::VectorXd());
   const double unit = rms(r.set.reference);
   EXPECT_EQ(n.references, 600);
@@ -81,7 +81,7 @@ TEST(SensorNoise, RecoversTheNoiseTheDriftAndTheSignalOfARecording) {
 // quantised one) is held at a tenth of the median input's level rather than at zero: as a weight,
 // one over zero would let it alone decide the image.
 TEST(SensorNoise, EachInputHasItsOwnLevel) {
-  Recording r = recording(600, 0.01, 0, 0.1, 6);
+  NoiseRecording r = recording(600, 0.01, 0, 0.1, 6);
   const MeasurementProtocol protocol = measurement_protocol(r.set);
   // Raw channels that are inputs: a unit on the channel shows up in exactly one input.
   std::vector<std::pair<int, int>> channel_input;
@@ -116,7 +116,7 @@ TEST(SensorNoise, EachInputHasItsOwnLevel) {
 // floor is a tenth of the moving inputs' median, so no level is 0 and the sensor file that
 // calibrate writes reads back (a level of 0 is refused there).
 TEST(SensorNoise, MostlyQuantisedReferencesKeepEveryLevelPositive) {
-  Recording r = recording(600, 0.01, 0, 0.1, 6);
+  NoiseRecording r = recording(600, 0.01, 0, 0.1, 6);
   const Eigen::Index channels = r.set.references.cols();
   for (Eigen::Index c = 0; c < channels; ++c)
     if (c % 4 != 0) r.set.references.col(c).setConstant(r.base[c]);
@@ -136,7 +136,7 @@ TEST(SensorNoise, MostlyQuantisedReferencesKeepEveryLevelPositive) {
 }
 
 TEST(SensorNoise, AGlitchInAReferenceDoesNotSetTheNoise) {
-  Recording r = recording(600, 0.01, 0, 0.1, 2);
+  NoiseRecording r = recording(600, 0.01, 0, 0.1, 2);
   const double clean = measure_sensor_noise(r.set, "rec.h5", 0, 600, {}).noise;
   r.set.references.row(300) *= 1.5;  // one reference caught mid-press
   const double glitched = measure_sensor_noise(r.set, "rec.h5", 0, 600, {}).noise;
@@ -144,7 +144,7 @@ TEST(SensorNoise, AGlitchInAReferenceDoesNotSetTheNoise) {
 }
 
 TEST(SensorNoise, TheGainsAreEachChannelsRatioToTheModel) {
-  Recording r = recording(50, 1e-9, 0, 0.1, 3);  // nearly noise-free: the mean is the base
+  NoiseRecording r = recording(50, 1e-9, 0, 0.1, 3);  // nearly noise-free: the mean is the base
   Eigen::VectorXd gain(r.base.size());
   for (Eigen::Index k = 0; k < gain.size(); ++k) gain(k) = 1 + 0.1 * std::cos(1.3 * k);
   const Eigen::VectorXd model = 3.0 * r.base.cwiseQuotient(gain);  // other units, other gains
@@ -158,9 +158,9 @@ TEST(SensorNoise, TheGainsAreEachChannelsRatioToTheModel) {
 }
 
 TEST(SensorNoise, TheLevelsFollowTheFramesUnits) {
-  const Recording r = recording(100, 0.01, 0, 0.1, 4);
+  const NoiseRecording r = recording(100, 0.01, 0, 0.1, 4);
   const SensorNoise n = measure_sensor_noise(r.set, "rec.h5", 0, 100, {});
-  Recording scaled = r;
+  NoiseRecording scaled = r;
   scaled.set.references *= 7, scaled.set.differences *= 7, scaled.set.reference *= 7;
   const SensorNoise m = measure_sensor_noise(scaled.set, "rec.h5", 0, 100, {});
   EXPECT_NEAR(m.noise / n.noise, 1, 1e-12);  // relative to the reference: no unit
@@ -171,11 +171,11 @@ TEST(SensorNoise, TheLevelsFollowTheFramesUnits) {
 
 TEST(SensorNoise, ASetWithoutPairedReferencesOrTooFewIsRefused) {
   using testing::input_error_at;
-  Recording r = recording(10, 0.01, 0, 0.1, 5);
+  NoiseRecording r = recording(10, 0.01, 0, 0.1, 5);
   EXPECT_EQ(input_error_at([&] { measure_sensor_noise(r.set, "rec.h5", 4, 6, {}); }),
             "rec.h5.references");
   // Equal references (copied, or quantised coarser than the noise) show no noise to measure.
-  Recording copied = recording(10, 0, 0, 0.1, 5);
+  NoiseRecording copied = recording(10, 0, 0, 0.1, 5);
   EXPECT_EQ(input_error_at([&] { measure_sensor_noise(copied.set, "rec.h5", 0, 10, {}); }),
             "rec.h5.references");
   r.set.references.resize(0, r.set.references.cols());

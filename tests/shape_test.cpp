@@ -13,7 +13,7 @@
 namespace eitbench {
 namespace {
 
-constexpr double kBackground = 0.05;
+using testing::kBackground;
 
 std::shared_ptr<const LinearProblem> problem(MeshDensity density) {
   auto model = std::make_shared<const ForwardModel>(generate_disk_mesh({16, density}));
@@ -25,7 +25,7 @@ const std::shared_ptr<const LinearProblem>& coarse() {
   static const auto p = problem(MeshDensity::coarse);
   return p;
 }
-const std::shared_ptr<const LinearProblem>& medium() {
+const std::shared_ptr<const LinearProblem>& medium_problem() {
   static const auto p = problem(MeshDensity::medium);
   return p;
 }
@@ -80,14 +80,14 @@ ShapeOptions options(ShapeForward forward) {
 // A circle's own frame gives back the circle exactly: the full model's, and the linear model's
 // made with the circle's Born intensity 2c / (2 - c), which the linear fit maps back to c.
 TEST(ShapeReconstructor, RecoversACircleFromItsOwnFrame) {
-  const detail::ShapeModel model(*medium(), 0);
+  const detail::ShapeModel model(*medium_problem(), 0);
   const std::vector<double> truth = {0.35, -0.2, 0.18, 0.8};
   for (ShapeForward forward : {ShapeForward::linear, ShapeForward::full}) {
     std::vector<double> made = truth;
     if (forward == ShapeForward::linear) made[3] = 2 * truth[3] / (2 - truth[3]);
     const Eigen::VectorXd frame =
         model.difference({made.data()}, forward == ShapeForward::full, nullptr);
-    const ShapeReconstructor shape(medium(), options(forward));
+    const ShapeReconstructor shape(medium_problem(), options(forward));
     const ShapeFit fit = shape.fit_circles(frame);
     ASSERT_EQ(fit.circles.size(), 1u) << to_string(forward);
     const Circle& c = fit.circles[0];
@@ -101,7 +101,7 @@ TEST(ShapeReconstructor, RecoversACircleFromItsOwnFrame) {
 // The reduced difference frame of hard circles (exact element coverage, not the smoothed
 // indicator), simulated on the reconstruction mesh.
 Eigen::VectorXd fem_frame(const std::vector<Circle>& circles) {
-  const ForwardModel& fem = *medium()->model;
+  const ForwardModel& fem = *medium_problem()->model;
   const Mesh& mesh = fem.mesh();
   const Eigen::VectorXd reference =
       fem.frame(Eigen::VectorXd::Constant(mesh.num_triangles(), kBackground));
@@ -118,7 +118,7 @@ TEST(ShapeReconstructor, FindsAnFemCircle) {
   const std::vector<Circle> truth = {{-0.3, 0.4, 0.2, 0.01}};
   const Eigen::VectorXd frame = fem_frame(truth);
   for (ShapeForward forward : {ShapeForward::full, ShapeForward::linear}) {
-    const ShapeReconstructor shape(medium(), options(forward));
+    const ShapeReconstructor shape(medium_problem(), options(forward));
     const ShapeFit fit = shape.fit_circles(frame);
     ASSERT_EQ(fit.circles.size(), 1u) << to_string(forward);
     const double error = std::hypot(fit.circles[0].x - truth[0].x, fit.circles[0].y - truth[0].y);
@@ -135,7 +135,8 @@ TEST(ShapeReconstructor, FindsAnFemCircle) {
 TEST(ShapeReconstructor, FindsTwoFemCircles) {
   const std::vector<Circle> truth = {{-0.4, -0.3, 0.15, 0.005}, {0.35, 0.35, 0.22, 0.02}};
   const Eigen::VectorXd frame = fem_frame(truth);
-  const ShapeFit fit = ShapeReconstructor(medium(), options(ShapeForward::full)).fit_circles(frame);
+  const ShapeFit fit =
+      ShapeReconstructor(medium_problem(), options(ShapeForward::full)).fit_circles(frame);
   ASSERT_EQ(fit.circles.size(), 2u);
   for (const Circle& t : truth) {
     double nearest = INFINITY;
@@ -160,12 +161,12 @@ TEST(ShapeReconstructor, TheFullModelFindsATouchTheLinearFitsMiss) {
   const Eigen::VectorXd frame = fine.protocol().reduce(
       fine.frame(conductivity_from_circles(fine.mesh(), truth, kBackground)) - empty,
       MeasurementOrder::rotating);
-  const ShapeReconstructor linear(medium(), options(ShapeForward::linear));
+  const ShapeReconstructor linear(medium_problem(), options(ShapeForward::linear));
   std::printf("linear model: %zu circles\n", linear.fit_circles(frame).circles.size());
   for (double penalty : {1.0, 2.0, 4.0}) {
     ShapeOptions o = options(ShapeForward::full);
     o.penalty = penalty;
-    const ShapeFit fit = ShapeReconstructor(medium(), o).fit_circles(frame);
+    const ShapeFit fit = ShapeReconstructor(medium_problem(), o).fit_circles(frame);
     ASSERT_EQ(fit.circles.size(), 4u) << "penalty " << penalty;
     for (const Circle& t : truth) {
       double nearest = INFINITY;
@@ -186,8 +187,8 @@ TEST(ShapeReconstructor, TwoNeighbouringTouchesAreSplitIntoTwo) {
   const std::vector<std::vector<Circle>> pairs = {
       {{0.0, 0.0, 0.12, 0.01}, {0.0, 0.27, 0.12, 0.01}},
       {{0.1, -0.2, 0.12, 0.005}, {0.1, 0.06, 0.12, 0.005}}};
-  const ShapeReconstructor linear(medium(), options(ShapeForward::linear));
-  const ShapeReconstructor full(medium(), options(ShapeForward::full));
+  const ShapeReconstructor linear(medium_problem(), options(ShapeForward::linear));
+  const ShapeReconstructor full(medium_problem(), options(ShapeForward::full));
   for (const auto& truth : pairs) {
     const Eigen::VectorXd frame = fine.protocol().reduce(
         fine.frame(conductivity_from_circles(fine.mesh(), truth, kBackground)) - empty,
@@ -205,9 +206,9 @@ TEST(ShapeReconstructor, TwoNeighbouringTouchesAreSplitIntoTwo) {
 }
 
 // Single touches simulated on the fine mesh as the data sets are (the quick set's first eight
-// one-touch training frames): the shape model on the medium mesh misses them by about 1 % of the
-// frame, which is not noise. One circle each, no phantom beside it (a noise floor of 1e-3 bought
-// a phantom on most of them), for both models.
+// one-touch training frames): the shape model on the medium_problem mesh misses them by about 1 %
+// of the frame, which is not noise. One circle each, no phantom beside it (a noise floor of 1e-3
+// bought a phantom on most of them), for both models.
 TEST(ShapeReconstructor, OneTouchFromTheFineMeshIsOneCircle) {
   const ForwardModel fine(testing::disk(16, MeshDensity::fine));
   const Eigen::VectorXd empty =
@@ -218,7 +219,7 @@ TEST(ShapeReconstructor, OneTouchFromTheFineMeshIsOneCircle) {
       {0.0935, -0.121, 0.1081, 0.0298},   {0.3692, -0.4789, 0.1939, 0.04},
       {0.5078, -0.5353, 0.158, 0.0046},   {0.0864, 0.7727, 0.1064, 0.0433}};
   for (ShapeForward forward : {ShapeForward::full, ShapeForward::linear}) {
-    const ShapeReconstructor shape(medium(), options(forward));
+    const ShapeReconstructor shape(medium_problem(), options(forward));
     for (const Circle& t : touches) {
       const Eigen::VectorXd frame = fine.protocol().reduce(
           fine.frame(conductivity_from_circles(fine.mesh(), {t}, kBackground)) - empty,
@@ -246,7 +247,8 @@ TEST(ShapeReconstructor, RobustLossIgnoresOutlyingMeasurements) {
   for (int robust = 0; robust < 2; ++robust) {
     ShapeOptions o = options(ShapeForward::linear);
     o.robust_scale = robust ? 0.1 : 0.0;
-    const ShapeFit fit = ShapeReconstructor(medium(), o).fit_circles(frame, start, o.forward);
+    const ShapeFit fit =
+        ShapeReconstructor(medium_problem(), o).fit_circles(frame, start, o.forward);
     errors[robust] = std::hypot(fit.circles[0].x - truth[0].x, fit.circles[0].y - truth[0].y);
   }
   std::printf("centre error with outliers: %.4f R plain, %.4f R with Huber's loss\n", errors[0],
@@ -256,13 +258,13 @@ TEST(ShapeReconstructor, RobustLossIgnoresOutlyingMeasurements) {
 }
 
 TEST(ShapeReconstructor, NoTouchGivesNoCircles) {
-  const ShapeReconstructor shape(medium(), {});
+  const ShapeReconstructor shape(medium_problem(), {});
   EXPECT_TRUE(shape.fit_circles(Eigen::VectorXd::Zero(104)).circles.empty());
   EXPECT_EQ(shape.reconstruct(Eigen::VectorXd::Zero(104)).norm(), 0);
 }
 
 TEST(ShapeReconstructor, BadInputIsRefused) {
-  const ShapeReconstructor shape(medium(), {});
+  const ShapeReconstructor shape(medium_problem(), {});
   EXPECT_THROW(shape.fit_circles(Eigen::VectorXd::Zero(103)), InputError);
   Eigen::VectorXd nan = Eigen::VectorXd::Zero(104);
   nan[7] = NAN;
@@ -279,7 +281,7 @@ TEST(ShapeReconstructor, BadInputIsRefused) {
            [](ShapeOptions& o) { o.choice = Criterion::gcv; }}) {
     ShapeOptions o;
     bad(o);
-    EXPECT_THROW(ShapeReconstructor(medium(), o), InputError);
+    EXPECT_THROW(ShapeReconstructor(medium_problem(), o), InputError);
   }
   EXPECT_THROW(parse_shape_forward("exact"), InputError);
 }

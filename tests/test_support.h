@@ -11,6 +11,14 @@
 
 namespace eitbench::testing {
 
+// The background conductivity (S/m) of the suites' media with touches.
+inline constexpr double kBackground = 0.05;
+
+// The KTC2023 training set beside the repository (not committed: tests that need it skip).
+inline std::string ktc_folder() {
+  return std::string(EITBENCH_SOURCE_DIR) + "/../shared/data/ktc2023";
+}
+
 // "source.field" of the InputError that `call` throws, so that a test can check that an error
 // names the options struct and the field at fault; "no InputError" when it throws none.
 template <class Call>

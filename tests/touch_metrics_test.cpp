@@ -20,7 +20,7 @@ namespace eitbench {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kBackground = 0.05;
+using testing::kBackground;
 
 // A circle of the given touch intensity (sigma_0 - sigma) / sigma_0.
 Circle touch_circle(double x, double y, double r, double contrast) {

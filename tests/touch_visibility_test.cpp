@@ -13,7 +13,7 @@
 namespace eitbench {
 namespace {
 
-constexpr double kBackground = 0.05;
+using testing::kBackground;
 
 Circle touch(double x, double y, double r, double contrast) {
   return {x, y, r, kBackground * (1 - contrast)};

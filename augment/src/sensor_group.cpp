@@ -10,12 +10,12 @@
 #include <map>
 #include <optional>
 
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 using Segment = std::array<Eigen::Vector2d, 2>;
 
 Eigen::Vector2d node(const Mesh& mesh, int i) {

@@ -16,14 +16,13 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/disk_mesh.h"
 #include "eitbench/jacobian/error.h"
 #include "gmsh_session.h"
 
 namespace eitbench {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 using detail::GmshSession;
 using detail::SizeSet;

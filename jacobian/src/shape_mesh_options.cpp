@@ -4,13 +4,12 @@
 #include <cmath>
 #include <vector>
 
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/shape_mesh.h"
 
 namespace eitbench {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 [[noreturn]] void fail(const char* field, const std::string& why) {
   throw InputError("ShapeMeshOptions", field, why);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
@@ -16,8 +17,6 @@ void PressFrameOptions::validate() const {
 }
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 void check_inputs(const LinearProblem& p, const SampleMatrix& differences,
                   const Eigen::MatrixX2d& positions) {

@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/error.h"
 #include "shape_model.h"
 
@@ -28,8 +29,6 @@ void PressSensorOptions::validate() const {
 }
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The parameters, one block: [turn (radians), log scale, radius, contrast (per unit of depth)].
 enum Parameter { kTurn, kLogScale, kRadius, kContrast, kParameters };

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "eitbench/jacobian/constants.h"
+
 namespace eitbench::detail {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Peak {
   int row, col;

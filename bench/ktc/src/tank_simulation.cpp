@@ -5,12 +5,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The largest radius * shape(t) over t: what keeps targets apart and inside the tank.
 double reach(const KtcTarget& t) {

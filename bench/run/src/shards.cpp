@@ -19,7 +19,7 @@ namespace {
 constexpr const char* kFormat = "eitbench-run-shard-1";
 constexpr long long kMaxRecordBytes = 1 << 20;
 
-RunShardRecord read_record(const fs::path& path) {
+RunShardRecord read_shard_record(const fs::path& path) {
   const std::string file = path.string();
   try {
     const nlohmann::json j = nlohmann::json::parse(read_file_bytes(file, kMaxRecordBytes));
@@ -65,7 +65,7 @@ std::map<int, RunShardRecord> finished_shards(const std::string& out) {
     if (!fs::exists(record))
       throw InputError(entry.path().string(), "",
                        "has not finished (no shard.json): run it again with --resume");
-    RunShardRecord r = read_record(record);
+    RunShardRecord r = read_shard_record(record);
     if (r.index != k || r.count != n)
       throw InputError(record.string(), "index", "does not match its folder's name");
     shards.emplace(k, std::move(r));

@@ -18,7 +18,7 @@ Provenance read_provenance(const nlohmann::json& record) {
   return p;
 }
 
-nlohmann::json read_record(const fs::path& path) {
+nlohmann::json read_stage_record(const fs::path& path) {
   try {
     return nlohmann::json::parse(read_file_bytes(path.string(), 1LL << 30));
   } catch (const nlohmann::json::exception&) {
@@ -43,7 +43,7 @@ fs::path model_record(const std::string& model_path) {
 }  // namespace
 
 Provenance model_provenance(const std::string& model_path) {
-  return read_provenance(read_record(model_record(model_path)));
+  return read_provenance(read_stage_record(model_record(model_path)));
 }
 
 StageCache::StageCache(fs::path folder, bool resume, Say say)
@@ -56,7 +56,7 @@ bool StageCache::find(const std::string& name, const Provenance& wanted,
                       const Keep& keep) const {
   const fs::path p = folder_ / (name + ".json");
   if (!resume_ || !fs::exists(p)) return false;
-  nlohmann::json record = read_record(p);
+  nlohmann::json record = read_stage_record(p);
   const Provenance stored = read_provenance(record);
   const bool kept = stored != wanted && !stored.empty() && keep && keep(stored);
   if (stored != wanted && !kept) {

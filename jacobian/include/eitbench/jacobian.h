@@ -2,6 +2,7 @@
 // eitbench/jacobian: the physics of the sensor. Meshes (generated with exact D_L symmetry, or read
 // from Gmsh), the measurement protocol, the complete-electrode-model forward solver and its
 // Jacobian on elements and on the 64x64 pixel grid.
+#include "eitbench/jacobian/constants.h"
 #include "eitbench/jacobian/current_patterns.h"
 #include "eitbench/jacobian/disk_mesh.h"
 #include "eitbench/jacobian/electrode_shift.h"
