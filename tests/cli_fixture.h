@@ -53,10 +53,7 @@ class Cli : public ::testing::Test {
     const std::string log = path("log.txt");
     const int status = std::system(
         (prefix + std::string(EITBENCH_CLI) + " " + args + " > " + log + " 2>&1").c_str());
-    std::ifstream in(log);
-    std::stringstream text;
-    text << in.rdbuf();
-    return {WEXITSTATUS(status), text.str()};
+    return {WEXITSTATUS(status), file_text(log)};
   }
 
   // Polls ready() every 2 ms until it holds (true) or 300 s have passed (false): a sanitizer

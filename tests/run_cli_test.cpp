@@ -378,13 +378,6 @@ TEST_F(RunCli, KilledSimulationLeavesNoFile) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
 }
 
-std::string file_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
 // `eitbench report` draws from the store alone (results.json, reconstructions.npy): in a copy of
 // the run holding nothing else, it re-draws every derived file, byte for byte as the run did.
 TEST_F(RunCli, ReportRedrawsTheRunFromItsStoredResults) {
@@ -399,14 +392,14 @@ TEST_F(RunCli, ReportRedrawsTheRunFromItsStoredResults) {
   for (const char* name : {"report.md", "results.csv", "reconstructions.png", "loss_curves.csv",
                            "loss_curves.png", "data_efficiency.png", "touch_centre_errors.png"}) {
     ASSERT_TRUE(fs::exists(copy / name)) << name;
-    EXPECT_EQ(file_bytes(copy / name), file_bytes(finished / name)) << name;
+    EXPECT_EQ(file_text(copy / name), file_text(finished / name)) << name;
   }
   // The pick is re-made from the rows: a stored one from an older rule does not survive.
   RunResults stale = read_results_json((copy / "results.json").string());
   stale.recommendation = "Pick **an older rule's choice**.";
   write_results_json((copy / "results.json").string(), stale);
   ASSERT_EQ(run("report --quiet " + copy.string()).exit_code, 0);
-  EXPECT_EQ(file_bytes(copy / "report.md"), file_bytes(finished / "report.md"));
+  EXPECT_EQ(file_text(copy / "report.md"), file_text(finished / "report.md"));
   // Without the images, everything else is drawn and the old figure is left alone.
   fs::remove(copy / "reconstructions.npy");
   fs::remove(copy / "reconstructions.png");
@@ -420,17 +413,17 @@ TEST_F(RunCli, ReportRedrawsTheRunFromItsStoredResults) {
   const std::string log = path("gnuplot.log");
   const int none = std::system(
       ("PATH=/nonexistent " + cli + " report " + copy.string() + " > " + log + " 2>&1").c_str());
-  EXPECT_EQ(WEXITSTATUS(none), 0) << file_bytes(log);
-  EXPECT_NE(file_bytes(log).find("gnuplot is not installed"), std::string::npos) << file_bytes(log);
+  EXPECT_EQ(WEXITSTATUS(none), 0) << file_text(log);
+  EXPECT_NE(file_text(log).find("gnuplot is not installed"), std::string::npos) << file_text(log);
   EXPECT_TRUE(fs::exists(copy / "loss_curves.dat"));
   EXPECT_TRUE(fs::exists(copy / "loss_curves.gp"));
   EXPECT_FALSE(fs::exists(copy / "loss_curves.png"));
   const int failing = std::system(
       ("EITBENCH_GNUPLOT=/bin/false " + cli + " report " + copy.string() + " > " + log + " 2>&1")
           .c_str());
-  EXPECT_EQ(WEXITSTATUS(failing), 2) << file_bytes(log);
-  EXPECT_NE(file_bytes(log).find("gnuplot (/bin/false) failed"), std::string::npos)
-      << file_bytes(log);
+  EXPECT_EQ(WEXITSTATUS(failing), 2) << file_text(log);
+  EXPECT_NE(file_text(log).find("gnuplot (/bin/false) failed"), std::string::npos)
+      << file_text(log);
   EXPECT_FALSE(fs::exists(copy / "loss_curves.png"));
   for (const auto& entry : fs::directory_iterator(copy))
     EXPECT_EQ(entry.path().filename().string().find(".gnuplot"), std::string::npos) << entry.path();
@@ -443,7 +436,7 @@ TEST_F(RunCli, ReportRedrawsTheRunFromItsStoredResults) {
   EXPECT_TRUE(fs::is_empty(empty));
   // Images that do not fit results.json's rows are refused.
   fs::copy_file(finished / "reconstructions.npy", copy / "reconstructions.npy");
-  std::string npy = file_bytes(copy / "reconstructions.npy");
+  std::string npy = file_text(copy / "reconstructions.npy");
   npy.resize(npy.size() / 2);
   std::ofstream(copy / "reconstructions.npy", std::ios::binary) << npy;
   const Result truncated = run("report " + copy.string());
@@ -543,8 +536,7 @@ TEST(Report, GpuInferenceOnlyWhereMeasured) {
   fs::create_directories(dir);
   auto report = [&] {
     write_report((dir / "report.md").string(), r);
-    std::ifstream in(dir / "report.md");
-    return std::string(std::istreambuf_iterator<char>(in), {});
+    return file_text((dir / "report.md").string());
   };
   EXPECT_EQ(report().find("Inference on the GPU"), std::string::npos);
   EXPECT_EQ(report().find("The learned reconstructor ran on"), std::string::npos);
