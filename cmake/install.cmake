@@ -22,6 +22,8 @@ install(TARGETS ${eitbench_libraries} ${eitbench_wrappers} EXPORT eitbenchTarget
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS eitbench RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# learned/'s LibTorch module: the tool finds it in ../lib from itself, a program in this prefix.
+install(TARGETS eitbench_learned_torch LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 foreach(dir jacobian augment solvers learned)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()

@@ -43,7 +43,8 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DEITBENCH_UNIT
   -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_STANDARD="${CXX_STANDARD:-17}" \
   -DEITBENCH_WITH_GMSH=$gmsh -DEITBENCH_WITH_FIGURES=$figures -DEITBENCH_WITH_CERES=$ceres \
   -DEITBENCH_BUILD_TESTS=OFF -DEITBENCH_BUILD_BENCHMARKS=OFF -DEITBENCH_INSTALL=OFF \
-  ${libs:+-DCMAKE_EXE_LINKER_FLAGS="-Wl,-rpath-link,$libs"} ${EXTRA_CMAKE_ARGS:-}
+  ${libs:+-DCMAKE_EXE_LINKER_FLAGS="-Wl,-rpath-link,$libs"} \
+  ${libs:+-DCMAKE_MODULE_LINKER_FLAGS="-Wl,-rpath-link,$libs"} ${EXTRA_CMAKE_ARGS:-}
 cmake --build "$build" --target eitbench -j "$(nproc)"
 
 {

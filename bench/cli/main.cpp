@@ -19,6 +19,19 @@
 #include "flag_names.h"
 #include "world.h"
 
+namespace {
+
+// LibTorch's version and devices, loading learned/'s module; why not, where it cannot be loaded.
+std::string torch_text() {
+  try {
+    return eitbench::torch_runtime();
+  } catch (const std::exception& e) {
+    return std::string("LibTorch: ") + e.what();
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   eitbench::use_the_cpus_blas_kernels(argv);  // may run the program again, before anything else
   eitbench::keep_freed_memory();
@@ -35,8 +48,7 @@ int main(int argc, char** argv) {
         eitbench::program_version(),
         eitbench::can_generate_disk_mesh() ? "yes" : "no (EITBENCH_MESH_DIR)",
         eitbench::can_draw_figures() ? "yes" : "no", shape ? "yes" : "no",
-        eitbench::cli::built_with_mpi() ? "yes" : "no", eitbench::blas_kernels(),
-        eitbench::torch_runtime());
+        eitbench::cli::built_with_mpi() ? "yes" : "no", eitbench::blas_kernels(), torch_text());
   });
   app.require_subcommand(1);
   std::map<CLI::App*, std::function<void()>> actions;

@@ -27,12 +27,6 @@ TORCH_MODULE(Network);
 // A copy of `from`'s parameters and buffers into `to` (same shape).
 void copy_state(const Network& from, Network& to);
 
-struct LearnedModel::Impl {
-  ModelInfo info;
-  Network net{nullptr};
-  torch::Device device = torch::kCPU;
-};
-
 // Row-major samples <-> float32 tensors.
 torch::Tensor to_tensor(const SampleMatrix& rows, const torch::Device& device);
 SampleMatrix to_samples(const torch::Tensor& tensor);

@@ -1,6 +1,6 @@
 #pragma once
-// The trainer's state (internal to learned/): shared by the training loop (trainer.cpp) and the
-// checkpoint (trainer_state.cpp).
+// Trainer on LibTorch (internal to learned/): its state, shared by the training loop
+// (torch_trainer.cpp) and the checkpoint (trainer_state.cpp), and the Trainer::Impl over it.
 #include <torch/torch.h>
 
 #include <limits>
@@ -8,16 +8,15 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "eitbench/learned/trainer.h"
+#include "backend.h"
 #include "network.h"
 #include "resident_set.h"
 #include "train_step.h"
+#include "training_json.h"
 
 namespace eitbench {
 
-constexpr double kNoLoss = std::numeric_limits<double>::infinity();
-
-struct Trainer::Impl {
+struct TrainerState {
   NetworkOptions network;
   TrainingOptions options;
   AugmentSetup setup;
@@ -48,8 +47,8 @@ struct Trainer::Impl {
   int improved_round = 0;           // ... and its round: early stopping counts from it
   bool stopped_early = false;
 
-  Impl(const NetworkOptions& n, const TrainingOptions& o, LabelledFrames train_set,
-       const LabelledFrames& validation, const AugmentSetup& sensor);
+  TrainerState(const NetworkOptions& n, const TrainingOptions& o, LabelledFrames train_set,
+               const LabelledFrames& validation, const AugmentSetup& sensor);
   void input_statistics();
   bool choose_residency() const;
   bool choose_graphs() const;  // after residency is chosen
@@ -62,6 +61,39 @@ struct Trainer::Impl {
   void record_validation(const TrainingRecord& r);
 };
 
+class TorchTrainer final : public Trainer::Impl {
+ public:
+  explicit TorchTrainer(std::unique_ptr<TrainerState> state) : state_(std::move(state)) {}
+  // The checkpoint's trainer: InputError(source) for anything it cannot resume from.
+  static std::unique_ptr<TorchTrainer> resume(const std::string& checkpoint,
+                                              const std::string& source, LabelledFrames train,
+                                              const LabelledFrames& validation,
+                                              const AugmentSetup& sensor);
+
+  void start_from(const LearnedModel::Impl& model, const std::string& source) override;
+  bool done() const override;
+  bool converged() const override;
+  TrainingRecord run_round(const StepCallback& on_step) override;
+  const std::vector<TrainingRecord>& history() const override;
+  int best_round() const override;
+  int best_epoch() const override;
+  long long steps_per_epoch() const override;
+  long long steps_per_round() const override;
+  long long total_steps() const override;
+  int total_epochs() const override;
+  long long samples_per_epoch() const override;
+  const TrainingOptions& options() const override;
+  const LearningRateSchedule& schedule() const override;
+  std::string checkpoint() const override;
+  std::unique_ptr<LearnedModel::Impl> best_model() const override;
+  Eigen::VectorXd input_mean() const override;
+  Eigen::VectorXd input_std() const override;
+  void batch(int epoch, long long index, SampleMatrix& frames, SampleMatrix& labels) const override;
+
+ private:
+  std::unique_ptr<TrainerState> state_;
+};
+
 // A hash of everything a set's samples depend on (a checkpoint resumes only on its own data).
 std::uint64_t fingerprint(const LabelledFrames& set);
 // The order of epoch `epoch`'s samples: Fisher-Yates on the (seed, epoch) stream.
@@ -69,7 +101,5 @@ std::vector<long long> permutation(long long n, std::uint64_t seed, int epoch);
 
 nlohmann::json options_to_json(const TrainingOptions& options);
 TrainingOptions options_from_json(const nlohmann::json& json);
-nlohmann::json finite_or_null(double v);
-double number_or_infinity(const nlohmann::json& j);
 
 }  // namespace eitbench

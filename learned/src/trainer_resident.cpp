@@ -11,7 +11,7 @@
 
 namespace eitbench {
 
-bool Trainer::Impl::choose_residency() const {
+bool TrainerState::choose_residency() const {
   if (options.resident == "off" || (options.resident == "auto" && device.is_cpu())) return false;
   const long long samples = options.expanded ? train_size / group_size : train_size;
   const double need = ResidentSet::bytes(samples, group_size, train->frames.cols(),
@@ -29,7 +29,7 @@ bool Trainer::Impl::choose_residency() const {
 
 // CUDA graphs replay the resident path's steps: they need a GPU, the set on it, and a build whose
 // LibTorch has CUDA (validate() has refused "on" without the first two).
-bool Trainer::Impl::choose_graphs() const {
+bool TrainerState::choose_graphs() const {
   if (options.cuda_graphs == "off" || !device.is_cuda()) return false;
   if (resident && cuda::compiled()) return true;
   if (options.cuda_graphs == "auto") return false;
@@ -42,7 +42,7 @@ bool Trainer::Impl::choose_graphs() const {
 // Every sample under every element, in expand_by_group's layout: from the expanded set (freed
 // afterwards: the device holds it now), or through the augmenter, which gives the on-the-fly
 // path's labels (the stored label for the identity).
-void Trainer::Impl::make_resident() {
+void TrainerState::make_resident() {
   const long long samples = train->frames.rows(), pixels = validation_labels.cols();
   const auto& elements = augmenter ? augmenter->elements() : std::vector<GroupElement>{};
   auto source = [&](long long first, long long count, SampleMatrix& frames, SampleMatrix& labels) {
@@ -68,7 +68,7 @@ void Trainer::Impl::make_resident() {
   if (options.expanded) expanded = LabelledFrames{};
 }
 
-torch::Tensor Trainer::Impl::resident_rows(int epoch, const std::vector<long long>& order) const {
+torch::Tensor TrainerState::resident_rows(int epoch, const std::vector<long long>& order) const {
   if (options.expanded) return resident->upload(order);
   std::vector<long long> rows(order.size());
   const GroupElement* first = augmenter->elements().data();

@@ -99,53 +99,8 @@ TrainingOptions options_from_json(const nlohmann::json& j) {
   return o;
 }
 
-nlohmann::json finite_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nullptr;
-}
-double number_or_infinity(const nlohmann::json& j) {
-  return j.is_null() ? kNoLoss : j.get<double>();
-}
-
-std::string history_to_json(const std::vector<TrainingRecord>& history) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const auto& r : history)
-    out.push_back({{"round", r.round},
-                   {"epoch", r.epoch},
-                   {"steps", r.steps},
-                   {"samples", r.samples},
-                   {"train_loss", finite_or_null(r.train_loss)},
-                   {"validation_loss", finite_or_null(r.validation_loss)},
-                   {"learning_rate", r.learning_rate},
-                   {"seconds", r.seconds},
-                   {"samples_per_second", r.samples_per_second}});
-  return out.dump();
-}
-
-std::vector<TrainingRecord> history_from_json(const std::string& text, const std::string& source) {
-  std::vector<TrainingRecord> out;
-  try {
-    for (const auto& e : nlohmann::json::parse(text)) {
-      TrainingRecord r;
-      r.epoch = e.at("epoch").get<int>();
-      // Histories written before rounds existed had one entry an epoch.
-      r.round = e.value("round", r.epoch);
-      r.steps = e.at("steps").get<long long>();
-      r.samples = e.at("samples").get<long long>();
-      r.train_loss = number_or_infinity(e.at("train_loss"));
-      r.validation_loss = number_or_infinity(e.at("validation_loss"));
-      r.learning_rate = e.value("learning_rate", 0.0);
-      r.seconds = e.at("seconds").get<double>();
-      r.samples_per_second = e.at("samples_per_second").get<double>();
-      out.push_back(r);
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(source, "history", std::string("unreadable: ") + e.what());
-  }
-  return out;
-}
-
-std::string Trainer::checkpoint() const {
-  const Impl& m = *impl_;
+std::string TorchTrainer::checkpoint() const {
+  const TrainerState& m = *state_;
   const nlohmann::json state = {{"network", nlohmann::json::parse(network_to_json(m.network))},
                                 {"options", options_to_json(m.options)},
                                 {"train_fingerprint", m.train_print},
@@ -176,7 +131,7 @@ std::string Trainer::checkpoint() const {
 namespace {
 
 // The progress fields of a checkpoint's state into a freshly made trainer.
-void restore_progress(const nlohmann::json& state, Trainer::Impl& m, const std::string& source) {
+void restore_progress(const nlohmann::json& state, TrainerState& m, const std::string& source) {
   if (state.at("train_fingerprint").get<std::uint64_t>() != m.train_print ||
       state.at("validation_fingerprint").get<std::uint64_t>() != m.validation_print)
     throw InputError(source, "data",
@@ -206,9 +161,10 @@ void move_optimizer_state(torch::optim::Adam& adam, const torch::Device& device)
 
 }  // namespace
 
-std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::string& source,
-                                         LabelledFrames train, const LabelledFrames& validation,
-                                         const AugmentSetup& sensor) {
+std::unique_ptr<TorchTrainer> TorchTrainer::resume(const std::string& bytes,
+                                                   const std::string& source, LabelledFrames train,
+                                                   const LabelledFrames& validation,
+                                                   const AugmentSetup& sensor) {
   torch::serialize::InputArchive archive, net, best, adam;
   c10::IValue format, state_text;
   try {
@@ -231,7 +187,7 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
   } catch (const std::exception& e) {  // the archive's TorchScript code, damaged
     throw InputError(source, "", "not a readable checkpoint (" + first_line(e) + ")");
   }
-  std::unique_ptr<Impl> m;
+  std::unique_ptr<TrainerState> m;
   try {
     const auto state = nlohmann::json::parse(state_text.toStringRef());
     const TrainingOptions options = options_from_json(state.at("options"));
@@ -240,8 +196,8 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
     } catch (const InputError& e) {
       throw InputError(source, "options", e.field() + ": " + e.message());
     }
-    m = std::make_unique<Impl>(network_from_json(state.at("network").dump(), source), options,
-                               std::move(train), validation, sensor);
+    m = std::make_unique<TrainerState>(network_from_json(state.at("network").dump(), source),
+                                       options, std::move(train), validation, sensor);
     restore_progress(state, *m, source);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, "state", std::string("unreadable: ") + e.what());
@@ -258,7 +214,7 @@ std::unique_ptr<Trainer> Trainer::resume(const std::string& bytes, const std::st
   } catch (const std::exception& e) {
     throw InputError(source, "weights", first_line(e));
   }
-  return std::unique_ptr<Trainer>(new Trainer(std::move(m)));
+  return std::make_unique<TorchTrainer>(std::move(m));
 }
 
 }  // namespace eitbench

@@ -56,7 +56,7 @@ class LearnedModel {
   std::string to_bytes() const;
   static LearnedModel from_bytes(const std::string& bytes, const std::string& source);
 
-  struct Impl;  // defined in learned/src (LibTorch)
+  struct Impl;  // what the LibTorch module implements (learned/src/backend.h)
 
  private:
   friend class Trainer;  // fills a new model's network with the best one it trained

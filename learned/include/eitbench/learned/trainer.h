@@ -140,7 +140,7 @@ class Trainer {
   // Batch `index` of `epoch` (1-based) as the network receives it, before normalisation.
   void batch(int epoch, long long index, SampleMatrix& frames, SampleMatrix& labels) const;
 
-  struct Impl;  // defined in learned/src (LibTorch)
+  struct Impl;  // what the LibTorch module implements (learned/src/backend.h)
 
  private:
   explicit Trainer(std::unique_ptr<Impl> impl);
