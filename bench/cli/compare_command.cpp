@@ -15,7 +15,7 @@
 namespace eitbench::cli {
 namespace {
 
-struct Args {
+struct CompareArgs {
   std::string old_path, new_path;
   QualityOptions quality;
   SpeedOptions speed;
@@ -46,7 +46,7 @@ std::string context_value(const MicrobenchRun& run, const char* key) {
   return it == run.context.end() ? "?" : it->second;
 }
 
-void compare_speed(const Args& args, const nlohmann::json& a, const nlohmann::json& b) {
+void compare_speed(const CompareArgs& args, const nlohmann::json& a, const nlohmann::json& b) {
   const MicrobenchRun old_run = parse_microbench_json(a, args.old_path),
                       new_run = parse_microbench_json(b, args.new_path);
   const Comparison c = compare_microbench(old_run, new_run, args.speed);
@@ -59,7 +59,7 @@ void compare_speed(const Args& args, const nlohmann::json& a, const nlohmann::js
                         args.speed.alpha, 100 * args.speed.min_change));
 }
 
-void compare_runs(const Args& args, const nlohmann::json& old_doc, const nlohmann::json& new_doc) {
+void compare_runs(const CompareArgs& args, const nlohmann::json& old_doc, const nlohmann::json& new_doc) {
   const RunResults a = parse_results_json(old_doc, args.old_path),
                    b = parse_results_json(new_doc, args.new_path);
   const Comparison c = compare_results(a, b, args.quality);
@@ -77,7 +77,7 @@ void compare_runs(const Args& args, const nlohmann::json& old_doc, const nlohman
 }  // namespace
 
 std::function<void()> add_compare_command(CLI::App& app) {
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<CompareArgs>();
   auto* cmd = app.add_subcommand(
       "compare",
       "Compare two runs: results.json of 'run' (quality and latency), or the Google Benchmark JSON "

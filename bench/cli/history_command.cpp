@@ -16,7 +16,7 @@
 namespace eitbench::cli {
 namespace {
 
-struct Args {
+struct HistoryArgs {
   std::string file, commit, history = "eitbench-history.jsonl", out, snr = "inf", filter;
   bool replace = false;
   HistoryOptions options;
@@ -31,7 +31,7 @@ std::string utc_now() {
   return text;
 }
 
-void add(const Args& a) {
+void add(const HistoryArgs& a) {
   if (a.commit.empty() || a.commit.find_first_of(" \t\n") != std::string::npos)
     throw InputError("--commit", "", "must be one word (a SHA or a tag), not '" + a.commit + "'");
   const nlohmann::json doc = read_json_file(a.file);
@@ -71,7 +71,7 @@ void print_metric(const std::vector<HistoryEntry>& history,
   }
 }
 
-void show(const Args& a) {
+void show(const HistoryArgs& a) {
   const std::vector<HistoryEntry> history = read_history(a.history);
   if (history.empty())
     throw InputError(a.history, "", "no history yet: add a run with 'eitbench history add'");
@@ -108,7 +108,7 @@ void show(const Args& a) {
 }  // namespace
 
 std::function<void()> add_history_command(CLI::App& app) {
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<HistoryArgs>();
   auto* cmd = app.add_subcommand(
       "history",
       "A history of runs over commits: add a run's results.json or microbenchmark "

@@ -23,7 +23,7 @@
 namespace eitbench::cli {
 namespace {
 
-struct Args {
+struct KtcCommandArgs {
   std::string input, output, method = "noser", from, segmentation, density = "medium",
                              augment = "group";
   int level = 1, pixels = 64;
@@ -33,7 +33,7 @@ struct Args {
 };
 
 // OUTPUT may not be INPUT (nor a file): KTC's folders hold the inputs.
-void check_folders(const Args& a) {
+void check_folders(const KtcCommandArgs& a) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::exists(a.output, ec) && !fs::is_directory(a.output, ec))
@@ -66,7 +66,7 @@ struct Inputs {
   std::vector<std::optional<ClassImage>> truths;
 };
 
-Inputs read_inputs(const Args& a) {
+Inputs read_inputs(const KtcCommandArgs& a) {
   Inputs in;
   in.folder = scan_ktc_folder(a.input);
   in.reference = read_ktc_measurement(in.folder.reference);
@@ -84,7 +84,7 @@ Inputs read_inputs(const Args& a) {
 
 // Writes OUTPUT/N.mat for every sample (classes(k) its segmentation), timed, scored where the
 // folder has the truth; then the summary line `what`.
-void write_all(const Args& a, const Inputs& in,
+void write_all(const KtcCommandArgs& a, const Inputs& in,
                const std::function<ClassImage(std::size_t)>& classes, const std::string& what) {
   std::error_code error;
   std::filesystem::create_directories(a.output, error);
@@ -116,7 +116,7 @@ void write_all(const Args& a, const Inputs& in,
 }
 
 // --method dnn or dnn-post: a learned model of the run, on the differences from ref.mat.
-void run_learned(const Args& a, const CLI::App& cmd) {
+void run_learned(const KtcCommandArgs& a, const CLI::App& cmd) {
   if (a.from.empty())
     throw InputError(
         "--method", "",
@@ -167,7 +167,7 @@ void run_learned(const Args& a, const CLI::App& cmd) {
       what + fmt::format(", on {} at lambda {:g}", step.method, step.lambda));
 }
 
-void run(const Args& a, const CLI::App& cmd) {
+void run(const KtcCommandArgs& a, const CLI::App& cmd) {
   ktc_removed_electrodes(a.level);  // 1 ... 7, before anything is read
   if (a.method == "dnn" || a.method == "dnn-post") return run_learned(a, cmd);
   if (cmd.count("--augment") > 0)
@@ -234,7 +234,7 @@ void run(const Args& a, const CLI::App& cmd) {
 }  // namespace
 
 std::function<void()> add_ktc_command(CLI::App& app) {
-  auto a = std::make_shared<Args>();
+  auto a = std::make_shared<KtcCommandArgs>();
   auto* cmd = app.add_subcommand(
       "ktc",
       "KTC2023's calling convention: reconstruct every dataN.mat of INPUT_FOLDER (with its "

@@ -33,7 +33,7 @@
 namespace eitbench::cli {
 namespace {
 
-struct Args {
+struct ReconstructArgs {
   std::string method = "noser", data, reference, frames, order = "rotating", variable, choose, out,
               model;
   MeshSource mesh;
@@ -59,7 +59,7 @@ struct Args {
   bool noise_weights = false;  // weigh each value by one over its noise measured in --sensor
 };
 
-void add_options(CLI::App* cmd, Args* args) {
+void add_reconstruct_options(CLI::App* cmd, ReconstructArgs* args) {
   cmd->add_option("--method", args->method,
                   "tikhonov | noser | laplace | tv | gn | greit | shape (circles fitted by the "
                   "FEM) | shape-linear (by the Jacobian) | dnn (needs --model)")
@@ -208,7 +208,7 @@ struct Selection {
   SampleMatrix frames, labels;
 };
 
-Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) {
+Selection select_frames(const ReconstructArgs* args, const std::optional<Mesh>& mesh_file) {
   Selection s;
   Dataset& data = s.data;
   if (is_hdf5_file(args->data) && args->data.find(".mat") == std::string::npos) {
@@ -258,7 +258,7 @@ Selection select_frames(const Args* args, const std::optional<Mesh>& mesh_file) 
 
 // The mesh the model-based methods reconstruct on: the file's, the mesh a set on a sensor of
 // another shape stores, or a disk for the data's sensor.
-Mesh reconstruction_mesh(Args* args, const CLI::App& cmd, std::optional<Mesh> mesh_file,
+Mesh reconstruction_mesh(ReconstructArgs* args, const CLI::App& cmd, std::optional<Mesh> mesh_file,
                          const Dataset& data) {
   if (!mesh_file && has_sensor_mesh(data)) {
     if (cmd.count("--electrode-coverage"))
@@ -286,7 +286,7 @@ struct FrameSelection {
 
 // Frames and labels to choose a hyperparameter on: the validation split when the data have one,
 // else the selected frames themselves.
-FrameSelection tuning_frames(const Args* args, const Selection& s, const std::string& choose) {
+FrameSelection tuning_frames(const ReconstructArgs* args, const Selection& s, const std::string& choose) {
   const Dataset& data = s.data;
   const std::vector<int> val = data.indices(Split::validation);
   if (choose == "validation" && (val.empty() || !data.has_labels()))
@@ -307,7 +307,7 @@ FrameSelection tuning_frames(const Args* args, const Selection& s, const std::st
 // Each input's noise for --noise-weights (the sensor's noise.inputs), or empty without it. Their
 // scale does not matter to a lambda chosen on the grid, which follows the weighted problem's
 // trace; a fixed --lambda is on the weighted data's scale.
-Eigen::VectorXd input_noise(const Args* args, const std::string& choose,
+Eigen::VectorXd input_noise(const ReconstructArgs* args, const std::string& choose,
                             const std::optional<SensorFile>& sensor, int inputs) {
   if (!args->noise_weights) return {};
   // GREIT's matrix D Y^T (Y Y^T + lambda diag(Y Y^T))^-1 takes each value's noise as
@@ -350,7 +350,7 @@ std::unique_ptr<Reconstructor> make_method(const std::string& name,
 
 // A model-based method on the mesh (and the calibrated sensor, when given), its hyperparameter
 // chosen as --choose says.
-std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd,
+std::unique_ptr<Reconstructor> model_based(const ReconstructArgs* args, const CLI::App& cmd,
                                            const Selection& s, const Mesh& mesh,
                                            const std::optional<SensorFile>& sensor,
                                            const PixelGrid& grid, double background,
@@ -415,7 +415,7 @@ std::unique_ptr<Reconstructor> model_based(const Args* args, const CLI::App& cmd
   return method;
 }
 
-std::unique_ptr<Reconstructor> learned(const Args* args, const CLI::App& cmd, const Dataset& data) {
+std::unique_ptr<Reconstructor> learned(const ReconstructArgs* args, const CLI::App& cmd, const Dataset& data) {
   if (args->model.empty())
     throw InputError("--model", "", "--method dnn needs a model file (eitbench train --out)");
   if (cmd.count("--lambda") || cmd.count("--choose"))
@@ -428,7 +428,7 @@ std::unique_ptr<Reconstructor> learned(const Args* args, const CLI::App& cmd, co
 
 // PNG pictures of the first --png frames beside --out: the image, and the label's centre row
 // (or the frame itself without labels).
-void write_pngs(const Args* args, const Selection& s, const Evaluation& result, const Mesh& mesh,
+void write_pngs(const ReconstructArgs* args, const Selection& s, const Evaluation& result, const Mesh& mesh,
                 const PixelGrid& grid) {
   const Dataset& data = s.data;
   const SampleMatrix& images = result.images;
@@ -472,7 +472,7 @@ struct PressResult {
   std::vector<PressBand> bands;            // the method's, by the press's distance from the centre
   std::vector<Eigen::Vector2d> truth, at;  // each frame's press and where the method put it
 };
-std::optional<PressResult> press_result(const Args* args, const Selection& s,
+std::optional<PressResult> press_result(const ReconstructArgs* args, const Selection& s,
                                         const Evaluation& result, const PixelGrid& grid,
                                         double background, const std::optional<PlacementMap>& map) {
   if (s.data.touches.empty()) return std::nullopt;
@@ -535,7 +535,7 @@ void print_presses(const PressResult& p, double radius) {
              placed);
 }
 
-void write_images(const Args* args, const Selection& s, const Evaluation& result, double background,
+void write_images(const ReconstructArgs* args, const Selection& s, const Evaluation& result, double background,
                   double setup_s, const std::optional<PressResult>& presses) {
   ImagesFile file;
   file.images = result.images;
@@ -564,7 +564,7 @@ void write_images(const Args* args, const Selection& s, const Evaluation& result
   write_images_file(args->out, file);
 }
 
-void print_summary(const Args* args, const Selection& s, const Evaluation& result, double setup_s,
+void print_summary(const ReconstructArgs* args, const Selection& s, const Evaluation& result, double setup_s,
                    const std::optional<PressResult>& presses) {
   fmt::print("{} ({}): {} frames, setup {:.3f} s, latency median {:.3f} ms, p95 {:.3f} ms\n",
              args->method, result.settings, result.images.rows(), setup_s, result.latency_median_ms,
@@ -604,10 +604,10 @@ void print_summary(const Args* args, const Selection& s, const Evaluation& resul
 }  // namespace
 
 std::function<void()> add_reconstruct_command(CLI::App& app) {
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<ReconstructArgs>();
   auto* cmd = app.add_subcommand(
       "reconstruct", "Reconstruct images from frames (difference voltages) by one method");
-  add_options(cmd, args.get());
+  add_reconstruct_options(cmd, args.get());
   return [args, cmd] {
     // The mesh file, read once: its electrode count sets how measured frames are read.
     std::optional<Mesh> mesh_file;

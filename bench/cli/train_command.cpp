@@ -26,7 +26,7 @@ TrainingOptions default_options() {
   return o;
 }
 
-struct Args {
+struct TrainArgs {
   std::string data, augment = "none", model = "small", device = "cpu", out, schedule = "cosine",
                     decoder = "pixel_shuffle", mesh;
   ProtocolChoice protocol;
@@ -37,7 +37,7 @@ struct Args {
   bool resume = false, quiet = false;
 };
 
-void add_options(CLI::App* cmd, Args* args) {
+void add_train_options(CLI::App* cmd, TrainArgs* args) {
   cmd->add_option("--data", args->data,
                   "an eitbench data set with labels and train/validation splits (HDF5)")
       ->required();
@@ -159,7 +159,7 @@ void add_options(CLI::App* cmd, Args* args) {
 }
 
 // The options a flag left unset take the model size's defaults.
-TrainingOptions training_options(Args& args, const CLI::App& cmd, ModelSize size) {
+TrainingOptions training_options(TrainArgs& args, const CLI::App& cmd, ModelSize size) {
   TrainingOptions o = args.options;
   o.augment = parse_group(args.augment, "--augment");
   o.device = resolve_device(args.device, "--device");
@@ -172,7 +172,7 @@ TrainingOptions training_options(Args& args, const CLI::App& cmd, ModelSize size
   return o;
 }
 
-void print_result(const Args& args, const TrainingResult& r) {
+void print_result(const TrainArgs& args, const TrainingResult& r) {
   const TrainingRecord& best = r.history[r.best_round > 0 ? r.best_round - 1 : 0];
   double samples = 0, seconds = 0;
   for (const auto& e : r.history) samples += e.samples_per_second * e.seconds, seconds += e.seconds;
@@ -189,10 +189,10 @@ void print_result(const Args& args, const TrainingResult& r) {
 }  // namespace
 
 std::function<void()> add_train_command(CLI::App& app) {
-  auto args = std::make_shared<Args>();
+  auto args = std::make_shared<TrainArgs>();
   auto* cmd = app.add_subcommand(
       "train", "Train the learned reconstructor (MLP encoder, CNN decoder) on a data set");
-  add_options(cmd, args.get());
+  add_train_options(cmd, args.get());
   return [args, cmd] {
     const ModelSize size = parse_model_size(args->model, "--model");
     const TrainingOptions o = training_options(*args, *cmd, size);
