@@ -59,7 +59,8 @@ void compare_speed(const CompareArgs& args, const nlohmann::json& a, const nlohm
                         args.speed.alpha, 100 * args.speed.min_change));
 }
 
-void compare_runs(const CompareArgs& args, const nlohmann::json& old_doc, const nlohmann::json& new_doc) {
+void compare_runs(const CompareArgs& args, const nlohmann::json& old_doc,
+                  const nlohmann::json& new_doc) {
   const RunResults a = parse_results_json(old_doc, args.old_path),
                    b = parse_results_json(new_doc, args.new_path);
   const Comparison c = compare_results(a, b, args.quality);

@@ -286,7 +286,8 @@ struct FrameSelection {
 
 // Frames and labels to choose a hyperparameter on: the validation split when the data have one,
 // else the selected frames themselves.
-FrameSelection tuning_frames(const ReconstructArgs* args, const Selection& s, const std::string& choose) {
+FrameSelection tuning_frames(const ReconstructArgs* args, const Selection& s,
+                             const std::string& choose) {
   const Dataset& data = s.data;
   const std::vector<int> val = data.indices(Split::validation);
   if (choose == "validation" && (val.empty() || !data.has_labels()))
@@ -415,7 +416,8 @@ std::unique_ptr<Reconstructor> model_based(const ReconstructArgs* args, const CL
   return method;
 }
 
-std::unique_ptr<Reconstructor> learned(const ReconstructArgs* args, const CLI::App& cmd, const Dataset& data) {
+std::unique_ptr<Reconstructor> learned(const ReconstructArgs* args, const CLI::App& cmd,
+                                       const Dataset& data) {
   if (args->model.empty())
     throw InputError("--model", "", "--method dnn needs a model file (eitbench train --out)");
   if (cmd.count("--lambda") || cmd.count("--choose"))
@@ -428,8 +430,8 @@ std::unique_ptr<Reconstructor> learned(const ReconstructArgs* args, const CLI::A
 
 // PNG pictures of the first --png frames beside --out: the image, and the label's centre row
 // (or the frame itself without labels).
-void write_pngs(const ReconstructArgs* args, const Selection& s, const Evaluation& result, const Mesh& mesh,
-                const PixelGrid& grid) {
+void write_pngs(const ReconstructArgs* args, const Selection& s, const Evaluation& result,
+                const Mesh& mesh, const PixelGrid& grid) {
   const Dataset& data = s.data;
   const SampleMatrix& images = result.images;
   const std::string stem =
@@ -535,8 +537,8 @@ void print_presses(const PressResult& p, double radius) {
              placed);
 }
 
-void write_images(const ReconstructArgs* args, const Selection& s, const Evaluation& result, double background,
-                  double setup_s, const std::optional<PressResult>& presses) {
+void write_images(const ReconstructArgs* args, const Selection& s, const Evaluation& result,
+                  double background, double setup_s, const std::optional<PressResult>& presses) {
   ImagesFile file;
   file.images = result.images;
   file.frame_index = s.rows;
@@ -564,8 +566,8 @@ void write_images(const ReconstructArgs* args, const Selection& s, const Evaluat
   write_images_file(args->out, file);
 }
 
-void print_summary(const ReconstructArgs* args, const Selection& s, const Evaluation& result, double setup_s,
-                   const std::optional<PressResult>& presses) {
+void print_summary(const ReconstructArgs* args, const Selection& s, const Evaluation& result,
+                   double setup_s, const std::optional<PressResult>& presses) {
   fmt::print("{} ({}): {} frames, setup {:.3f} s, latency median {:.3f} ms, p95 {:.3f} ms\n",
              args->method, result.settings, result.images.rows(), setup_s, result.latency_median_ms,
              result.latency_p95_ms);
