@@ -3,7 +3,6 @@
 // (torch_trainer.cpp) and the checkpoint (trainer_state.cpp), and the Trainer::Impl over it.
 #include <torch/torch.h>
 
-#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <vector>
