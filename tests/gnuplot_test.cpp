@@ -56,7 +56,7 @@ TEST_F(Gnuplot, DataAndScriptBesideTheFigure) {
 TEST(SeriesColour, OneColourPerMethodAndTheyDiffer) {
   EXPECT_EQ(series_colour("dnn (d16)"), series_colour("dnn (d16)"));
   std::set<std::string> seen;
-  for (const char* method : {"tikhonov", "noser", "laplace", "greit", "gn", "tv", "shape",
+  for (const char* method : {"tikhonov", "noser", "laplace", "smooth", "greit", "gn", "tv", "shape",
                              "shape-linear", "dnn (none)", "dnn (d16)", "dnn (paper)"})
     EXPECT_TRUE(seen.insert(series_colour(method)).second) << method << " shares a colour";
 }

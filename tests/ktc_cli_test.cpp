@@ -134,17 +134,18 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   // Every method at level 7 (the fewest values: the quickest), then each applied by ktc --from.
   // The methods are tuned at a noise model other than --noise-relative's (GREIT, which it does
   // not change, aside), so that ktc --from reproduces their scores only if it takes each one's.
-  const Result r = run("run --ktc " + path("in") + " --out " + path("run") +
-                       " --methods tikhonov,noser,laplace,greit,tv,gn --levels 7 --ktc-tanks 0 "
-                       "--noise-sweep 0.05" +
-                       fast());
+  const Result r =
+      run("run --ktc " + path("in") + " --out " + path("run") +
+          " --methods tikhonov,noser,laplace,smooth,greit,tv,gn --levels 7 --ktc-tanks 0 "
+          "--noise-sweep 0.05" +
+          fast());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* file : {"results.json", "report.md"})
     EXPECT_TRUE(fs::exists(path("run/") + file)) << file;
   std::ifstream report(path("run/report.md"));
   std::stringstream text;
   text << report.rdbuf();
-  for (const char* method : {"tikhonov", "noser", "laplace", "greit", "tv", "gn"})
+  for (const char* method : {"tikhonov", "noser", "laplace", "smooth", "greit", "tv", "gn"})
     EXPECT_NE(text.str().find(std::string("| ") + method + " |"), std::string::npos) << method;
   EXPECT_NE(text.str().find("held out"), std::string::npos);
   const auto results = nlohmann::json::parse(read_file_bytes(path("run/results.json")));
@@ -174,7 +175,7 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
         }
       }
   };
-  for (const char* method : {"tikhonov", "noser", "laplace", "greit", "tv", "gn"})
+  for (const char* method : {"tikhonov", "noser", "laplace", "smooth", "greit", "tv", "gn"})
     applied(method, 7);
   for (int level = 1; level <= 6; ++level) applied("greit", level);
   // Flags the run fixes, and a run of another kind, are refused; nothing is written.

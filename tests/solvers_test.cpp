@@ -132,6 +132,53 @@ TEST(Tikhonov, NoserExponentSolvesTheWeightedNormalEquations) {
             1e-9 * a.reconstruct_all(y).norm());
 }
 
+// The smooth prior's image is the posterior mean under the Gaussian prior covariance Gamma and
+// white noise of variance lambda, x = Gamma A^T (A Gamma A^T + lambda I)^-1 y, with Gamma built
+// here from the pixels' centres as 0.01^((d / l)^2): 1 % at the correlation length l. Shorter
+// than a pixel, Gamma is the identity and the image the identity prior's.
+TEST(Tikhonov, SmoothPriorIsTheGaussianPosteriorMean) {
+  const Reconstruction& s = medium();
+  SampleMatrix labels;
+  SampleMatrix y = linear_frames(s, touches(3, 11), &labels);
+  add_noise(y, 40, 5);
+  const Eigen::MatrixXd& A = s.problem->A;
+  const Eigen::Index n = s.problem->unknowns();
+  Eigen::MatrixXd centres(n, 2);
+  for (Eigen::Index j = 0; j < n; ++j)
+    centres.row(j) =
+        s.grid.center(s.problem->pixels[j] / s.grid.size(), s.problem->pixels[j] % s.grid.size())
+            .transpose();
+  const double length = 0.5;
+  Eigen::MatrixXd gamma(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j)
+      gamma(i, j) =
+          std::pow(0.01, (centres.row(i) - centres.row(j)).squaredNorm() / (length * length));
+  TikhonovOptions o;
+  o.prior = Prior::smooth;
+  o.smooth_length = length;  // the grid's radius is 1
+  o.single_precision = false;
+  Tikhonov t(s.problem, o);
+  const double lambda = 1e-2 * t.scale();
+  t.set_lambda(lambda, "fixed");
+  const Eigen::MatrixXd B = gamma * A.transpose();
+  const auto solver =
+      (A * B + lambda * Eigen::MatrixXd::Identity(A.rows(), A.rows())).eval().ldlt();
+  for (int k = 0; k < y.rows(); ++k) {
+    const Eigen::VectorXd expected = B * solver.solve(y.row(k).transpose());
+    const Eigen::VectorXd x = s.problem->from_image(t.reconstruct(y.row(k).transpose()));
+    EXPECT_LT((x - expected).norm(), 1e-6 * expected.norm());
+  }
+  TikhonovOptions point = o, identity;
+  point.smooth_length = 1e-3;  // a pixel is 2 / 64 wide
+  identity.prior = Prior::identity;
+  identity.single_precision = false;
+  Tikhonov a(s.problem, point), b(s.problem, identity);
+  a.set_lambda(1e-2 * b.scale(), "fixed"), b.set_lambda(1e-2 * b.scale(), "fixed");
+  EXPECT_LT((a.reconstruct_all(y) - b.reconstruct_all(y)).norm(),
+            1e-9 * b.reconstruct_all(y).norm());
+}
+
 TEST(Tikhonov, SinglePrecisionAgreesWithDoubleAtWorkingLambdas) {
   const Reconstruction& s = medium();
   SampleMatrix labels;
@@ -311,6 +358,9 @@ TEST(SolverOptions, ValidateNamesTheField) {
   t = {};
   t.laplace_epsilon = 0;
   EXPECT_EQ(at(t), "TikhonovOptions.laplace_epsilon");
+  t = {};
+  t.smooth_length = -1;
+  EXPECT_EQ(at(t), "TikhonovOptions.smooth_length");
   t = {};
   t.choice = Criterion::discrepancy;  // the principle needs the noise it matches
   EXPECT_EQ(at(t), "TikhonovOptions.noise");

@@ -247,9 +247,10 @@ std::function<void()> add_ktc_command(CLI::App& app) {
   cmd->add_option("LEVEL", a->level,
                   "difficulty 1 ... 7: level k leaves out electrodes 1 ... 2(k-1)")
       ->required();
-  cmd->add_option("--method", a->method,
-                  "tikhonov | noser | laplace | greit | tv | gn | dnn | dnn-post (dnn: a learned "
-                  "model of the run --from names, from the frame; dnn-post: from a one-step image)")
+  cmd->add_option(
+         "--method", a->method,
+         "tikhonov | noser | laplace | smooth | greit | tv | gn | dnn | dnn-post (dnn: a learned "
+         "model of the run --from names, from the frame; dnn-post: from a one-step image)")
       ->capture_default_str();
   cmd->add_option("--augment", a->augment,
                   "with --method dnn or dnn-post: the run's model trained with the tank's symmetry "

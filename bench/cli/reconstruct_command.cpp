@@ -60,9 +60,10 @@ struct ReconstructArgs {
 };
 
 void add_reconstruct_options(CLI::App* cmd, ReconstructArgs* args) {
-  cmd->add_option("--method", args->method,
-                  "tikhonov | noser | laplace | tv | gn | greit | shape (circles fitted by the "
-                  "FEM) | shape-linear (by the Jacobian) | dnn (needs --model)")
+  cmd->add_option(
+         "--method", args->method,
+         "tikhonov | noser | laplace | smooth | tv | gn | greit | shape (circles fitted by the "
+         "FEM) | shape-linear (by the Jacobian) | dnn (needs --model)")
       ->capture_default_str()
       ->check(CLI::IsMember(method_names()));
   cmd->add_option("--data", args->data,
@@ -621,11 +622,11 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
     // The map is measured where the images put CAL's presses; the shape fits and the learned
     // model are scored otherwise (their circles; no calibration), so it would not apply to them.
     if (args->placement_map && args->method != "tikhonov" && args->method != "noser" &&
-        args->method != "laplace" && args->method != "greit" && args->method != "tv" &&
-        args->method != "gn")
+        args->method != "laplace" && args->method != "smooth" && args->method != "greit" &&
+        args->method != "tv" && args->method != "gn")
       throw InputError("--placement-map", "",
                        "applies to methods whose images place the press (tikhonov, noser, "
-                       "laplace, greit, tv, gn), not " +
+                       "laplace, smooth, greit, tv, gn), not " +
                            args->method);
     if (!args->presses_csv.empty()) {
       if (s.data.touches.empty())

@@ -92,7 +92,8 @@ def test_augmented_labels_follow_their_frames(tiny):
 
 
 @pytest.mark.parametrize(
-    "method", ["tikhonov", "noser", "laplace", "tv", "gn", "greit", "shape", "shape-linear"])
+    "method",
+    ["tikhonov", "noser", "laplace", "smooth", "tv", "gn", "greit", "shape", "shape-linear"])
 def test_reconstructors_score_as_the_tool_does(tiny, tmp_path, method):
     data = eitbench.read_dataset(str(tiny))
     test = data["split"] == 2

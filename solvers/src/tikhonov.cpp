@@ -50,14 +50,35 @@ Eigen::SparseMatrix<double> element_laplacian(const LinearProblem& p) {
   return L * Eigen::SparseMatrix<double>(p.element_from_pixels);
 }
 
+// The smooth prior's covariance times A^T: Gamma_ij = exp(-d_ij^2 / (2 b^2)) over the in-disk
+// pixels' centres, b such that Gamma is 1 % at `length`. P is the covariance itself, so no
+// inverse is formed: B = Gamma A^T directly.
+Eigen::MatrixXd smooth_covariance_times(const LinearProblem& p, double length,
+                                        const Eigen::MatrixXd& At) {
+  const int size = p.grid.size();
+  const Eigen::Index n = static_cast<Eigen::Index>(p.pixels.size());
+  Eigen::MatrixXd centres(2, n);
+  for (Eigen::Index j = 0; j < n; ++j)
+    centres.col(j) = p.grid.center(p.pixels[j] / size, p.pixels[j] % size);
+  const double b2 = length * length / (2.0 * std::log(100.0));
+  Eigen::MatrixXd gamma(n, n);
+  for (Eigen::Index j = 0; j < n; ++j)
+    gamma.col(j) =
+        (-(centres.colwise() - centres.col(j)).colwise().squaredNorm().array() / (2.0 * b2))
+            .exp()
+            .transpose();
+  return detail::product(gamma, At);
+}
+
 }  // namespace
 
 Prior parse_prior(const std::string& method) {
   if (method == "tikhonov" || method == "identity") return Prior::identity;
   if (method == "noser") return Prior::noser;
   if (method == "laplace") return Prior::laplace;
+  if (method == "smooth") return Prior::smooth;
   throw InputError("Prior", "name",
-                   "unknown prior '" + method + "' (tikhonov, identity, noser or laplace)");
+                   "unknown prior '" + method + "' (tikhonov, identity, noser, laplace or smooth)");
 }
 
 void TikhonovOptions::validate() const {
@@ -83,6 +104,8 @@ void TikhonovOptions::validate() const {
   // L^T L has the constants in its kernel: without epsilon R^T R is singular.
   if (!(laplace_epsilon > 0) || !std::isfinite(laplace_epsilon))
     fail("laplace_epsilon", "must be positive and finite");
+  if (!(smooth_length > 0) || !std::isfinite(smooth_length))
+    fail("smooth_length", "must be positive and finite");
 }
 
 Tikhonov::Tikhonov(std::shared_ptr<const LinearProblem> shared, const TikhonovOptions& options)
@@ -116,6 +139,10 @@ Tikhonov::Tikhonov(std::shared_ptr<const LinearProblem> shared, const TikhonovOp
       B = solver.solve(Eigen::MatrixXd(A.transpose()));
       break;
     }
+    case Prior::smooth:
+      B = smooth_covariance_times(problem, options.smooth_length * problem.grid.radius(),
+                                  A.transpose());
+      break;
   }
   const Eigen::MatrixXd G = detail::product(A, B);
   detail::SymmetricEigen eig = detail::symmetric_eigen(0.5 * (G + G.transpose()));
@@ -141,6 +168,8 @@ std::string Tikhonov::name() const {
       return "noser";
     case Prior::laplace:
       return "laplace";
+    case Prior::smooth:
+      return "smooth";
   }
   return "?";
 }

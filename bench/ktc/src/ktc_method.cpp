@@ -60,7 +60,8 @@ KtcSetup make_ktc_setup(KtcTank tank, int grid_size, const KtcNoise& noise,
 }
 
 const std::vector<std::string>& ktc_method_names() {
-  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "greit", "tv", "gn"};
+  static const std::vector<std::string> names{"tikhonov", "noser", "laplace", "smooth",
+                                              "greit",    "tv",    "gn"};
   return names;
 }
 
@@ -74,6 +75,7 @@ const std::vector<double>& ktc_candidates(const std::string& method) {
       {"tikhonov", {1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0}},
       {"noser", {1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0, 10.0}},
       {"laplace", {1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0}},
+      {"smooth", {1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0}},
       {"greit", {1e-4, 1e-3, 1e-2, 1e-1, 1.0}},
       {"tv", {3e-6, 1e-5, 3e-5, 1e-4, 3e-4}},
       {"gn", {1e-2, 1e-1, 1.0, 10.0}},
@@ -96,6 +98,7 @@ KtcSetting ktc_default_setting(const std::string& method) {
       {"tikhonov", {0.01, {K::otsu, 0.5, 0.5}, 5e-3}},
       {"noser", {1.0, {K::levels, 0.45, 0.4}, 5e-3}},
       {"laplace", {0.03, {K::levels, 0.35, 0.45}, 5e-3}},
+      {"smooth", {0.1, {K::levels, 0.45, 0.35}, 5e-3}},
       {"greit", {0.1, {K::levels, 0.35, 0.45}}},
       {"tv", {1e-4, {K::otsu, 0.5, 0.5}, 5e-3}},
       {"gn", {1.0, {K::levels, 0.2, 0.7}}},

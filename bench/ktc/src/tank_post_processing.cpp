@@ -9,9 +9,12 @@ namespace eitbench {
 void KtcOneStep::validate() const {
   // The methods that reconstruct a frame by one linear map (a solve per frame would make the
   // training set's images hours of work).
-  if (method != "tikhonov" && method != "noser" && method != "laplace" && method != "greit")
+  if (method != "tikhonov" && method != "noser" && method != "laplace" && method != "smooth" &&
+      method != "greit")
     throw InputError("KtcOneStep", "method",
-                     "'" + method + "' is not a one-step method (tikhonov, noser, laplace, greit)");
+                     "'" + method +
+                         "' is not a one-step method (tikhonov, noser, "
+                         "laplace, smooth, greit)");
   if (!(lambda > 0) || !std::isfinite(lambda))
     throw InputError("KtcOneStep", "lambda", "must be positive and finite");
 }

@@ -7,6 +7,7 @@ namespace eitbench::methods {
 MethodSpec tikhonov();  // tikhonov.cpp
 MethodSpec noser();     // tikhonov.cpp
 MethodSpec laplace();   // tikhonov.cpp
+MethodSpec smooth();    // tikhonov.cpp
 MethodSpec total_variation();
 MethodSpec gauss_newton();
 MethodSpec greit();

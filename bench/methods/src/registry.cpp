@@ -8,8 +8,8 @@ namespace eitbench {
 const std::vector<MethodSpec>& method_registry() {
   // clang-format off
   static const std::vector<MethodSpec> registry{
-      methods::tikhonov(), methods::noser(), methods::laplace(), methods::total_variation(),
-      methods::gauss_newton(), methods::greit(),
+      methods::tikhonov(), methods::noser(), methods::laplace(), methods::smooth(),
+      methods::total_variation(), methods::gauss_newton(), methods::greit(),
 #ifdef EITBENCH_HAVE_CERES  // a build without Ceres has no shape fit
       methods::shape(), methods::shape_linear(),
 #endif

@@ -1,5 +1,5 @@
 // One-step linear reconstruction, x = P A^T (A P A^T + lambda I)^-1 y with P = (R^T R)^-1, with
-// three priors.
+// four priors.
 #include "eitbench/solvers/tikhonov.h"
 
 #include "method_specs.h"
@@ -9,7 +9,8 @@ namespace {
 
 // The three share TikhonovOptions' lambda grid (41 values, trace(A P A^T)/m x 10^[-8, 2]), chosen
 // by GCV, the L-curve, the discrepancy principle or validation CC: identity prior, NOSER (R^T R =
-// diag(A^T A)^0.5), and the Laplacian on pixels or elements.
+// diag(A^T A)^0.5), the Laplacian on pixels or elements, and the smooth (Gaussian covariance)
+// prior.
 MethodSpec tikhonov_with(const std::string& prior) {
   MethodSpec spec;
   spec.name = prior;
@@ -39,6 +40,9 @@ MethodSpec noser() {
 }
 MethodSpec laplace() {
   return tikhonov_with("laplace");
+}
+MethodSpec smooth() {
+  return tikhonov_with("smooth");
 }
 
 }  // namespace eitbench::methods

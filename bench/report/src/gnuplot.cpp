@@ -32,7 +32,8 @@ const std::map<std::string, std::string>& method_colours() {
       {"shape", "#d55e00"},        {"shape-linear", "#8c564b"},
       {"dnn (none)", "#000000"},   {"dnn (d16)", "#009e73"},
       {"dnn (paper)", "#9467bd"},  {"dnn (rotations)", "#17becf"},
-      {"dnn (mirror)", "#bcbd22"}, {"significant change", "#d62728"}};
+      {"dnn (mirror)", "#bcbd22"}, {"significant change", "#d62728"},
+      {"smooth", "#2ca02c"}};
   return colours;
 }
 

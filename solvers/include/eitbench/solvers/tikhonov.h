@@ -19,9 +19,11 @@ enum class Prior {
   noser,     // R^T R = diag(A^T A)^p (Cheney's NOSER; p = 0.5 as in EIDORS)
   laplace,   // R^T R = L^T L + epsilon I, L the Laplacian of the in-disk pixels (4-neighbour) or
              // of the elements (epsilon I because L has the constants in its kernel)
+  smooth,    // P = (R^T R)^-1 a Gaussian covariance of the pixels' distance d, exp(-d^2 / 2b^2),
+             // falling to 1 % at smooth_length (KTC2023's baseline prior, docs/reconstructors.md)
 };
 // Each parser throws InputError(the enum's name, "name") for a name it does not know.
-Prior parse_prior(const std::string& method);  // tikhonov (or identity) | noser | laplace
+Prior parse_prior(const std::string& method);  // tikhonov (or identity) | noser | laplace | smooth
 
 struct TikhonovOptions {
   Prior prior = Prior::noser;
@@ -46,6 +48,10 @@ struct TikhonovOptions {
   int grid = 41;  // lambdas tried, at least 3: trace(G)/m x 10^[-8, 2], log-spaced
   // epsilon of the Laplace prior, relative to the mean diagonal of L^T L: positive and finite.
   double laplace_epsilon = 1e-3;
+  // The smooth prior's correlation length, where the covariance falls to 1 %, in units of the
+  // pixel grid's radius (the disk's): positive and finite. 1, as KTC2023's organisers set it
+  // (115 mm on their 115 mm tank).
+  double smooth_length = 1.0;
   Neighbours neighbours = Neighbours::pixels;
   // The reconstruction matrix in single precision: faster (docs/speed.md). Images
   // agree with double to 1e-7 at the grid's middle lambda but only to 8e-5 at its smallest, which

@@ -52,7 +52,7 @@ struct TouchScores {
 };
 
 struct ResultRow {
-  std::string method;         // tikhonov | noser | laplace | tv | gn | greit | dnn
+  std::string method;         // tikhonov | noser | laplace | smooth | tv | gn | greit | dnn
   std::string augment = "-";  // dnn: none | rotations | d16 | paper; "-" for model-based methods
   double snr_db = 0;          // infinity when noise-free ("inf" in the files)
   double cc = 0, re = 0, ssim = 0, mse = 0, cc_std = 0, re_std = 0;
