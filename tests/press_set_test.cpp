@@ -264,8 +264,9 @@ TEST_F(PressSet, ReconstructScoresWhereEachPressIsPut) {
 }
 
 // The reconstruction model and prior a user sets on the command line are the ones used: NOSER's
-// exponent 0 places every press where the identity prior does, and the electrodes' coverage, not
-// the set's stored one, shapes the Jacobian.
+// exponent 0 places every press where the identity prior does, and so does a smooth prior whose
+// length is under a pixel; the electrodes' coverage, not the set's stored one, shapes the
+// Jacobian.
 TEST_F(PressSet, TheCommandLinesPriorAndElectrodesAreUsed) {
   write_dataset(path("press.h5"), stand_in_presses());
   auto scores = [&](const std::string& more) {
@@ -282,11 +283,18 @@ TEST_F(PressSet, TheCommandLinesPriorAndElectrodesAreUsed) {
   ASSERT_FALSE(identity.empty());
   EXPECT_EQ(scores("--method noser --noser-exponent 0"), identity);
   EXPECT_NE(scores("--method noser"), identity);  // p = 0.5 by default
+  EXPECT_EQ(scores("--method smooth --smooth-length 1e-4"), identity);
+  EXPECT_NE(scores("--method smooth"), identity);  // the sensor's radius by default
   EXPECT_NE(scores("--method tikhonov --electrode-coverage 0.1"), identity);
   const Result bad = run("reconstruct --method noser --noser-exponent 1.5 --data " +
                          path("press.h5") + " --png 0 --out " + path("bad.h5"));
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("--noser-exponent"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(path("bad.h5")));
+  const Result no_length = run("reconstruct --method smooth --smooth-length 0 --data " +
+                               path("press.h5") + " --png 0 --out " + path("bad.h5"));
+  EXPECT_EQ(no_length.exit_code, 2) << no_length.output;
+  EXPECT_NE(no_length.output.find("--smooth-length"), std::string::npos) << no_length.output;
   EXPECT_FALSE(fs::exists(path("bad.h5")));
   // Each press where it is and where the method put it, one CSV line a frame of the selection.
   const Result listed = run("reconstruct --method tikhonov --data " + path("press.h5") +

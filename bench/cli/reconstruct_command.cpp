@@ -43,6 +43,7 @@ struct ReconstructArgs {
   bool absolute = false;
   std::string neighbours = "pixels";
   double noser_exponent = 0.5;
+  double smooth_length = 1.0;
   double tolerance = 0, robust = 0;
   std::string sensor;
   double discrepancy_factor = 1;
@@ -118,6 +119,11 @@ void add_reconstruct_options(CLI::App* cmd, ReconstructArgs* args) {
                   "the Levenberg-Marquardt scaling; pyEIT's Jacobian method defaults to 0.2)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--smooth-length", args->smooth_length,
+                  "smooth: the distance at which its prior covariance falls to 1 %, in units of "
+                  "the sensor's radius (KTC2023's baseline: 1)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", args->tolerance,
                   "tv: relative change of x to stop at (default 1e-4); gn: relative decrease of "
                   "the objective (1e-4)")
@@ -386,6 +392,7 @@ std::unique_ptr<Reconstructor> model_based(const ReconstructArgs* args, const CL
   mo.absolute = args->absolute;
   mo.neighbours = args->neighbours;
   mo.noser_exponent = args->noser_exponent;
+  mo.smooth_length = args->smooth_length;
   mo.tolerance = args->tolerance;
   mo.robust = args->robust;
   const Eigen::VectorXd noise = input_noise(args, mo.choose, sensor, problem->measurements());

@@ -25,6 +25,7 @@ MethodSpec tikhonov_with(const std::string& prior) {
     t.relative = o.relative_lambda;
     t.neighbours = parse_neighbours(o.neighbours);
     t.noser_exponent = o.noser_exponent;
+    t.smooth_length = o.smooth_length;
     return std::unique_ptr<Reconstructor>(std::make_unique<Tikhonov>(std::move(problem), t));
   };
   return spec;

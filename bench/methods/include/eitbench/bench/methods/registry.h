@@ -29,7 +29,8 @@ struct MethodOptions {
   bool absolute = false;              // gn: absolute frames instead of differences
   std::string neighbours = "pixels";  // laplace: pixels | elements
   double noser_exponent = 0.5;        // noser: p of diag(A^T A)^p (TikhonovOptions)
-  double tolerance = 0;               // tv, gn: stopping tolerance (0: the method's default)
+  double smooth_length = 1.0;  // smooth: where its covariance falls to 1 %, in grid radii (ditto)
+  double tolerance = 0;        // tv, gn: stopping tolerance (0: the method's default)
   double robust = 0;  // shape: Huber's loss at this multiple of the start's residual RMS (0: none)
 };
 
