@@ -37,7 +37,7 @@ def samples_in(data):
         sys.exit(2)
     if not os.path.isfile(os.path.join(data, 'ref.mat')):
         fail('no ref.mat')
-    numbers = sorted(int(os.path.basename(p)[4:-4]) for p in glob.glob(os.path.join(data, 'data*.mat'))
+    numbers = sorted(sample_number(p) for p in glob.glob(os.path.join(data, 'data*.mat'))
                      if os.path.basename(p)[4:-4].isdigit())
     if not numbers:
         fail('no dataN.mat')

@@ -7,7 +7,7 @@
 namespace eitbench::methods {
 namespace {
 
-// The three share TikhonovOptions' lambda grid (41 values, trace(A P A^T)/m x 10^[-8, 2]), chosen
+// The four share TikhonovOptions' lambda grid (41 values, trace(A P A^T)/m x 10^[-8, 2]), chosen
 // by GCV, the L-curve, the discrepancy principle or validation CC: identity prior, NOSER (R^T R =
 // diag(A^T A)^0.5), the Laplacian on pixels or elements, and the smooth (Gaussian covariance)
 // prior.
