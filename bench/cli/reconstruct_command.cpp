@@ -628,12 +628,10 @@ std::function<void()> add_reconstruct_command(CLI::App& app) {
                        "needs --calibration: the bias is measured on labelled presses");
     // The map is measured where the images put CAL's presses; the shape fits and the learned
     // model are scored otherwise (their circles; no calibration), so it would not apply to them.
-    if (args->placement_map && args->method != "tikhonov" && args->method != "noser" &&
-        args->method != "laplace" && args->method != "smooth" && args->method != "greit" &&
-        args->method != "tv" && args->method != "gn")
+    if (args->placement_map && !find_method(args->method).pixel_image)
       throw InputError("--placement-map", "",
-                       "applies to methods whose images place the press (tikhonov, noser, "
-                       "laplace, smooth, greit, tv, gn), not " +
+                       "applies to methods whose images place the press (" +
+                           joined_method_names_with(&MethodSpec::pixel_image) + "), not " +
                            args->method);
     if (!args->presses_csv.empty()) {
       if (s.data.touches.empty())

@@ -1,7 +1,9 @@
 #include "eitbench/bench/ktc/tank_post_processing.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "eitbench/bench/methods/registry.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
@@ -9,12 +11,11 @@ namespace eitbench {
 void KtcOneStep::validate() const {
   // The methods that reconstruct a frame by one linear map (a solve per frame would make the
   // training set's images hours of work).
-  if (method != "tikhonov" && method != "noser" && method != "laplace" && method != "smooth" &&
-      method != "greit")
+  const std::vector<std::string> one_step = method_names_with(&MethodSpec::one_step);
+  if (std::find(one_step.begin(), one_step.end(), method) == one_step.end())
     throw InputError("KtcOneStep", "method",
-                     "'" + method +
-                         "' is not a one-step method (tikhonov, noser, "
-                         "laplace, smooth, greit)");
+                     "'" + method + "' is not a one-step method (" +
+                         joined_method_names_with(&MethodSpec::one_step) + ")");
   if (!(lambda > 0) || !std::isfinite(lambda))
     throw InputError("KtcOneStep", "lambda", "must be positive and finite");
 }

@@ -9,6 +9,7 @@ namespace eitbench::methods {
 MethodSpec gauss_newton() {
   MethodSpec spec;
   spec.name = "gn";
+  spec.pixel_image = true;
   spec.sweep_on_subset = true;
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GaussNewtonOptions g;

@@ -9,6 +9,8 @@ namespace eitbench::methods {
 MethodSpec greit() {
   MethodSpec spec;
   spec.name = "greit";
+  spec.pixel_image = true;
+  spec.one_step = true;
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     GreitOptions g;
     g.choice = parse_criterion(o.choose);

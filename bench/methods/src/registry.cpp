@@ -34,6 +34,19 @@ std::vector<std::string> model_based_method_names() {
   return out;
 }
 
+std::vector<std::string> method_names_with(bool MethodSpec::*property) {
+  std::vector<std::string> out;
+  for (const auto& m : method_registry())
+    if (m.*property) out.push_back(m.name);
+  return out;
+}
+
+std::string joined_method_names_with(bool MethodSpec::*property) {
+  std::string out;
+  for (const auto& name : method_names_with(property)) out += (out.empty() ? "" : ", ") + name;
+  return out;
+}
+
 const MethodSpec& find_method(const std::string& name) {
   for (const auto& m : method_registry())
     if (m.name == name) return m;

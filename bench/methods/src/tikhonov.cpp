@@ -15,6 +15,8 @@ MethodSpec tikhonov_with(const std::string& prior) {
   MethodSpec spec;
   spec.name = prior;
   spec.default_choice = "gcv";
+  spec.pixel_image = true;
+  spec.one_step = true;
   spec.make = [prior](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     TikhonovOptions t;
     t.prior = parse_prior(prior);

@@ -10,6 +10,7 @@ namespace eitbench::methods {
 MethodSpec total_variation() {
   MethodSpec spec;
   spec.name = "tv";
+  spec.pixel_image = true;
   spec.sweep_on_subset = true;
   spec.make = [](std::shared_ptr<const LinearProblem> problem, const MethodOptions& o) {
     TotalVariationOptions t;

@@ -42,6 +42,12 @@ struct MethodSpec {
   // What an empty MethodOptions::choose means: gcv for the one-step Tikhonov family (frames
   // alone choose lambda), fixed at the documented default for the rest.
   std::string default_choice = "fixed";
+  // Its result is a pixel image of the conductivity change, whose extreme places a press (every
+  // model-based method but the shape fits, whose result is a circle).
+  bool pixel_image = false;
+  // It reconstructs a frame by one linear map, fixed once built (the Tikhonov family, GREIT): what
+  // a training set's thousands of frames can afford.
+  bool one_step = false;
   // Null for a method that is trained, not built on the linear problem (dnn).
   std::function<std::unique_ptr<Reconstructor>(std::shared_ptr<const LinearProblem>,
                                                const MethodOptions&)>
@@ -50,8 +56,12 @@ struct MethodSpec {
 
 // Every method, in the order the benchmark runs and reports them.
 const std::vector<MethodSpec>& method_registry();
-// tikhonov noser laplace tv gn greit shape shape-linear dnn
+// tikhonov noser laplace smooth tv gn greit shape shape-linear dnn
 const std::vector<std::string>& method_names();
+// The methods with a property (&MethodSpec::pixel_image, &MethodSpec::one_step), in registry
+// order, and the same as one "a, b, c" for messages.
+std::vector<std::string> method_names_with(bool MethodSpec::*property);
+std::string joined_method_names_with(bool MethodSpec::*property);
 // Those built on the linear problem (every method but the trained one): the benchmark's --methods.
 std::vector<std::string> model_based_method_names();
 // The spec of `name`; InputError naming --method for an unknown one.
