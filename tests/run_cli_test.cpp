@@ -2,7 +2,12 @@
 // results file's round trip, resuming, and compare's verdicts.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <cmath>
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -17,29 +22,45 @@
 namespace eitbench {
 namespace {
 
-// One tiny run shared by the tests of this file (about 20 s): made by the first that needs it,
-// removed with its log when the suite ends (30 MB that would otherwise stay in /tmp each run).
+// One tiny run shared by the tests of this file: made once for every process of the suite (CTest
+// runs it as shards, each a process of its own, and a tiny run takes 40 s on 2 cores, twice that
+// beside another shard), under a lock, in the build tree beside the eitbench it ran, and made
+// again when that program changes. The tests read it or copy it, never write into it.
+std::string shared_tiny_run() {
+  const fs::path cli = EITBENCH_CLI;
+  const fs::path dir = cli.parent_path() / "tests_tiny_run";
+  const std::string stamp = std::to_string(fs::file_size(cli)) + " " +
+                            std::to_string(fs::last_write_time(cli).time_since_epoch().count());
+  const std::string lock_path = dir.string() + ".lock", stamp_path = dir.string() + ".stamp";
+  const int lock = ::open(lock_path.c_str(), O_CREAT | O_RDWR, 0644);
+  EXPECT_GE(lock, 0) << lock_path;
+  if (lock >= 0) ::flock(lock, LOCK_EX);  // the others wait while one makes it
+  std::ifstream in(stamp_path);
+  std::string made;
+  std::getline(in, made);
+  if (made != stamp || !fs::exists(dir / "results.json")) {
+    fs::remove(stamp_path);
+    fs::remove_all(dir);
+    const fs::path part = dir.string() + ".part";
+    fs::remove_all(part);
+    const std::string command = cli.string() + " run --preset tiny --quiet --out " + part.string() +
+                                " > " + (dir.string() + ".log") + " 2>&1";
+    const int status = std::system(command.c_str());
+    EXPECT_EQ(WEXITSTATUS(status), 0) << command;
+    if (WEXITSTATUS(status) == 0) {
+      fs::rename(part, dir);
+      std::ofstream(stamp_path) << stamp << "\n";
+    }
+  }
+  if (lock >= 0) ::flock(lock, LOCK_UN), ::close(lock);
+  return dir.string();
+}
+
 class RunCli : public Cli {
  protected:
-  static fs::path shared_dir() {
-    return fs::temp_directory_path() / ("eitbench_run_" + std::to_string(::getpid()));
-  }
   static std::string run_folder() {
-    static const std::string folder = [] {
-      const fs::path dir = shared_dir();
-      fs::remove_all(dir);
-      const std::string command = std::string(EITBENCH_CLI) + " run --preset tiny --quiet --out " +
-                                  dir.string() + " > " + (dir.string() + ".log") + " 2>&1";
-      const int status = std::system(command.c_str());
-      EXPECT_EQ(WEXITSTATUS(status), 0) << command;
-      return dir.string();
-    }();
+    static const std::string folder = shared_tiny_run();
     return folder;
-  }
-  static void TearDownTestSuite() {
-    std::error_code ignored;
-    fs::remove_all(shared_dir(), ignored);
-    fs::remove(shared_dir().string() + ".log", ignored);
   }
 };
 
