@@ -26,7 +26,8 @@ std::shared_ptr<Method> make_method(const std::string& name, std::shared_ptr<Mes
                                     double background, std::optional<double> lambda,
                                     const std::string& choose, const std::string& model,
                                     const std::string& neighbours, double tolerance, double robust,
-                                    double contact_impedance, double current, int image_size) {
+                                    double contact_impedance, double current, int image_size,
+                                    double noser_exponent, double smooth_length) {
   auto out = std::make_shared<Method>();
   if (name == "dnn") {
     if (model.empty()) throw InputError("model", "", "method dnn needs a model file");
@@ -49,6 +50,7 @@ std::shared_ptr<Method> make_method(const std::string& name, std::shared_ptr<Mes
   o.choose = lambda ? "fixed" : choose.empty() ? find_method(name).default_choice : choose;
   o.lambda = lambda.value_or(0.0);
   o.neighbours = neighbours, o.tolerance = tolerance, o.robust = robust;
+  o.noser_exponent = noser_exponent, o.smooth_length = smooth_length;
   out->method = make_reconstructor(name, out->problem, o);
   return out;
 }
@@ -65,10 +67,13 @@ void bind_methods(py::module_& m) {
            py::arg("background") = 0.05, py::arg("lambda_") = py::none(), py::arg("choose") = "",
            py::arg("model") = "", py::arg("neighbours") = "pixels", py::arg("tolerance") = 0.0,
            py::arg("robust") = 0.0, py::arg("contact_impedance") = 0.01, py::arg("current") = 1.0,
-           py::arg("image_size") = 64,
+           py::arg("image_size") = 64, py::arg("noser_exponent") = MethodOptions().noser_exponent,
+           py::arg("smooth_length") = MethodOptions().smooth_length,
            "method: one of eitbench.methods; mesh: the reconstruction mesh (default: the medium "
            "disk); lambda_: a fixed hyperparameter, or choose = gcv | lcurve | validation (then "
-           "fit() chooses it); model: the model file of dnn")
+           "fit() chooses it); model: the model file of dnn; noser_exponent: noser's p in "
+           "diag(A^T A)^p; smooth_length: where smooth's prior covariance falls to 1 %, in the "
+           "sensor's radius")
       .def_property_readonly("name", [](const Method& r) { return r.method->name(); })
       .def_property_readonly("settings", [](const Method& r) { return r.method->settings(); })
       .def(

@@ -112,6 +112,25 @@ def test_reconstructors_score_as_the_tool_does(tiny, tmp_path, method):
     np.testing.assert_allclose(one, images[0], atol=1e-5 * np.abs(images[0]).max())
 
 
+@pytest.mark.parametrize("method, option, value",
+                         [("smooth", "smooth_length", 0.3), ("noser", "noser_exponent", 1.0)])
+def test_prior_options_score_as_the_tools_flags(tiny, tmp_path, method, option, value):
+    data = eitbench.read_dataset(str(tiny))
+    test = data["split"] == 2
+    flag = "--" + option.replace("_", "-")
+    out = cli("reconstruct", "--method", method, "--lambda", 0.01, flag, value, "--data", tiny,
+              "--png", "0", "--out", tmp_path / "r.h5")
+    tool_cc = float(re.search(r"CC ([0-9.]+)", out).group(1))
+    common = dict(lambda_=0.01, background=data["background_conductivity"],
+                  contact_impedance=data["contact_impedance"], current=data["current"])
+    frames, labels = data["differences"][test], data["labels"][test]
+    images = eitbench.Reconstructor(method, **common, **{option: value}).reconstruct(frames)
+    cc = np.mean([in_disk_cc(i, l) for i, l in zip(images, labels)])
+    assert abs(cc - tool_cc) < 5e-4, (cc, tool_cc)
+    default = eitbench.Reconstructor(method, **common).reconstruct(frames)
+    assert np.abs(images - default).max() > 1e-3 * np.abs(default).max()  # the option is used
+
+
 def test_validation_choice_and_circles(tiny):
     data = eitbench.read_dataset(str(tiny))
     val = data["split"] == 1
