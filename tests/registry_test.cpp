@@ -56,8 +56,9 @@ TEST(Registry, AOneStepMethodIsALinearMapAndOnlyItIs) {
   EXPECT_FALSE(listed(method_names_with(&MethodSpec::pixel_image), "dnn"));
 }
 
-// The KTC post-processing network's one-step image and reconstruct --placement-map take their
-// methods from the registry: a method without the property is refused with the list.
+// The KTC post-processing network's one-step image takes its methods from the registry: one
+// without the property is refused with the list (reconstruct --placement-map reads pixel_image
+// alike; PressSet.TheCommandLinesPriorAndElectrodesAreUsed sees it refuse shape-linear).
 TEST(Registry, WhatTakesAOneStepMethodRefusesTheOthersNamingThem) {
   const std::string list = joined_method_names_with(&MethodSpec::one_step);
   EXPECT_EQ(list, "tikhonov, noser, laplace, smooth, greit");
