@@ -9,6 +9,11 @@
 #include "neighbour_graphs.h"
 namespace eitbench {
 
+Eigen::Vector2d LinearProblem::pixel_centre(Eigen::Index j) const {
+  const int pixel = pixels[static_cast<std::size_t>(j)];
+  return grid.center(pixel / grid.size(), pixel % grid.size());
+}
+
 Eigen::VectorXd LinearProblem::to_image(const Eigen::VectorXd& x) const {
   Eigen::VectorXd image = Eigen::VectorXd::Zero(grid.num_pixels());
   for (std::size_t j = 0; j < pixels.size(); ++j)

@@ -65,8 +65,7 @@ PressFrame fit_press_frame(const LinearProblem& problem, const SampleMatrix& dif
   options.validate();
   check_inputs(problem, differences, positions);
   std::vector<Eigen::Vector2d> centres;
-  const int n = problem.grid.size();
-  for (int pixel : problem.pixels) centres.push_back(problem.grid.center(pixel / n, pixel % n));
+  for (Eigen::Index j = 0; j < problem.unknowns(); ++j) centres.push_back(problem.pixel_centre(j));
   const double radius = options.touch_radius * problem.grid.radius();
   const int turns = static_cast<int>(std::ceil(360 / options.step_degrees - 1e-9));
   std::vector<double> cosine(static_cast<std::size_t>(2 * turns));  // [mirror][turn]

@@ -55,11 +55,9 @@ Eigen::SparseMatrix<double> element_laplacian(const LinearProblem& p) {
 // inverse is formed: B = Gamma A^T directly.
 Eigen::MatrixXd smooth_covariance_times(const LinearProblem& p, double length,
                                         const Eigen::MatrixXd& At) {
-  const int size = p.grid.size();
-  const Eigen::Index n = static_cast<Eigen::Index>(p.pixels.size());
+  const Eigen::Index n = p.unknowns();
   Eigen::MatrixXd centres(2, n);
-  for (Eigen::Index j = 0; j < n; ++j)
-    centres.col(j) = p.grid.center(p.pixels[j] / size, p.pixels[j] % size);
+  for (Eigen::Index j = 0; j < n; ++j) centres.col(j) = p.pixel_centre(j);
   const double b2 = length * length / (2.0 * std::log(100.0));
   Eigen::MatrixXd gamma(n, n);
   for (Eigen::Index j = 0; j < n; ++j)

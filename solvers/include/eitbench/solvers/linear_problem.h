@@ -41,6 +41,8 @@ struct LinearProblem {
   Eigen::MatrixXd model_jacobian(const ForwardSolution& solution,
                                  const std::vector<int>& elements = {}) const;
 
+  // The centre of column j's pixel (grid.center of pixels[j]).
+  Eigen::Vector2d pixel_centre(Eigen::Index j) const;
   int measurements() const { return static_cast<int>(A.rows()); }
   int unknowns() const { return static_cast<int>(A.cols()); }
   // An n-vector of pixel values as an image of grid.num_pixels() values (masked pixels 0), and
