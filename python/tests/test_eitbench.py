@@ -25,6 +25,22 @@ def tiny(tmp_path_factory):
     return path
 
 
+def tool_cc(tiny, tmp_path, *args):
+    """The test split's mean CC that `eitbench reconstruct ARGS` prints for the tiny set."""
+    out = cli("reconstruct", *args, "--data", tiny, "--png", "0", "--out", tmp_path / "r.h5")
+    return float(re.search(r"CC ([0-9.]+)", out).group(1))
+
+
+def sensor(data):
+    """The Reconstructor arguments that give the data set's own sensor."""
+    return dict(background=data["background_conductivity"],
+                contact_impedance=data["contact_impedance"], current=data["current"])
+
+
+def mean_cc(images, labels):
+    return np.mean([in_disk_cc(i, l) for i, l in zip(images, labels)])
+
+
 def in_disk_cc(image, label):
     """CC over the in-disk pixels (pixel centres inside the unit disk), computed here."""
     n = label.shape[-1]
@@ -98,16 +114,12 @@ def test_reconstructors_score_as_the_tool_does(tiny, tmp_path, method):
     data = eitbench.read_dataset(str(tiny))
     test = data["split"] == 2
     weight = {"shape": 2.0, "shape-linear": 4.0}.get(method, 0.01)  # the BIC's penalty, or lambda
-    out = cli("reconstruct", "--method", method, "--lambda", weight, "--data", tiny, "--png", "0",
-              "--out", tmp_path / "r.h5")
-    tool_cc = float(re.search(r"CC ([0-9.]+)", out).group(1))
-    r = eitbench.Reconstructor(method, lambda_=weight,
-                               background=data["background_conductivity"],
-                               contact_impedance=data["contact_impedance"], current=data["current"])
+    expected = tool_cc(tiny, tmp_path, "--method", method, "--lambda", weight)
+    r = eitbench.Reconstructor(method, lambda_=weight, **sensor(data))
     images = r.reconstruct(data["differences"][test])
     assert images.shape == (test.sum(), 64, 64)
-    cc = np.mean([in_disk_cc(i, l) for i, l in zip(images, data["labels"][test])])
-    assert abs(cc - tool_cc) < 5e-4, (cc, tool_cc)
+    cc = mean_cc(images, data["labels"][test])
+    assert abs(cc - expected) < 5e-4, (cc, expected)
     one = r.reconstruct(data["differences"][test][0])  # one frame, and the batch: float32 products
     np.testing.assert_allclose(one, images[0], atol=1e-5 * np.abs(images[0]).max())
 
@@ -118,16 +130,13 @@ def test_prior_options_score_as_the_tools_flags(tiny, tmp_path, method, option, 
     data = eitbench.read_dataset(str(tiny))
     test = data["split"] == 2
     flag = "--" + option.replace("_", "-")
-    out = cli("reconstruct", "--method", method, "--lambda", 0.01, flag, value, "--data", tiny,
-              "--png", "0", "--out", tmp_path / "r.h5")
-    tool_cc = float(re.search(r"CC ([0-9.]+)", out).group(1))
-    common = dict(lambda_=0.01, background=data["background_conductivity"],
-                  contact_impedance=data["contact_impedance"], current=data["current"])
+    expected = tool_cc(tiny, tmp_path, "--method", method, "--lambda", 0.01, flag, value)
     frames, labels = data["differences"][test], data["labels"][test]
-    images = eitbench.Reconstructor(method, **common, **{option: value}).reconstruct(frames)
-    cc = np.mean([in_disk_cc(i, l) for i, l in zip(images, labels)])
-    assert abs(cc - tool_cc) < 5e-4, (cc, tool_cc)
-    default = eitbench.Reconstructor(method, **common).reconstruct(frames)
+    images = eitbench.Reconstructor(method, lambda_=0.01, **sensor(data),
+                                    **{option: value}).reconstruct(frames)
+    cc = mean_cc(images, labels)
+    assert abs(cc - expected) < 5e-4, (cc, expected)
+    default = eitbench.Reconstructor(method, lambda_=0.01, **sensor(data)).reconstruct(frames)
     assert np.abs(images - default).max() > 1e-3 * np.abs(default).max()  # the option is used
 
 
@@ -194,15 +203,13 @@ def test_press_set_touches_round_trip(tiny, tmp_path):
 def test_learned_model_reconstructs_as_the_tool_does(tiny, tmp_path):
     model_path = tmp_path / "m.pt"
     cli("train", "--data", tiny, "--steps", "4", "--quiet", "--out", model_path)
-    out = cli("reconstruct", "--method", "dnn", "--model", model_path, "--data", tiny, "--png", "0",
-              "--out", tmp_path / "r.h5")
-    tool_cc = float(re.search(r"CC ([0-9.]+)", out).group(1))
+    expected = tool_cc(tiny, tmp_path, "--method", "dnn", "--model", model_path)
     data = eitbench.read_dataset(str(tiny))
     test = data["split"] == 2
     model = eitbench.load_model(str(model_path))
     images = model.reconstruct(data["differences"][test])
-    cc = np.mean([in_disk_cc(i, l) for i, l in zip(images, data["labels"][test])])
-    assert abs(cc - tool_cc) < 5e-4, (cc, tool_cc)
+    cc = mean_cc(images, data["labels"][test])
+    assert abs(cc - expected) < 5e-4, (cc, expected)
     same = eitbench.Reconstructor("dnn", model=str(model_path)).reconstruct(data["differences"][test])
     np.testing.assert_allclose(same, images, atol=1e-6)
 
@@ -226,12 +233,10 @@ def test_training_from_python_matches_the_tool(tiny, tmp_path):
                            data["labels"][va], augment="d16", steps=4, seed=1)
     assert model.augment == "d16" and model.parameters > 0
     eitbench.save_model(str(tmp_path / "py.pt"), model)
-    out = cli("reconstruct", "--method", "dnn", "--model", tmp_path / "py.pt", "--data", tiny,
-              "--png", "0", "--out", tmp_path / "r.h5")
-    tool_cc = float(re.search(r"CC ([0-9.]+)", out).group(1))
+    expected = tool_cc(tiny, tmp_path, "--method", "dnn", "--model", tmp_path / "py.pt")
     images = model.reconstruct(data["differences"][te])
-    cc = np.mean([in_disk_cc(i, l) for i, l in zip(images, data["labels"][te])])
-    assert abs(cc - tool_cc) < 5e-4, (cc, tool_cc)
+    cc = mean_cc(images, data["labels"][te])
+    assert abs(cc - expected) < 5e-4, (cc, expected)
     # The tool's own training with the same options and seed gives the same network. Without
     # augmentation: with it the tool moves each label by re-drawing its circles, the module by
     # resampling the image (train() takes no circles).
