@@ -57,7 +57,12 @@ Eigen::MatrixXd smooth_covariance_times(const LinearProblem& p, double length,
                                         const Eigen::MatrixXd& At) {
   const Eigen::Index n = p.unknowns();
   Eigen::MatrixXd centres(2, n);
-  for (Eigen::Index j = 0; j < n; ++j) centres.col(j) = p.pixel_centre(j);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    // Element by element: GCC 12 takes a Vector2d stored into a column block for a 16-byte read
+    // of an 8-byte object (-Wstringop-overread), a false alarm.
+    const Eigen::Vector2d c = p.pixel_centre(j);
+    centres(0, j) = c.x(), centres(1, j) = c.y();
+  }
   const double b2 = length * length / (2.0 * std::log(100.0));
   Eigen::MatrixXd gamma(n, n);
   for (Eigen::Index j = 0; j < n; ++j)
