@@ -1,7 +1,7 @@
 // The Tikhonov family's, TV's, GREIT's and Gauss-Newton's dense linear algebra
-// (solvers/src/dense_lapack.h): LAPACK's eigendecomposition against Eigen's and against its own
-// definition, the rank update and the Cholesky solve against their definitions, and the same bits
-// whatever the calling thread's OpenMP thread count.
+// (eitbench/solvers/dense_lapack.h): LAPACK's eigendecomposition against Eigen's and against its
+// own definition, the rank update and the Cholesky solve against their definitions, and the same
+// bits whatever the calling thread's OpenMP thread count.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <random>
 
-#include "dense_lapack.h"  // solvers/src
+#include "eitbench/solvers/dense_lapack.h"
 
 namespace eitbench {
 namespace {

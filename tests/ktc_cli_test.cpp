@@ -98,6 +98,10 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
   refused("run --ktc " + path("in") + " --out " + path("out") + " --levels 1,1", "--levels");
   refused("run --ktc " + path("in") + " --out " + path("out") + " --methods noser,shape",
           "--methods");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-tanks -1",
+          "--tuning-tanks");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --tune-on-simulation shape",
+          "--tune-on-simulation");
   refused("run --ktc " + path("in") + " --out " + path("out") + " --noise-sweep 0.01,0.01",
           "--noise-sweep");
   refused("run --ktc " + path("in") + " --out " + path("out") + " --noise-sweep 0 --noise-floor 0",
@@ -137,7 +141,7 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   const Result r =
       run("run --ktc " + path("in") + " --out " + path("run") +
           " --methods tikhonov,noser,laplace,smooth,greit,tv,gn --levels 7 --ktc-tanks 0 "
-          "--noise-sweep 0.05" +
+          "--noise-sweep 0.05 --tuning-tanks 2" +
           fast());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char* file : {"results.json", "report.md"})
@@ -148,7 +152,30 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   for (const char* method : {"tikhonov", "noser", "laplace", "smooth", "greit", "tv", "gn"})
     EXPECT_NE(text.str().find(std::string("| ") + method + " |"), std::string::npos) << method;
   EXPECT_NE(text.str().find("held out"), std::string::npos);
+  EXPECT_NE(text.str().find("tuned on simulation"), std::string::npos);
   const auto results = nlohmann::json::parse(read_file_bytes(path("run/results.json")));
+  // The one-step methods are tuned on the two simulated tanks too, every sample scored with that
+  // setting; the iterative ones are not (by default).
+  for (const auto& m : results.at("methods")) {
+    const std::string name = m.at("method");
+    const bool one_step = name != "tv" && name != "gn";
+    ASSERT_EQ(m.at("simulation").is_null(), !one_step) << name;
+    if (!one_step) continue;
+    EXPECT_EQ(m.at("simulation").at("tanks"), 2) << name;
+    ASSERT_EQ(m.at("simulation").at("held_out").size(), 1u) << name;     // one level
+    EXPECT_EQ(m.at("simulation").at("held_out")[0].size(), 2u) << name;  // two samples
+  }
+  // The tanks hold nothing of the samples: with one sample fewer the setting they choose is the
+  // same, to the bit.
+  testing::write_synthetic_ktc(path("in1"), {{{-0.04, 0.03, 0.025, 1}, {0.045, -0.02, 0.02, 2}}});
+  const Result one = run("run --ktc " + path("in1") + " --out " + path("run1") +
+                         " --methods tikhonov --levels 7 --ktc-tanks 0 --noise-sweep 0.05 "
+                         "--tuning-tanks 2" +
+                         fast());
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  const auto fewer = nlohmann::json::parse(read_file_bytes(path("run1/results.json")));
+  EXPECT_EQ(fewer.at("methods")[0].at("simulation").at("choice"),
+            results.at("methods")[0].at("simulation").at("choice"));
   // ktc --from takes the run's tank (the same ref.mat: no calibration) and each method's setting,
   // its noise model among it: every method writes the challenge's files with the scores the run
   // had with that setting (in sample), and one method every level's files.
@@ -204,7 +231,8 @@ TEST_F(KtcCli, TheRunTrainsTheLearnedModelsAndKtcAppliesThem) {
   make_folder();
   const Result r =
       run("run --ktc " + path("in") + " --out " + path("run") +
-          " --methods noser --levels 1,7 --ktc-tanks 40 --ktc-steps 20 --doublings 0 --seed 3" +
+          " --methods noser --levels 1,7 --ktc-tanks 40 --ktc-steps 20 --doublings 0 --seed 3"
+          " --tuning-tanks 0" +
           fast());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto results = nlohmann::json::parse(read_file_bytes(path("run/results.json")));

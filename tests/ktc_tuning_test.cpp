@@ -93,5 +93,40 @@ TEST(KtcTuning, TheNoiseModelIsTunedAsTheWeightIs) {
   }
 }
 
+TEST(KtcTuning, TheSettingTunedOnSimulatedTanksScoresEverySample) {
+  // Two weights, Otsu only (the levels rule scores 0). On the two samples the first weight wins
+  // (0.9 and 0.8 against 0.5 and 0.4); on the three simulated tanks the second (0.7 each against
+  // 0.2). Tuned on the tanks, every sample is scored with the second weight: 0.5 and 0.4, not
+  // the samples' own best; the samples' tuning (best) is left as it was.
+  const std::size_t F = ktc_level_fractions().size();
+  auto frame = [&](double otsu) {
+    KtcFrameScores f;
+    f.otsu = otsu;
+    f.resistive.assign(F, 0.0), f.conductive.assign(F, 0.0);
+    return f;
+  };
+  KtcMethodResult r;
+  r.method = "made";
+  r.candidates = {0.1, 1.0};
+  r.candidate_noise = {5e-3, 5e-3};
+  r.levels = {1};
+  r.samples = {1, 2};
+  r.scores = {{{frame(0.9), frame(0.8)}}, {{frame(0.5), frame(0.4)}}};
+  tune_and_hold_out(r);
+  tune_on_simulation(r);  // no tanks: nothing
+  EXPECT_TRUE(r.tuned_on_simulation.empty());
+  r.simulated = {{{frame(0.2), frame(0.2), frame(0.2)}}, {{frame(0.7), frame(0.7), frame(0.7)}}};
+  tune_on_simulation(r);
+  EXPECT_EQ(r.simulation_choice.candidate, 1);
+  EXPECT_DOUBLE_EQ(r.simulation_choice.lambda, 1.0);
+  EXPECT_EQ(r.simulation_choice.rule.kind, SegmentationKind::otsu);
+  EXPECT_NEAR(r.simulation_choice.tuning_score, 2.1, 1e-12);
+  ASSERT_EQ(r.tuned_on_simulation.size(), 1u);
+  ASSERT_EQ(r.tuned_on_simulation[0].size(), 2u);
+  EXPECT_NEAR(r.tuned_on_simulation[0][0], 0.5, 1e-12);
+  EXPECT_NEAR(r.tuned_on_simulation[0][1], 0.4, 1e-12);
+  EXPECT_EQ(r.best.candidate, 0);
+}
+
 }  // namespace
 }  // namespace eitbench

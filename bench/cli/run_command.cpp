@@ -164,6 +164,8 @@ struct KtcArgs {
   double coverage = KtcTankOptions().electrode_coverage;
   KtcNoise noise;
   std::vector<double> noise_sweep = KtcRunOptions().noise_sweep;
+  int tuning_tanks = KtcRunOptions().tuning_tanks;
+  std::vector<std::string> simulation_tuned = KtcRunOptions().simulation_tuned;
   KtcLearnedOptions learned;  // tanks and steps here; arms, doublings and patience from run's
 };
 
@@ -200,6 +202,23 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
                  "rows take --noise-relative (given alone, it sets this too)")
       ->delimiter(',')
       ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--tuning-tanks", k.tuning_tanks,
+                 "with --ktc: simulated tanks (labelled, drawn from --seed) that the methods of "
+                 "--tune-on-simulation are tuned on too, every sample then held out (0: none)")
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--tune-on-simulation", k.simulation_tuned,
+                 "with --ktc: the methods tuned on the simulated tanks as well as on the samples "
+                 "(default the one-step methods: an iterative one costs its seconds a frame for "
+                 "every tank, weight and level)")
+      ->delimiter(',')
+      ->default_str([] {
+        std::string names;
+        for (const auto& m : KtcRunOptions().simulation_tuned)
+          names += (names.empty() ? "" : ",") + m;
+        return names;
+      }())
       ->group(group);
   cmd.add_option("--ktc-tanks", k.learned.tanks,
                  "with --ktc: simulated tanks the learned models (--augment none,group) train, "
@@ -267,6 +286,9 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
                       ? std::vector<double>{k.noise.relative}
                       : k.noise_sweep;
   o.grid = k.pixels;
+  o.tuning_tanks = k.tuning_tanks;
+  o.tuning_seed = f.seed;
+  o.simulation_tuned = k.simulation_tuned;
   k.learned.one_step_grid = k.pixels;
   o.learned = k.learned;
   o.quiet = quiet;
@@ -282,13 +304,18 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
   const KtcRunResults results = run_ktc(o, inputs);
   write_ktc_run(results);
   if (quiet) return;
-  fmt::print("\n| method | total of 21, held out | Otsu only | setting | ms a frame |\n");
+  fmt::print(
+      "\n| method | total of 21, held out | tuned on simulation | Otsu only | setting | ms a "
+      "frame |\n");
   for (const auto& m : results.methods)
-    fmt::print("| {} | {:.2f} | {:.2f} | lambda {:.3g}, {} | {:.1f} |\n", m.method,
-               ktc_total(m.held_out), ktc_total(m.held_out_otsu), m.best.lambda,
-               m.best.rule.to_string(), m.median_ms);
+    fmt::print("| {} | {:.2f} | {} | {:.2f} | lambda {:.3g}, {} | {:.1f} |\n", m.method,
+               ktc_total(m.held_out),
+               m.tuned_on_simulation.empty()
+                   ? std::string("—")
+                   : fmt::format("{:.2f}", ktc_total(m.tuned_on_simulation)),
+               ktc_total(m.held_out_otsu), m.best.lambda, m.best.rule.to_string(), m.median_ms);
   for (const auto& a : results.learned.arms)
-    fmt::print("| {} {} | {:.2f} | — | trained in simulation ({}, {} steps) | {:.1f} |\n",
+    fmt::print("| {} {} | {:.2f} | — | — | trained in simulation ({}, {} steps) | {:.1f} |\n",
                a.network, a.arm, ktc_total(a.scores), to_string(a.end), a.steps, a.median_ms);
   fmt::print("\nwrote {}/report.md and results.json in {:.0f} s\n", o.out, seconds_since(t0));
 }
@@ -423,9 +450,9 @@ std::function<void()> add_run_command(CLI::App& app) {
           {args->methods, args->augments, args->out, args->doublings, args->patience, args->threads,
            args->doubling_tolerance, args->quiet, args->device, args->seed},
           *cmd);
-    for (const char* flag :
-         {"--levels", "--electrode-coverage", "--density", "--pixels", "--noise-relative",
-          "--noise-floor", "--noise-sweep", "--ktc-tanks", "--ktc-steps"})
+    for (const char* flag : {"--levels", "--electrode-coverage", "--density", "--pixels",
+                             "--noise-relative", "--noise-floor", "--noise-sweep", "--tuning-tanks",
+                             "--tune-on-simulation", "--ktc-tanks", "--ktc-steps"})
       if (cmd->count(flag) > 0) throw InputError(flag, "", "goes with --ktc");
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;

@@ -1,4 +1,4 @@
-#include "dense_lapack.h"
+#include "eitbench/solvers/dense_lapack.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

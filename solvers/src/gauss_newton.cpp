@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <optional>
 
-#include "dense_lapack.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/solvers/dense_lapack.h"
 #include "line_search.h"
 
 namespace eitbench {

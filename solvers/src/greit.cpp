@@ -7,9 +7,9 @@
 #include <optional>
 #include <vector>
 
-#include "dense_lapack.h"
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/random.h"
+#include "eitbench/solvers/dense_lapack.h"
 
 namespace eitbench {
 

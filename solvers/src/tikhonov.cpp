@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "dense_lapack.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/solvers/dense_lapack.h"
 #include "neighbour_graphs.h"
 
 namespace eitbench {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "dense_lapack.h"
 #include "eitbench/jacobian/error.h"
+#include "eitbench/solvers/dense_lapack.h"
 #include "eitbench/solvers/tikhonov.h"
 #include "tv_gradient.h"
 

@@ -62,6 +62,15 @@ std::string noise_words(const KtcMethodResult& m) {
   return tuned_noise(m) ? fmt::format(", noise {:g}", m.best.noise_relative) : "";
 }
 
+// The report's cell for the tuning on simulated tanks: the total and the setting they chose.
+std::string simulation_cell(const KtcMethodResult& m) {
+  if (m.tuned_on_simulation.empty()) return "—";
+  const KtcChoice& c = m.simulation_choice;
+  return fmt::format("{:.2f} (lambda {:.3g}{}, {})", ktc_total(m.tuned_on_simulation), c.lambda,
+                     tuned_noise(m) ? fmt::format(", noise {:g}", c.noise_relative) : "",
+                     c.rule.to_string());
+}
+
 // Per candidate, every sample and level: the total with Otsu and with the best levels rule.
 json sweep_json(const KtcMethodResult& m) {
   std::vector<int> all;
@@ -75,6 +84,16 @@ json sweep_json(const KtcMethodResult& m) {
                    {"best_rule", tune_ktc(m, all, KtcRules::either, only).tuning_score}});
   }
   return out;
+}
+
+// The tuning on simulated tanks (null for a method not so tuned): the tanks' count, the setting
+// they chose and each sample's score with it.
+json simulation_json(const KtcMethodResult& m) {
+  if (m.simulated.empty() || m.simulated.front().empty()) return nullptr;
+  return {{"tanks", m.simulated.front().front().size()},
+          {"choice", choice_json(m.simulation_choice)},
+          {"held_out", m.tuned_on_simulation},
+          {"total_held_out", ktc_total(m.tuned_on_simulation)}};
 }
 
 json method_json(const KtcMethodResult& m) {
@@ -92,6 +111,7 @@ json method_json(const KtcMethodResult& m) {
           {"total_in_sample", ktc_total(m.in_sample)},
           {"total_held_out_otsu", ktc_total(m.held_out_otsu)},
           {"sweep", sweep_json(m)},
+          {"simulation", simulation_json(m)},
           {"on_the_grids_edge", on_the_edge(m)},
           {"median_ms", m.median_ms},
           {"setup_seconds", m.setup_seconds}};
@@ -266,14 +286,17 @@ std::string report_markdown(const KtcRunResults& r) {
        "on that one), so that a rule that only fits them better is not taken. The noise "
        "model (each value's standard deviation as a share of its reference value, beside the "
        "floor; \"noise\" in the setting) is tuned as the weight is, for every method but GREIT, "
-       "whose image it does not change. A level's figure "
+       "whose image it does not change. Where the run had tuning tanks (--tuning-tanks), "
+       "the methods of --tune-on-simulation are also tuned on them alone, the same way (the "
+       "rule's kind nested): \"tuned on simulation\", every sample held out, with that "
+       "setting. A level's figure "
        "is the mean over the samples times 3, the challenge's three targets a level; the total "
        "over seven levels is at most 21.\n\n";
   o << "| method | L" << r.options.levels.front();
   for (std::size_t l = 1; l < r.options.levels.size(); ++l) o << " | L" << r.options.levels[l];
-  o << " | total (held out) | Otsu only (held out) | in sample | setting (all samples) | ms a "
-       "frame | set-up a level (s) |\n|---";
-  for (std::size_t l = 0; l < r.options.levels.size() + 6; ++l) o << "|---";
+  o << " | total (held out) | tuned on simulation | Otsu only (held out) | in sample | setting "
+       "(all samples) | ms a frame | set-up a level (s) |\n|---";
+  for (std::size_t l = 0; l < r.options.levels.size() + 7; ++l) o << "|---";
   o << "|\n";
   struct Row {
     double total;
@@ -286,9 +309,10 @@ std::string report_markdown(const KtcRunResults& r) {
     double setup = 0;
     for (double s : m.setup_seconds) setup += s;
     t += fmt::format(
-        " | **{:.2f}** | {:.2f} | {:.2f} | lambda {:.3g}{}{}, {} | {:.1f} | {:.1f} |\n",
-        ktc_total(m.held_out), ktc_total(m.held_out_otsu), ktc_total(m.in_sample), m.best.lambda,
-        on_the_edge(m) ? " (edge)" : "", noise_words(m), m.best.rule.to_string(), m.median_ms,
+        " | **{:.2f}** | {} | {:.2f} | {:.2f} | lambda {:.3g}{}{}, {} | {:.1f} | {:.1f} |\n",
+        ktc_total(m.held_out), simulation_cell(m), ktc_total(m.held_out_otsu),
+        ktc_total(m.in_sample), m.best.lambda, on_the_edge(m) ? " (edge)" : "", noise_words(m),
+        m.best.rule.to_string(), m.median_ms,
         setup / static_cast<double>(std::max<std::size_t>(1, m.setup_seconds.size())));
     rows.push_back({ktc_total(m.held_out), t});
   }
@@ -296,7 +320,7 @@ std::string report_markdown(const KtcRunResults& r) {
     std::string t = "| " + a.network + " " + a.arm;
     for (const auto& level : a.scores) t += fmt::format(" | {:.2f}", ktc_level_total(level));
     t += fmt::format(
-        " | **{:.2f}** | — | {:.2f} | trained in simulation{}{}, threshold {:.2g} | "
+        " | **{:.2f}** | — | — | {:.2f} | trained in simulation{}{}, threshold {:.2g} | "
         "{:.1f} | — |\n",
         ktc_total(a.scores), ktc_total(a.scores), a.arm == "group" ? " with the group" : "",
         a.network == "dnn-post" ? ", on a one-step image" : "", r.learned.options.network.threshold,

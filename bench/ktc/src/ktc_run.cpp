@@ -8,13 +8,20 @@
 #include <cmath>
 #include <filesystem>
 #include <mutex>
+#include <numeric>
 
 #include "eitbench/bench/io/content_hash.h"
+#include "eitbench/bench/ktc/tank_simulation.h"
+#include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/support/progress.h"
 #include "eitbench/bench/support/timing.h"
 #include "eitbench/jacobian/error.h"
 
 namespace eitbench {
+namespace {
+// About 2 MB a tank (its truth's windowed moments) and its scores for every candidate and level.
+constexpr int kMaxTuningTanks = 500;
+}  // namespace
 
 const std::vector<double>& ktc_level_fractions() {
   static const std::vector<double> f = [] {
@@ -152,6 +159,33 @@ void tune_and_hold_out(KtcMethodResult& r) {
   }
 }
 
+void tune_on_simulation(KtcMethodResult& r) {
+  r.tuned_on_simulation.clear();
+  if (r.simulated.empty() || r.simulated.front().empty()) return;
+  KtcMethodResult tanks;  // the same candidates and levels, the tanks in the samples' place
+  tanks.candidates = r.candidates;
+  tanks.candidate_noise = r.candidate_noise;
+  tanks.levels = r.levels;
+  tanks.scores = r.simulated;
+  std::vector<int> all(r.simulated.front().front().size());
+  std::iota(all.begin(), all.end(), 0);
+  r.simulation_choice = choose_ktc_rules(tanks, all);
+  const std::size_t L = r.levels.size(), S = r.samples.size();
+  r.tuned_on_simulation.assign(L, std::vector<double>(S));
+  for (std::size_t l = 0; l < L; ++l)
+    for (std::size_t s = 0; s < S; ++s)
+      r.tuned_on_simulation[l][s] =
+          ktc_choice_score(r, r.simulation_choice, static_cast<int>(l), static_cast<int>(s));
+}
+
+std::vector<std::string> ktc_one_step_names() {
+  const std::vector<std::string> one_step = method_names_with(&MethodSpec::one_step);
+  std::vector<std::string> names;
+  for (const std::string& m : ktc_method_names())
+    if (std::find(one_step.begin(), one_step.end(), m) != one_step.end()) names.push_back(m);
+  return names;
+}
+
 void KtcRunOptions::validate() const {
   std::error_code ec;
   if (!std::filesystem::is_directory(data, ec))
@@ -176,6 +210,20 @@ void KtcRunOptions::validate() const {
     if (std::count(methods.begin(), methods.begin() + static_cast<std::ptrdiff_t>(k), methods[k]))
       throw InputError("--methods", "", "lists " + methods[k] + " twice");
   }
+  for (std::size_t k = 0; k < simulation_tuned.size(); ++k) {
+    const auto& name = simulation_tuned[k];
+    if (std::find(ktc_method_names().begin(), ktc_method_names().end(), name) ==
+        ktc_method_names().end())
+      throw InputError("--tune-on-simulation", "",
+                       "'" + name + "' is not a method the KTC run ranks");
+    if (std::count(simulation_tuned.begin(),
+                   simulation_tuned.begin() + static_cast<std::ptrdiff_t>(k), name))
+      throw InputError("--tune-on-simulation", "", "lists " + name + " twice");
+  }
+  // Each tank keeps its truth's windowed moments (2 MB) and its scores for every candidate.
+  if (tuning_tanks < 0 || tuning_tanks > kMaxTuningTanks)
+    throw InputError("--tuning-tanks", "",
+                     fmt::format("{} is out of range: 0 ... {}", tuning_tanks, kMaxTuningTanks));
   check_ktc_grid(grid);
   tank.validate();
   noise.validate();
@@ -223,12 +271,42 @@ namespace {
 
 using Sample = KtcInputs::Sample;
 
+// The simulated tanks a method is tuned on (KtcRunOptions::tuning_tanks): their difference frames
+// (every value) and their truths on KTC's grid.
+struct TuningTanks {
+  Eigen::MatrixXd frames;  // tanks x values
+  std::vector<KtcScorer> scorers;
+};
+
+// The tanks are drawn as the learned rows' training tanks are, but on a finer mesh than the
+// reconstructions' (the model that simulates is not the one that inverts) and from a stream of
+// their own, so that they are none of the learned rows' tanks.
+TuningTanks simulate_tuning_tanks(const KtcSetup& setup, const KtcMeasurement& reference,
+                                  const KtcRunOptions& options) {
+  KtcTankOptions finer = setup.tank.options;
+  if (finer.density == MeshDensity::fine) finer.size_factor *= 0.7;
+  finer.density = MeshDensity::fine;
+  const KtcTank tank =
+      ktc_tank_at(reference, finer, setup.tank.background, setup.tank.contact_impedances);
+  KtcSimulationOptions so = ktc_training_simulation(options.learned, tank);
+  so.samples = options.tuning_tanks;
+  so.seed = static_cast<unsigned>(options.tuning_seed * 2654435761u + 12345u);
+  so.grid = kKtcImageSize;
+  so.orientation = setup.orientation;
+  KtcSimulatedSet set = simulate_ktc_tanks(tank, so);
+  TuningTanks t;
+  t.frames = std::move(set.frames);
+  for (const ClassImage& label : set.labels) t.scorers.emplace_back(label);
+  return t;
+}
+
 // Every candidate's reconstructions of every sample at every level, scored: each regularisation
-// weight at each of `noises` (KtcNoise::relative with setup's floor).
+// weight at each of `noises` (KtcNoise::relative with setup's floor); and of every tuning tank
+// where `tanks` is given (not timed).
 KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::string& method,
                       const std::vector<double>& noises, const std::vector<Sample>& samples,
                       const std::vector<int>& levels, const std::vector<KtcScorer>& scorers,
-                      Progress& progress, int& done) {
+                      const TuningTanks* tanks, Progress& progress, int& done) {
   std::mutex progress_mutex;  // done is counted from every level
   KtcMethodResult r;
   r.method = method;
@@ -240,6 +318,11 @@ KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::s
   const std::size_t C = r.candidates.size(), L = levels.size(), S = samples.size();
   const std::size_t W = weights.size();
   r.scores.assign(C, std::vector<std::vector<KtcFrameScores>>(L, std::vector<KtcFrameScores>(S)));
+  const std::size_t T = tanks ? static_cast<std::size_t>(tanks->frames.rows()) : 0;
+  if (T > 0)
+    r.simulated.assign(C,
+                       std::vector<std::vector<KtcFrameScores>>(L, std::vector<KtcFrameScores>(T)));
+  const CurrentPatterns& patterns = setup.tank.protocol->patterns();
   r.milliseconds.assign(C, std::vector<std::vector<double>>(L, std::vector<double>(S)));
   std::vector<std::vector<std::vector<Eigen::VectorXd>>> images(
       C, std::vector<std::vector<Eigen::VectorXd>>(L, std::vector<Eigen::VectorXd>(S)));
@@ -255,6 +338,10 @@ KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::s
     std::vector<Eigen::VectorXd> frames;  // the level's frames: the noise model weighs them later
     for (const Sample& s : samples)
       frames.push_back(ktc_difference(s.measurement, setup, levels[l]));
+    std::vector<Eigen::VectorXd> tank_frames;
+    for (std::size_t t = 0; t < T; ++t)
+      tank_frames.push_back(ktc_level_frame(
+          tanks->frames.row(static_cast<Eigen::Index>(t)).transpose(), patterns, levels[l]));
     for (std::size_t n = 0; n < noises.size(); ++n) {
       const KtcSetup& at = setups[n];
       const std::unique_ptr<MissingValues> m = make_ktc_method(at, method, weights.front());
@@ -270,12 +357,16 @@ KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::s
           r.milliseconds[c][l][s] = 1e3 * seconds_since(start);
           r.scores[c][l][s] = score_every_rule(ktc_image(at, images[c][l][s]), scorers[s]);
         }
+        for (std::size_t t = 0; t < T; ++t)
+          r.simulated[c][l][t] =
+              score_every_rule(ktc_image(at, m->reconstruct(tank_frames[t])), tanks->scorers[t]);
         const std::lock_guard<std::mutex> lock(progress_mutex);
         progress.update(++done, method + " level " + std::to_string(levels[l]));
       }
     }
   });
   tune_and_hold_out(r);
+  tune_on_simulation(r);
   r.images = images[static_cast<std::size_t>(r.best.candidate)];
   std::vector<double> ms;
   for (const auto& level : r.milliseconds[static_cast<std::size_t>(r.best.candidate)])
@@ -312,10 +403,22 @@ KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
   for (const std::string& m : options.methods)
     total += static_cast<int>(ktc_candidates(m).size() * ktc_noise_candidates(m, options).size() *
                               options.levels.size());
+  auto tuned_on_simulation = [&](const std::string& m) {
+    return options.tuning_tanks > 0 &&
+           std::find(options.simulation_tuned.begin(), options.simulation_tuned.end(), m) !=
+               options.simulation_tuned.end();
+  };
+  TuningTanks tanks;
+  if (std::any_of(options.methods.begin(), options.methods.end(), tuned_on_simulation)) {
+    if (!options.quiet)
+      fmt::print(stderr, "simulating {} tanks to tune on ...\n", options.tuning_tanks);
+    tanks = simulate_tuning_tanks(setup, in.reference, options);
+  }
   Progress progress("KTC sweep", total, options.quiet);
   for (const std::string& m : options.methods)
     out.methods.push_back(sweep(setup, options.noise, m, ktc_noise_candidates(m, options), samples,
-                                options.levels, scorers, progress, done));
+                                options.levels, scorers, tuned_on_simulation(m) ? &tanks : nullptr,
+                                progress, done));
   progress.finish();
   out.tank = setup.tank;
   if (!options.learned.arms.empty()) {

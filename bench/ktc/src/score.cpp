@@ -6,6 +6,7 @@
 #include <string>
 
 #include "eitbench/jacobian/error.h"
+#include "eitbench/solvers/dense_lapack.h"
 
 namespace eitbench {
 namespace {
@@ -29,15 +30,17 @@ Eigen::MatrixXd window(Eigen::Index n) {
 // computed once.
 class Window {
  public:
-  Window(Eigen::Index rows, Eigen::Index cols) : Gr_(window(rows)), Gc_(window(cols)) {
-    coverage_ = Gr_ * Eigen::MatrixXd::Ones(rows, cols) * Gc_.transpose();
+  Window(Eigen::Index rows, Eigen::Index cols) : Gr_(window(rows)), GcT_(window(cols).transpose()) {
+    coverage_ = Gr_ * Eigen::MatrixXd::Ones(rows, cols) * GcT_;
   }
+  // Through the system's BLAS (one thread): a threshold sweep scores each image at 40 masks, two
+  // means a mask, and on 256 x 256 the products took a third of Eigen's time (2-core AMD EPYC).
   Eigen::MatrixXd mean(const Eigen::MatrixXd& x) const {
-    return (Gr_ * x * Gc_.transpose()).cwiseQuotient(coverage_);
+    return detail::product(detail::product(Gr_, x), GcT_).cwiseQuotient(coverage_);
   }
 
  private:
-  Eigen::MatrixXd Gr_, Gc_, coverage_;
+  Eigen::MatrixXd Gr_, GcT_, coverage_;
 };
 
 const Window& window_for(Eigen::Index rows, Eigen::Index cols) {
@@ -54,13 +57,16 @@ const Window& window_for(Eigen::Index rows, Eigen::Index cols) {
 // SSIM averaged over the image, from both images' windowed moments and their cross moment.
 double ssim_from(const Eigen::MatrixXd& mt, const Eigen::MatrixXd& st2, const Eigen::MatrixXd& mr,
                  const Eigen::MatrixXd& sr2, const Eigen::MatrixXd& mtr) {
-  const Eigen::ArrayXXd mu_t = mt.array(), mu_r = mr.array();
-  const Eigen::ArrayXXd var_t = st2.array() - mu_t.square();
-  const Eigen::ArrayXXd var_r = sr2.array() - mu_r.square();
-  const Eigen::ArrayXXd cov = mtr.array() - mu_t * mu_r;
-  const Eigen::ArrayXXd num = (2 * mu_t * mu_r + kC1) * (2 * cov + kC2);
-  const Eigen::ArrayXXd den = (mu_t.square() + mu_r.square() + kC1) * (var_t + var_r + kC2);
-  return (num / den).mean();
+  // One pass, no temporaries: a sweep computes it 40 times an image.
+  double sum = 0;
+  for (Eigen::Index i = 0; i < mt.size(); ++i) {
+    const double mu_t = mt.data()[i], mu_r = mr.data()[i];
+    const double var_t = st2.data()[i] - mu_t * mu_t, var_r = sr2.data()[i] - mu_r * mu_r;
+    const double cov = mtr.data()[i] - mu_t * mu_r;
+    sum += (2 * mu_t * mu_r + kC1) * (2 * cov + kC2) /
+           ((mu_t * mu_t + mu_r * mu_r + kC1) * (var_t + var_r + kC2));
+  }
+  return sum / static_cast<double>(mt.size());
 }
 
 Eigen::MatrixXd mask(const ClassImage& image, int cls) {

@@ -4,6 +4,7 @@
 // its segmentation chosen among three-class Otsu and fixed levels, scored by the challenge's score.
 // Each sample is scored held out: with the setting tuned on the other three samples (all levels),
 // never on itself; the setting tuned on all four is what `eitbench ktc --from RUN` applies.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,13 @@ struct KtcMethodResult {
   std::vector<std::vector<double>> in_sample, held_out;
   // The same with Otsu only (the challenge's baseline segmentation), lambda tuned alike.
   std::vector<std::vector<double>> held_out_otsu;
+  // Tuned on simulated tanks instead (KtcRunOptions::tuning_tanks; all three empty for a method
+  // not so tuned): every candidate's scores on the tanks, [candidate][level][tank]; the setting
+  // they choose (choose_ktc_rules on the tanks); and each sample's score with it, [level][sample].
+  // Nothing of the samples is tuned on: every sample is held out.
+  std::vector<std::vector<std::vector<KtcFrameScores>>> simulated;
+  KtcChoice simulation_choice;
+  std::vector<std::vector<double>> tuned_on_simulation;
   // Images (the method's grid) with `best`, [level][sample], for the figures.
   std::vector<std::vector<Eigen::VectorXd>> images;
   double median_ms = 0;  // per reconstruction at best's lambda
@@ -80,9 +88,14 @@ double ktc_choice_score(const KtcMethodResult& result, const KtcChoice& choice, 
 // each held-out choice by choose_ktc_rules.
 void tune_and_hold_out(KtcMethodResult& result);
 
+// Fills simulation_choice and tuned_on_simulation from `simulated` (nothing when it is empty): the
+// setting chosen on the simulated tanks as `best` is on the samples, every sample scored with it.
+void tune_on_simulation(KtcMethodResult& result);
 // The scores of one image (on KTC's grid) against one truth under every rule.
 KtcFrameScores score_every_rule(const Eigen::MatrixXd& ktc_image, const KtcScorer& truth);
 
+// The KTC methods that reconstruct in one linear step (MethodSpec::one_step), in KTC's order.
+std::vector<std::string> ktc_one_step_names();
 struct KtcRunOptions {
   std::string data;  // a folder of ref.mat, dataN.mat and trueN.mat
   std::string out;   // the run folder
@@ -96,12 +109,22 @@ struct KtcRunOptions {
   // GREIT and the learned rows keep `noise`.
   std::vector<double> noise_sweep{5e-4, 5e-3, 5e-2};
   int grid = 64;
+  // Simulated tanks the methods in `simulation_tuned` are tuned on too (docs/ktc.md): drawn as
+  // the learned rows' training tanks are (learned's contrast band, the reference's measured noise)
+  // from a stream of their own (tuning_seed), on a mesh finer than the reconstructions' (fine
+  // where the tank's is coarse or medium). 0: none. Each tank costs what a sample does.
+  int tuning_tanks = 16;
+  std::uint64_t tuning_seed = 1;
+  // By default the one-step methods (a reconstruction in milliseconds); an iterative one costs
+  // its seconds a frame again for each tank, candidate and level.
+  std::vector<std::string> simulation_tuned = ktc_one_step_names();
   KtcLearnedOptions learned;  // the learned rows (none without arms)
   bool quiet = false;
 
   // InputError naming the flag: the data folder (ref.mat, and dataN.mat each with its trueN.mat),
-  // a level outside 1 ... 7 or given twice, a method that is no KTC one or given twice, the grid,
-  // the tank, the noise, the learned rows' options.
+  // a level outside 1 ... 7 or given twice, a method that is no KTC one or given twice (in
+  // methods or simulation_tuned), the grid, the tank, the noise, the tuning tanks' count, the
+  // learned rows' options.
   void validate() const;
 };
 
