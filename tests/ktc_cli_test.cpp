@@ -176,6 +176,21 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   const auto fewer = nlohmann::json::parse(read_file_bytes(path("run1/results.json")));
   EXPECT_EQ(fewer.at("methods")[0].at("simulation").at("choice"),
             results.at("methods")[0].at("simulation").at("choice"));
+  // ktc --from --setting simulation applies that setting: the scores the run had with it.
+  const Result sim = run("ktc " + path("in") + " " + path("out_sim") +
+                         " 7 --method tikhonov --setting simulation --from " + path("run"));
+  ASSERT_EQ(sim.exit_code, 0) << sim.output;
+  for (int s = 0; s < 2; ++s) {
+    const std::string score =
+        fmt::format("score {:.6f}",
+                    results.at("methods")[0].at("simulation").at("held_out")[0][s].get<double>());
+    EXPECT_NE(sim.output.find(score), std::string::npos) << score << "\n" << sim.output;
+  }
+  const Result no_sim = run("ktc " + path("in") + " " + path("out_sim2") +
+                            " 7 --method tv --setting simulation --from " + path("run"));
+  EXPECT_EQ(no_sim.exit_code, 2) << no_sim.output;
+  EXPECT_NE(no_sim.output.find("--setting"), std::string::npos) << no_sim.output;
+  EXPECT_FALSE(fs::exists(path("out_sim2")));
   // ktc --from takes the run's tank (the same ref.mat: no calibration) and each method's setting,
   // its noise model among it: every method writes the challenge's files with the scores the run
   // had with that setting (in sample), and one method every level's files.

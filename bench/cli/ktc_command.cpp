@@ -25,7 +25,7 @@ namespace {
 
 struct KtcCommandArgs {
   std::string input, output, method = "noser", from, segmentation, density = "medium",
-                             augment = "group";
+                             augment = "group", setting = "samples";
   int level = 1, pixels = 64;
   double lambda = 0, resistive = 0, conductive = 0, coverage = KtcTankOptions().electrode_coverage;
   KtcNoise noise;
@@ -169,6 +169,9 @@ void run_learned(const KtcCommandArgs& a, const CLI::App& cmd) {
 
 void run(const KtcCommandArgs& a, const CLI::App& cmd) {
   ktc_removed_electrodes(a.level);  // 1 ... 7, before anything is read
+  if ((a.method == "dnn" || a.method == "dnn-post") && cmd.count("--setting") > 0)
+    throw InputError("--setting", "",
+                     "picks a model-based method's setting, not a learned model's");
   if (a.method == "dnn" || a.method == "dnn-post") return run_learned(a, cmd);
   if (cmd.count("--augment") > 0)
     throw InputError("--augment", "",
@@ -186,9 +189,20 @@ void run(const KtcCommandArgs& a, const CLI::App& cmd) {
   if (cmd.count("--noise-relative") == 0) noise.relative = preset.noise_relative;
   double lambda = a.lambda > 0 ? a.lambda : preset.lambda;
   SegmentationRule rule = preset.rule;
+  if (a.setting != "samples" && a.setting != "simulation")
+    throw InputError("--setting", "", "'" + a.setting + "' is neither samples nor simulation");
+  if (a.setting == "simulation" && !settings)
+    throw InputError("--setting", "", "takes a run's setting: add --from RUN");
   if (settings) {
-    const auto it = settings->methods.find(a.method);
-    if (it == settings->methods.end())
+    const bool simulated = a.setting == "simulation";
+    const auto& tuned = simulated ? settings->simulation_tuned : settings->methods;
+    const auto it = tuned.find(a.method);
+    if (it == tuned.end() && simulated)
+      throw InputError("--setting", "",
+                       settings->path + " has no setting of " + a.method +
+                           " tuned on simulated tanks (its run's --tuning-tanks and "
+                           "--tune-on-simulation)");
+    if (it == tuned.end())
       throw InputError("--from", "", settings->path + " has no setting of " + a.method);
     if (cmd.count("--noise-relative") + cmd.count("--noise-floor") + cmd.count("--pixels") +
             cmd.count("--electrode-coverage") + cmd.count("--density") >
@@ -259,6 +273,10 @@ std::function<void()> add_ktc_command(CLI::App& app) {
   cmd->add_option("--from", a->from,
                   "a KTC run's folder (eitbench run --ktc): its tank, and the method's "
                   "regularisation and segmentation tuned on the training samples");
+  cmd->add_option("--setting", a->setting,
+                  "with --from: the setting tuned on the training samples (samples) or the one "
+                  "tuned on the run's simulated tanks (simulation)")
+      ->capture_default_str();
   cmd->add_option("--lambda", a->lambda,
                   "the regularisation on the method's relative scale (default: the run's, or what "
                   "the KTC run tuned on the training samples, docs/ktc.md)")

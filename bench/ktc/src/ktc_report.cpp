@@ -442,25 +442,33 @@ KtcRunSettings parse_settings(const json& j, const std::string& path) {
   s.grid = static_cast<int>(grid);
   const json& methods = need(j, "methods", "");
   if (!methods.is_array()) throw InputError(path, "methods", "must be a list");
-  for (const json& m : methods) {
-    const std::string name = text(m, "method", "methods[].");
-    const std::string where = "methods[" + name + "].best.";
-    const json& best = need(m, "best", "methods[" + name + "].");
+  // A setting: `best`, or the choice of the tuning on simulated tanks.
+  auto setting = [&](const json& c, const std::string& where) {
     KtcRunSettings::Method method;
-    method.lambda = number(best, "lambda", where);
+    method.lambda = number(c, "lambda", where);
     if (!(method.lambda > 0)) throw InputError(path, where + "lambda", "must be positive");
     // Runs before the noise model was tuned used the run's for every method.
     method.noise_relative =
-        best.contains("noise_relative") ? number(best, "noise_relative", where) : s.noise.relative;
+        c.contains("noise_relative") ? number(c, "noise_relative", where) : s.noise.relative;
     if (!KtcNoise{method.noise_relative, s.noise.floor}.valid())
       throw InputError(path, where + "noise_relative",
                        "must be zero or more, and not zero with noise.floor zero");
-    const json& seg = need(best, "segmentation", where);
+    const json& seg = need(c, "segmentation", where);
     method.rule.kind = parse_segmentation(text(seg, "kind", where + "segmentation."));
     method.rule.resistive = number(seg, "resistive", where + "segmentation.");
     method.rule.conductive = number(seg, "conductive", where + "segmentation.");
     method.rule.validate();
-    s.methods[name] = method;
+    return method;
+  };
+  for (const json& m : methods) {
+    const std::string name = text(m, "method", "methods[].");
+    const std::string where = "methods[" + name + "].";
+    s.methods[name] = setting(need(m, "best", where), where + "best.");
+    // Runs before the tuning on simulated tanks have none; a method not so tuned has null.
+    if (m.contains("simulation") && !m.at("simulation").is_null())
+      s.simulation_tuned[name] =
+          setting(need(need(m, "simulation", where), "choice", where + "simulation."),
+                  where + "simulation.choice.");
   }
   if (j.contains("learned")) {  // runs before the learned rows have none
     const json& arms = need(need(j, "learned", ""), "arms", "learned.");

@@ -29,6 +29,8 @@ struct KtcRunSettings {
     SegmentationRule rule;
   };
   std::map<std::string, Method> methods;  // tuned on every sample
+  // Tuned on the run's simulated tanks (--tuning-tanks), for the methods it so tuned.
+  std::map<std::string, Method> simulation_tuned;
   // learned network and arm ("dnn none", "dnn-post group", ...) -> its model file
   std::map<std::string, std::string> models;
 };
