@@ -102,6 +102,17 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
           "--tuning-tanks");
   refused("run --ktc " + path("in") + " --out " + path("out") + " --tune-on-simulation shape",
           "--tune-on-simulation");
+  refused("run --ktc " + path("in") + " --out " + path("out") +
+              " --methods tv --tune-on-simulation noser",
+          "--tune-on-simulation");
+  refused("run --ktc " + path("in") + " --out " + path("out") +
+              " --tuning-tanks 0 --tune-on-simulation noser",
+          "--tune-on-simulation");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-tanks 501",
+          "--tuning-tanks");
+  refused("ktc " + path("in") + " " + path("out") + " 1 --setting best" + fast(), "--setting");
+  refused("ktc " + path("in") + " " + path("out") + " 1 --setting simulation" + fast(),
+          "--setting");
   refused("run --ktc " + path("in") + " --out " + path("out") + " --noise-sweep 0.01,0.01",
           "--noise-sweep");
   refused("run --ktc " + path("in") + " --out " + path("out") + " --noise-sweep 0 --noise-floor 0",
@@ -155,7 +166,9 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   EXPECT_NE(text.str().find("tuned on simulation"), std::string::npos);
   const auto results = nlohmann::json::parse(read_file_bytes(path("run/results.json")));
   // The one-step methods are tuned on the two simulated tanks too, every sample scored with that
-  // setting; the iterative ones are not (by default).
+  // setting; the iterative ones are not (by default). The tanks were drawn on a finer mesh.
+  EXPECT_EQ(results.at("tuning_tanks").at("tanks"), 2);
+  EXPECT_EQ(results.at("tuning_tanks").at("density"), "fine");
   for (const auto& m : results.at("methods")) {
     const std::string name = m.at("method");
     const bool one_step = name != "tv" && name != "gn";

@@ -167,8 +167,27 @@ void run_learned(const KtcCommandArgs& a, const CLI::App& cmd) {
       what + fmt::format(", on {} at lambda {:g}", step.method, step.lambda));
 }
 
+// The run's setting of a.method that --setting names: tuned on the samples, or on the run's
+// simulated tanks. InputError naming --setting or --from where the run has none.
+const KtcRunSettings::Method& run_setting(const KtcCommandArgs& a, const KtcRunSettings& run) {
+  const bool simulated = a.setting == "simulation";
+  const auto& tuned = simulated ? run.simulation_tuned : run.methods;
+  const auto it = tuned.find(a.method);
+  if (it != tuned.end()) return it->second;
+  if (simulated)
+    throw InputError("--setting", "",
+                     run.path + " has no setting of " + a.method +
+                         " tuned on simulated tanks (its run's --tuning-tanks and "
+                         "--tune-on-simulation)");
+  throw InputError("--from", "", run.path + " has no setting of " + a.method);
+}
+
 void run(const KtcCommandArgs& a, const CLI::App& cmd) {
   ktc_removed_electrodes(a.level);  // 1 ... 7, before anything is read
+  if (a.setting != "samples" && a.setting != "simulation")
+    throw InputError("--setting", "", "'" + a.setting + "' is neither samples nor simulation");
+  if (a.setting == "simulation" && a.from.empty())
+    throw InputError("--setting", "", "takes a run's setting: add --from RUN");
   if ((a.method == "dnn" || a.method == "dnn-post") && cmd.count("--setting") > 0)
     throw InputError("--setting", "",
                      "picks a model-based method's setting, not a learned model's");
@@ -189,21 +208,8 @@ void run(const KtcCommandArgs& a, const CLI::App& cmd) {
   if (cmd.count("--noise-relative") == 0) noise.relative = preset.noise_relative;
   double lambda = a.lambda > 0 ? a.lambda : preset.lambda;
   SegmentationRule rule = preset.rule;
-  if (a.setting != "samples" && a.setting != "simulation")
-    throw InputError("--setting", "", "'" + a.setting + "' is neither samples nor simulation");
-  if (a.setting == "simulation" && !settings)
-    throw InputError("--setting", "", "takes a run's setting: add --from RUN");
   if (settings) {
-    const bool simulated = a.setting == "simulation";
-    const auto& tuned = simulated ? settings->simulation_tuned : settings->methods;
-    const auto it = tuned.find(a.method);
-    if (it == tuned.end() && simulated)
-      throw InputError("--setting", "",
-                       settings->path + " has no setting of " + a.method +
-                           " tuned on simulated tanks (its run's --tuning-tanks and "
-                           "--tune-on-simulation)");
-    if (it == tuned.end())
-      throw InputError("--from", "", settings->path + " has no setting of " + a.method);
+    const KtcRunSettings::Method& tuned = run_setting(a, *settings);
     if (cmd.count("--noise-relative") + cmd.count("--noise-floor") + cmd.count("--pixels") +
             cmd.count("--electrode-coverage") + cmd.count("--density") >
         0)
@@ -211,10 +217,10 @@ void run(const KtcCommandArgs& a, const CLI::App& cmd) {
                        "sets the tank, the noise and the grid as the run had them: leave out "
                        "--electrode-coverage, --density, --noise-*, --pixels");
     noise = settings->noise;
-    noise.relative = it->second.noise_relative;
+    noise.relative = tuned.noise_relative;
     pixels = settings->grid;
-    if (a.lambda == 0) lambda = it->second.lambda;
-    rule = it->second.rule;
+    if (a.lambda == 0) lambda = tuned.lambda;
+    rule = tuned.rule;
   }
   if (!a.segmentation.empty()) rule.kind = parse_segmentation(a.segmentation);
   if ((a.resistive > 0 || a.conductive > 0) && rule.kind != SegmentationKind::levels)
@@ -272,7 +278,8 @@ std::function<void()> add_ktc_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--from", a->from,
                   "a KTC run's folder (eitbench run --ktc): its tank, and the method's "
-                  "regularisation and segmentation tuned on the training samples");
+                  "regularisation and segmentation tuned on the training samples (--setting "
+                  "simulation: on the run's simulated tanks)");
   cmd->add_option("--setting", a->setting,
                   "with --from: the setting tuned on the training samples (samples) or the one "
                   "tuned on the run's simulated tanks (simulation)")

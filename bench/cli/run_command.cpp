@@ -205,7 +205,8 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
       ->group(group);
   cmd.add_option("--tuning-tanks", k.tuning_tanks,
                  "with --ktc: simulated tanks (labelled, drawn from --seed) that the methods of "
-                 "--tune-on-simulation are tuned on too, every sample then held out (0: none)")
+                 "--tune-on-simulation are tuned on too, every sample then held out (0: none; "
+                 "at most 500, about 3 MB each)")
       ->capture_default_str()
       ->group(group);
   cmd.add_option("--tune-on-simulation", k.simulation_tuned,
@@ -289,6 +290,14 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
   o.tuning_tanks = k.tuning_tanks;
   o.tuning_seed = f.seed;
   o.simulation_tuned = k.simulation_tuned;
+  if (cmd.count("--tune-on-simulation") > 0) {  // asked for: each method is tuned so, or refused
+    if (o.tuning_tanks == 0)
+      throw InputError("--tune-on-simulation", "", "needs tanks to tune on: --tuning-tanks 0");
+    for (const std::string& m : o.simulation_tuned)
+      if (std::find(o.methods.begin(), o.methods.end(), m) == o.methods.end())
+        throw InputError("--tune-on-simulation", "",
+                         "names " + m + ", which the run does not rank (--methods)");
+  }
   k.learned.one_step_grid = k.pixels;
   o.learned = k.learned;
   o.quiet = quiet;

@@ -86,6 +86,16 @@ json sweep_json(const KtcMethodResult& m) {
   return out;
 }
 
+// How the run drew its tuning tanks (null where it drew none).
+json tuning_json(const KtcRunResults::Tuning& t) {
+  if (t.tanks == 0) return nullptr;
+  return {{"tanks", t.tanks},
+          {"seed", t.seed},
+          {"density", to_string(t.tank.density)},
+          {"size_factor", t.tank.size_factor},
+          {"noise", t.noise}};
+}
+
 // The tuning on simulated tanks (null for a method not so tuned): the tanks' count, the setting
 // they chose and each sample's score with it.
 json simulation_json(const KtcMethodResult& m) {
@@ -192,6 +202,7 @@ json results_json(const KtcRunResults& r) {
             {"relative_residual", r.tank.relative_residual},
             {"reference_hash", r.reference_hash},
             {"calibration_seconds", r.calibration_seconds}}},
+          {"tuning_tanks", tuning_json(r.tuning)},
           {"methods", methods},
           {"learned", learned_json(r.learned)}};
 }

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <mutex>
 #include <numeric>
 
@@ -19,7 +20,8 @@
 
 namespace eitbench {
 namespace {
-// About 2 MB a tank (its truth's windowed moments) and its scores for every candidate and level.
+// About 3 MB a tank (its truth's masks and windowed moments, 256 x 256 each) and its scores for
+// every candidate and level: 1.5 GB at the most.
 constexpr int kMaxTuningTanks = 500;
 }  // namespace
 
@@ -276,6 +278,7 @@ using Sample = KtcInputs::Sample;
 struct TuningTanks {
   Eigen::MatrixXd frames;  // tanks x values
   std::vector<KtcScorer> scorers;
+  KtcRunResults::Tuning draw;  // how they were drawn, for the record
 };
 
 // The tanks are drawn as the learned rows' training tanks are, but on a finer mesh than the
@@ -284,6 +287,7 @@ struct TuningTanks {
 TuningTanks simulate_tuning_tanks(const KtcSetup& setup, const KtcMeasurement& reference,
                                   const KtcRunOptions& options) {
   KtcTankOptions finer = setup.tank.options;
+  // A tank already on the fine mesh is simulated on one finer still (0.7 of its sizes).
   if (finer.density == MeshDensity::fine) finer.size_factor *= 0.7;
   finer.density = MeshDensity::fine;
   const KtcTank tank =
@@ -296,8 +300,22 @@ TuningTanks simulate_tuning_tanks(const KtcSetup& setup, const KtcMeasurement& r
   KtcSimulatedSet set = simulate_ktc_tanks(tank, so);
   TuningTanks t;
   t.frames = std::move(set.frames);
+  // Where the reference lacks a value the samples' differences do too: so do the tanks'.
+  for (Eigen::Index i = 0; i < t.frames.cols(); ++i)
+    if (!std::isfinite(setup.tank.reference[i]))
+      t.frames.col(i).setConstant(std::numeric_limits<double>::quiet_NaN());
   for (const ClassImage& label : set.labels) t.scorers.emplace_back(label);
+  t.draw = {options.tuning_tanks, so.seed, finer, so.noise};
   return t;
+}
+
+// The tanks' frames at a level: the level's values missing (NaN), as the samples' are.
+std::vector<Eigen::VectorXd> tank_frames_at(const TuningTanks* tanks,
+                                            const CurrentPatterns& patterns, int level) {
+  std::vector<Eigen::VectorXd> frames;
+  for (Eigen::Index t = 0; tanks && t < tanks->frames.rows(); ++t)
+    frames.push_back(ktc_level_frame(tanks->frames.row(t).transpose(), patterns, level));
+  return frames;
 }
 
 // Every candidate's reconstructions of every sample at every level, scored: each regularisation
@@ -338,10 +356,7 @@ KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::s
     std::vector<Eigen::VectorXd> frames;  // the level's frames: the noise model weighs them later
     for (const Sample& s : samples)
       frames.push_back(ktc_difference(s.measurement, setup, levels[l]));
-    std::vector<Eigen::VectorXd> tank_frames;
-    for (std::size_t t = 0; t < T; ++t)
-      tank_frames.push_back(ktc_level_frame(
-          tanks->frames.row(static_cast<Eigen::Index>(t)).transpose(), patterns, levels[l]));
+    const std::vector<Eigen::VectorXd> tank_frames = tank_frames_at(tanks, patterns, levels[l]);
     for (std::size_t n = 0; n < noises.size(); ++n) {
       const KtcSetup& at = setups[n];
       const std::unique_ptr<MissingValues> m = make_ktc_method(at, method, weights.front());
@@ -413,6 +428,7 @@ KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
     if (!options.quiet)
       fmt::print(stderr, "simulating {} tanks to tune on ...\n", options.tuning_tanks);
     tanks = simulate_tuning_tanks(setup, in.reference, options);
+    out.tuning = tanks.draw;
   }
   Progress progress("KTC sweep", total, options.quiet);
   for (const std::string& m : options.methods)

@@ -116,7 +116,8 @@ struct KtcRunOptions {
   int tuning_tanks = 16;
   std::uint64_t tuning_seed = 1;
   // By default the one-step methods (a reconstruction in milliseconds); an iterative one costs
-  // its seconds a frame again for each tank, candidate and level.
+  // its seconds a frame again for each tank, candidate and level. `eitbench ktc --from RUN`
+  // applies the samples' setting (best) unless told --setting simulation.
   std::vector<std::string> simulation_tuned = ktc_one_step_names();
   KtcLearnedOptions learned;  // the learned rows (none without arms)
   bool quiet = false;
@@ -157,6 +158,14 @@ struct KtcRunResults {
   KtcLearnedResults learned;       // its arms empty when none were asked
   std::vector<ClassImage> truths;  // per sample
   std::vector<int> samples;        // KTC's sample numbers
+  // How the tuning tanks were drawn (KtcRunOptions::tuning_tanks; tanks 0 when none were): the
+  // simulation's seed, the tank's mesh and each value's noise (V).
+  struct Tuning {
+    int tanks = 0;
+    unsigned seed = 0;
+    KtcTankOptions tank;
+    double noise = 0;
+  } tuning;
 };
 
 // The whole run on the loaded inputs: calibrate, sweep every method, tune, hold out, then train
