@@ -110,6 +110,10 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
           "--tune-on-simulation");
   refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-tanks 501",
           "--tuning-tanks");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-noise -0.001",
+          "--tuning-noise");
+  refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-noise 2",
+          "--tuning-noise");
   refused("ktc " + path("in") + " " + path("out") + " 1 --setting best" + fast(), "--setting");
   refused("ktc " + path("in") + " " + path("out") + " 1 --setting simulation" + fast(),
           "--setting");
@@ -189,6 +193,20 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   const auto fewer = nlohmann::json::parse(read_file_bytes(path("run1/results.json")));
   EXPECT_EQ(fewer.at("methods")[0].at("simulation").at("choice"),
             results.at("methods")[0].at("simulation").at("choice"));
+  // By default the tanks carry the reference's measured noise (none: the synthetic frames are
+  // exact); --tuning-noise sets another, and the same tanks then score otherwise.
+  EXPECT_EQ(results.at("tuning_tanks").at("noise").get<double>(), 0.0);
+  const Result noisy = run("run --ktc " + path("in1") + " --out " + path("run2") +
+                           " --methods tikhonov --levels 7 --ktc-tanks 0 --noise-sweep 0.05 "
+                           "--tuning-tanks 2 --tuning-noise 0.0125" +
+                           fast());
+  ASSERT_EQ(noisy.exit_code, 0) << noisy.output;
+  const auto louder = nlohmann::json::parse(read_file_bytes(path("run2/results.json")));
+  EXPECT_EQ(louder.at("tuning_tanks").at("noise").get<double>(), 0.0125);
+  EXPECT_NE(louder.at("methods")[0].at("simulation").at("choice").at("tuning_score"),
+            fewer.at("methods")[0].at("simulation").at("choice").at("tuning_score"));
+  EXPECT_NE(read_file_bytes(path("run2/report.md")).find("each value's noise 0.0125 V"),
+            std::string::npos);
   // ktc --from --setting simulation applies that setting: the scores the run had with it.
   const Result sim = run("ktc " + path("in") + " " + path("out_sim") +
                          " 7 --method tikhonov --setting simulation --from " + path("run"));

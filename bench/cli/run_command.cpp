@@ -165,6 +165,7 @@ struct KtcArgs {
   KtcNoise noise;
   std::vector<double> noise_sweep = KtcRunOptions().noise_sweep;
   int tuning_tanks = KtcRunOptions().tuning_tanks;
+  double tuning_noise = KtcRunOptions().tuning_noise;
   std::vector<std::string> simulation_tuned = KtcRunOptions().simulation_tuned;
   KtcLearnedOptions learned;  // tanks and steps here; arms, doublings and patience from run's
 };
@@ -207,6 +208,11 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
                  "with --ktc: simulated tanks (labelled, drawn from --seed) that the methods of "
                  "--tune-on-simulation are tuned on too, every sample then held out (0: none; "
                  "at most 500, about 3 MB each)")
+      ->capture_default_str()
+      ->group(group);
+  cmd.add_option("--tuning-noise", k.tuning_noise,
+                 "with --ktc: each tuning tank value's noise, V (0: the reference's measured "
+                 "noise; more stands in for the real tank's model error)")
       ->capture_default_str()
       ->group(group);
   cmd.add_option("--tune-on-simulation", k.simulation_tuned,
@@ -288,6 +294,7 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
                       : k.noise_sweep;
   o.grid = k.pixels;
   o.tuning_tanks = k.tuning_tanks;
+  o.tuning_noise = k.tuning_noise;
   o.tuning_seed = f.seed;
   o.simulation_tuned = k.simulation_tuned;
   if (cmd.count("--tune-on-simulation") > 0) {  // asked for: each method is tuned so, or refused

@@ -302,7 +302,11 @@ std::string report_markdown(const KtcRunResults& r) {
        "rule's kind nested): \"tuned on simulation\", every sample held out, with that "
        "setting. A level's figure "
        "is the mean over the samples times 3, the challenge's three targets a level; the total "
-       "over seven levels is at most 21.\n\n";
+       "over seven levels is at most 21.";
+  if (r.tuning.tanks > 0)
+    o << fmt::format(" This run tuned on {} tanks, each value's noise {:.3g} V (--tuning-noise).",
+                     r.tuning.tanks, r.tuning.noise);
+  o << "\n\n";
   o << "| method | L" << r.options.levels.front();
   for (std::size_t l = 1; l < r.options.levels.size(); ++l) o << " | L" << r.options.levels[l];
   o << " | total (held out) | tuned on simulation | Otsu only (held out) | in sample | setting "

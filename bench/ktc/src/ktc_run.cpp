@@ -226,6 +226,10 @@ void KtcRunOptions::validate() const {
   if (tuning_tanks < 0 || tuning_tanks > kMaxTuningTanks)
     throw InputError("--tuning-tanks", "",
                      fmt::format("{} is out of range: 0 ... {}", tuning_tanks, kMaxTuningTanks));
+  // A volt is over half the reference's largest value (1.6 V): no longer a noise.
+  if (!(tuning_noise >= 0 && tuning_noise <= 1))
+    throw InputError("--tuning-noise", "",
+                     fmt::format("{} is out of range: 0 ... 1 V", tuning_noise));
   check_ktc_grid(grid);
   tank.validate();
   noise.validate();
@@ -297,6 +301,7 @@ TuningTanks simulate_tuning_tanks(const KtcSetup& setup, const KtcMeasurement& r
   so.seed = static_cast<unsigned>(options.tuning_seed * 2654435761u + 12345u);
   so.grid = kKtcImageSize;
   so.orientation = setup.orientation;
+  if (options.tuning_noise > 0) so.noise = options.tuning_noise;
   KtcSimulatedSet set = simulate_ktc_tanks(tank, so);
   TuningTanks t;
   t.frames = std::move(set.frames);

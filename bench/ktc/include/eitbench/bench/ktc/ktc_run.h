@@ -115,6 +115,10 @@ struct KtcRunOptions {
   // where the tank's is coarse or medium). 0: none. Each tank costs what a sample does.
   int tuning_tanks = 16;
   std::uint64_t tuning_seed = 1;
+  // Each tank value's noise (V, one standard deviation). 0: the reference's measured noise
+  // (repeated_pattern_noise), as the learned rows' tanks have. A larger value stands in for the
+  // real tank's model error, which the simulated frames lack (docs/ktc.md).
+  double tuning_noise = 0;
   // By default the one-step methods (a reconstruction in milliseconds); an iterative one costs
   // its seconds a frame again for each tank, candidate and level. `eitbench ktc --from RUN`
   // applies the samples' setting (best) unless told --setting simulation.
