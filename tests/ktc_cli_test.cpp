@@ -114,6 +114,13 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
           "--tuning-noise");
   refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-noise 2",
           "--tuning-noise");
+  refused("run --ktc " + path("in") + " --out " + path("out") +
+              " --tuning-tanks 0 --tuning-noise 0.005",
+          "--tuning-noise");
+  refused(
+      "run --ktc " + path("in") + " --out " + path("out") + " --methods tv --tuning-noise 0.005",
+      "--tuning-noise");
+  refused("run --preset tiny --out " + path("out") + " --tuning-noise 0.005", "--tuning-noise");
   refused("ktc " + path("in") + " " + path("out") + " 1 --setting best" + fast(), "--setting");
   refused("ktc " + path("in") + " " + path("out") + " 1 --setting simulation" + fast(),
           "--setting");

@@ -211,8 +211,8 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
       ->capture_default_str()
       ->group(group);
   cmd.add_option("--tuning-noise", k.tuning_noise,
-                 "with --ktc: each tuning tank value's noise, V (0: the reference's measured "
-                 "noise; more stands in for the real tank's model error)")
+                 "with --ktc: each tuning tank value's noise, V (0, the default: the reference's "
+                 "measured noise; more stands in for the real tank's model error)")
       ->capture_default_str()
       ->group(group);
   cmd.add_option("--tune-on-simulation", k.simulation_tuned,
@@ -304,6 +304,17 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
       if (std::find(o.methods.begin(), o.methods.end(), m) == o.methods.end())
         throw InputError("--tune-on-simulation", "",
                          "names " + m + ", which the run does not rank (--methods)");
+  }
+  // The tanks' noise asked for where no tanks are drawn would be dropped without a word.
+  if (cmd.count("--tuning-noise") > 0) {
+    const bool tanks = o.tuning_tanks > 0 &&
+                       std::any_of(o.methods.begin(), o.methods.end(), [&](const std::string& m) {
+                         return std::count(o.simulation_tuned.begin(), o.simulation_tuned.end(), m);
+                       });
+    if (!tanks)
+      throw InputError("--tuning-noise", "",
+                       "no method of --methods is tuned on simulated tanks (--tuning-tanks, "
+                       "--tune-on-simulation)");
   }
   k.learned.one_step_grid = k.pixels;
   o.learned = k.learned;
@@ -466,9 +477,10 @@ std::function<void()> add_run_command(CLI::App& app) {
           {args->methods, args->augments, args->out, args->doublings, args->patience, args->threads,
            args->doubling_tolerance, args->quiet, args->device, args->seed},
           *cmd);
-    for (const char* flag : {"--levels", "--electrode-coverage", "--density", "--pixels",
-                             "--noise-relative", "--noise-floor", "--noise-sweep", "--tuning-tanks",
-                             "--tune-on-simulation", "--ktc-tanks", "--ktc-steps"})
+    for (const char* flag :
+         {"--levels", "--electrode-coverage", "--density", "--pixels", "--noise-relative",
+          "--noise-floor", "--noise-sweep", "--tuning-tanks", "--tuning-noise",
+          "--tune-on-simulation", "--ktc-tanks", "--ktc-steps"})
       if (cmd->count(flag) > 0) throw InputError(flag, "", "goes with --ktc");
     RunConfig c = RunConfig::for_preset(args->preset);
     c.data = args->data;

@@ -304,8 +304,10 @@ std::string report_markdown(const KtcRunResults& r) {
        "is the mean over the samples times 3, the challenge's three targets a level; the total "
        "over seven levels is at most 21.";
   if (r.tuning.tanks > 0)
-    o << fmt::format(" This run tuned on {} tanks, each value's noise {:.3g} V (--tuning-noise).",
-                     r.tuning.tanks, r.tuning.noise);
+    o << fmt::format(
+        " This run tuned on {} tanks, each value's noise {:.3g} V ({}).", r.tuning.tanks,
+        r.tuning.noise,
+        r.options.tuning_noise > 0 ? "--tuning-noise" : "the reference's measured noise");
   o << "\n\n";
   o << "| method | L" << r.options.levels.front();
   for (std::size_t l = 1; l < r.options.levels.size(); ++l) o << " | L" << r.options.levels[l];
