@@ -86,73 +86,55 @@ TEST_F(KtcCli, WritesTheChallengesFilesAndFindsTheTargets) {
 
 TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
   make_folder();
-  refused("ktc " + path("in") + " " + path("out") + " 0" + fast(), "level");
-  refused("ktc " + path("in") + " " + path("out") + " 8" + fast(), "level");
+  const std::string ktc = "ktc " + path("in") + " " + path("out");
+  const std::string run_ktc = "run --ktc " + path("in") + " --out " + path("out");
+  refused(ktc + " 0" + fast(), "level");
+  refused(ktc + " 8" + fast(), "level");
   refused("ktc " + path("in") + " " + path("in") + " 1" + fast(), "INPUT_FOLDER");
-  refused("ktc " + path("in") + " " + path("out") + " 1 --method shape" + fast(), "--method");
+  refused(ktc + " 1 --method shape" + fast(), "--method");
   refused("ktc " + path("nowhere") + " " + path("out") + " 1" + fast(), "nowhere");
-  refused(
-      "ktc " + path("in") + " " + path("out") + " 1 --segmentation otsu --resistive 0.3" + fast(),
-      "--resistive");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --pixels 8", "--pixels");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --levels 1,1", "--levels");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --methods noser,shape",
-          "--methods");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-tanks -1",
-          "--tuning-tanks");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --tune-on-simulation shape",
-          "--tune-on-simulation");
-  refused("run --ktc " + path("in") + " --out " + path("out") +
-              " --methods tv --tune-on-simulation noser",
-          "--tune-on-simulation");
-  refused("run --ktc " + path("in") + " --out " + path("out") +
-              " --tuning-tanks 0 --tune-on-simulation noser",
-          "--tune-on-simulation");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-tanks 501",
-          "--tuning-tanks");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-noise -0.001",
-          "--tuning-noise");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --tuning-noise 2",
-          "--tuning-noise");
-  refused("run --ktc " + path("in") + " --out " + path("out") +
-              " --tuning-tanks 0 --tuning-noise 0.005",
-          "--tuning-noise");
-  refused(
-      "run --ktc " + path("in") + " --out " + path("out") + " --methods tv --tuning-noise 0.005",
-      "--tuning-noise");
+  refused(ktc + " 1 --segmentation otsu --resistive 0.3" + fast(), "--resistive");
+  refused(run_ktc + " --pixels 8", "--pixels");
+  refused(run_ktc + " --levels 1,1", "--levels");
+  refused(run_ktc + " --methods noser,shape", "--methods");
+  refused(run_ktc + " --tuning-tanks -1", "--tuning-tanks");
+  refused(run_ktc + " --tune-on-simulation shape", "--tune-on-simulation");
+  refused(run_ktc + " --methods tv --tune-on-simulation noser", "--tune-on-simulation");
+  refused(run_ktc + " --tuning-tanks 0 --tune-on-simulation noser", "--tune-on-simulation");
+  refused(run_ktc + " --tuning-tanks 501", "--tuning-tanks");
+  refused(run_ktc + " --tuning-noise -0.001", "--tuning-noise");
+  refused(run_ktc + " --tuning-noise 2", "--tuning-noise");
+  refused(run_ktc + " --tuning-tanks 0 --tuning-noise 0.005", "--tuning-noise");
+  refused(run_ktc + " --methods tv --tuning-noise 0.005", "--tuning-noise");
   refused("run --preset tiny --out " + path("out") + " --tuning-noise 0.005", "--tuning-noise");
-  refused("ktc " + path("in") + " " + path("out") + " 1 --setting best" + fast(), "--setting");
-  refused("ktc " + path("in") + " " + path("out") + " 1 --setting simulation" + fast(),
-          "--setting");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --noise-sweep 0.01,0.01",
-          "--noise-sweep");
-  refused("run --ktc " + path("in") + " --out " + path("out") + " --noise-sweep 0 --noise-floor 0",
-          "--noise-sweep");
+  refused(ktc + " 1 --setting best" + fast(), "--setting");
+  refused(ktc + " 1 --setting simulation" + fast(), "--setting");
+  refused(run_ktc + " --noise-sweep 0.01,0.01", "--noise-sweep");
+  refused(run_ktc + " --noise-sweep 0 --noise-floor 0", "--noise-sweep");
   refused("run --preset tiny --out " + path("out") + " --noise-sweep 0.01", "--noise-sweep");
   // A run's results whose setting is not one: the file and the field named.
   fs::create_directories(path("run"));
   std::ofstream(path("run/results.json"))
       << R"({"kind": "ktc", "tank": {"radius": 0.115, "electrode_coverage": 0.5, "size_factor": 1,
          "density": "coarse", "background": 0.8, "contact_impedances": [0.1, 0.2]}})";
-  refused("ktc " + path("in") + " " + path("out") + " 1 --from " + path("run"),
-          "results.json: tank.contact_impedances");
+  refused(ktc + " 1 --from " + path("run"), "results.json: tank.contact_impedances");
   // A sample whose values do not match its patterns, and one whose currents do not sum to zero.
   const CurrentPatterns p = testing::ktc_patterns();
   write_bytes_atomically(
       path("in/data3.mat"),
       detail::mat_v5_bytes({testing::mat("Inj", p.injection), testing::mat("Mpat", p.measurement),
                             testing::mat("Uel", Eigen::VectorXd::Ones(2300))}));
-  refused("ktc " + path("in") + " " + path("out") + " 1" + fast(), "data3.mat: Uel");
+  refused(ktc + " 1" + fast(), "data3.mat: Uel");
   CurrentPatterns q = p;
   q.injection(0, 5) = 0.3;
   write_bytes_atomically(
       path("in/data3.mat"),
       detail::mat_v5_bytes({testing::mat("Inj", q.injection), testing::mat("Mpat", q.measurement),
                             testing::mat("Uel", Eigen::VectorXd::Ones(2356))}));
-  refused("ktc " + path("in") + " " + path("out") + " 1" + fast(), "data3.mat: Inj column 5");
+  refused(ktc + " 1" + fast(), "data3.mat: Inj column 5");
   fs::remove(path("in/data3.mat"));
   fs::remove(path("in/ref.mat"));
-  refused("ktc " + path("in") + " " + path("out") + " 1" + fast(), "ref.mat");
+  refused(ktc + " 1" + fast(), "ref.mat");
 }
 
 TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {

@@ -306,16 +306,10 @@ void run_ktc_benchmark(KtcArgs k, const KtcRunFlags& f, const CLI::App& cmd) {
                          "names " + m + ", which the run does not rank (--methods)");
   }
   // The tanks' noise asked for where no tanks are drawn would be dropped without a word.
-  if (cmd.count("--tuning-noise") > 0) {
-    const bool tanks = o.tuning_tanks > 0 &&
-                       std::any_of(o.methods.begin(), o.methods.end(), [&](const std::string& m) {
-                         return std::count(o.simulation_tuned.begin(), o.simulation_tuned.end(), m);
-                       });
-    if (!tanks)
-      throw InputError("--tuning-noise", "",
-                       "no method of --methods is tuned on simulated tanks (--tuning-tanks, "
-                       "--tune-on-simulation)");
-  }
+  if (cmd.count("--tuning-noise") > 0 && !o.draws_tuning_tanks())
+    throw InputError("--tuning-noise", "",
+                     "no method of --methods is tuned on simulated tanks (--tuning-tanks, "
+                     "--tune-on-simulation)");
   k.learned.one_step_grid = k.pixels;
   o.learned = k.learned;
   o.quiet = quiet;

@@ -188,6 +188,16 @@ std::vector<std::string> ktc_one_step_names() {
   return names;
 }
 
+bool KtcRunOptions::tunes_on_simulation(const std::string& method) const {
+  return tuning_tanks > 0 && std::find(simulation_tuned.begin(), simulation_tuned.end(), method) !=
+                                 simulation_tuned.end();
+}
+
+bool KtcRunOptions::draws_tuning_tanks() const {
+  return std::any_of(methods.begin(), methods.end(),
+                     [&](const std::string& m) { return tunes_on_simulation(m); });
+}
+
 void KtcRunOptions::validate() const {
   std::error_code ec;
   if (!std::filesystem::is_directory(data, ec))
@@ -423,13 +433,8 @@ KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
   for (const std::string& m : options.methods)
     total += static_cast<int>(ktc_candidates(m).size() * ktc_noise_candidates(m, options).size() *
                               options.levels.size());
-  auto tuned_on_simulation = [&](const std::string& m) {
-    return options.tuning_tanks > 0 &&
-           std::find(options.simulation_tuned.begin(), options.simulation_tuned.end(), m) !=
-               options.simulation_tuned.end();
-  };
   TuningTanks tanks;
-  if (std::any_of(options.methods.begin(), options.methods.end(), tuned_on_simulation)) {
+  if (options.draws_tuning_tanks()) {
     if (!options.quiet)
       fmt::print(stderr, "simulating {} tanks to tune on ...\n", options.tuning_tanks);
     tanks = simulate_tuning_tanks(setup, in.reference, options);
@@ -438,8 +443,8 @@ KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
   Progress progress("KTC sweep", total, options.quiet);
   for (const std::string& m : options.methods)
     out.methods.push_back(sweep(setup, options.noise, m, ktc_noise_candidates(m, options), samples,
-                                options.levels, scorers, tuned_on_simulation(m) ? &tanks : nullptr,
-                                progress, done));
+                                options.levels, scorers,
+                                options.tunes_on_simulation(m) ? &tanks : nullptr, progress, done));
   progress.finish();
   out.tank = setup.tank;
   if (!options.learned.arms.empty()) {

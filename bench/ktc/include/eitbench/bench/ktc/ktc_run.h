@@ -126,6 +126,11 @@ struct KtcRunOptions {
   KtcLearnedOptions learned;  // the learned rows (none without arms)
   bool quiet = false;
 
+  // Whether `method` is tuned on simulated tanks: tanks are drawn and simulation_tuned names it.
+  bool tunes_on_simulation(const std::string& method) const;
+  // Whether the run draws tuning tanks at all: some method of `methods` is tuned on them.
+  bool draws_tuning_tanks() const;
+
   // InputError naming the flag: the data folder (ref.mat, and dataN.mat each with its trueN.mat),
   // a level outside 1 ... 7 or given twice, a method that is no KTC one or given twice (in
   // methods or simulation_tuned), the grid, the tank, the noise, the tuning tanks' count, the
