@@ -74,6 +74,59 @@ TEST(KtcScore, EqualsItsDefinitionSummedPixelByPixel) {
   EXPECT_NEAR(ktc_ssim(x, y), brute_force_ssim(x, y), 1e-10);
 }
 
+// The same on KTC's grid, each windowed mean a direct separable sum (the window is a product of
+// two 1-D kernels), for the threshold masks a sweep scores.
+double separable_ssim(const Eigen::MatrixXd& t, const Eigen::MatrixXd& r) {
+  const Eigen::Index n = t.rows();
+  Eigen::MatrixXd g(n, n);  // g(i, k): the 1-D kernel at offset i - k
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const double d = static_cast<double>(i - k);
+      g(i, k) = std::abs(d) > 160 ? 0.0 : std::exp(-0.5 * d * d / 6400.0);
+    }
+  const Eigen::VectorXd weight = g.rowwise().sum();  // the kernel's coverage along one axis
+  auto mean = [&](const Eigen::MatrixXd& x) {
+    Eigen::MatrixXd across = Eigen::MatrixXd::Zero(n, n), both = across;
+    for (Eigen::Index j = 0; j < n; ++j)
+      for (Eigen::Index l = 0; l < n; ++l)
+        for (Eigen::Index i = 0; i < n; ++i) across(i, j) += g(j, l) * x(i, l);
+    for (Eigen::Index j = 0; j < n; ++j)
+      for (Eigen::Index k = 0; k < n; ++k)
+        for (Eigen::Index i = 0; i < n; ++i) both(i, j) += g(i, k) * across(k, j);
+    return Eigen::MatrixXd(both.array() / (weight * weight.transpose()).array());
+  };
+  const Eigen::MatrixXd mt = mean(t), mr = mean(r), tt = mean(t.cwiseProduct(t)),
+                        rr = mean(r.cwiseProduct(r)), tr = mean(t.cwiseProduct(r));
+  const double c1 = 1e-4, c2 = 9e-4;
+  double total = 0;
+  for (Eigen::Index k = 0; k < t.size(); ++k) {
+    const double a = mt.data()[k], b = mr.data()[k];
+    total += (2 * a * b + c1) * (2 * (tr.data()[k] - a * b) + c2) /
+             ((a * a + b * b + c1) * (tt.data()[k] - a * a + rr.data()[k] - b * b + c2));
+  }
+  return total / static_cast<double>(t.size());
+}
+
+TEST(KtcScore, EveryThresholdMaskOnKtcsGridEqualsTheDirectSum) {
+  // A smooth image's thresholds, as a sweep takes them: runs of ones a few a column, empty
+  // columns, a mask touching the edges, and an empty one.
+  const int n = kKtcImageSize;
+  Eigen::MatrixXd x(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      x(i, j) = std::exp(-std::hypot(i - 60, j - 90) / 30.0) -
+                0.8 * std::exp(-std::hypot(i - 190, j - 170) / 40.0) +
+                0.3 * std::sin(i / 9.0) * std::cos(j / 13.0);
+  const ClassImage truth = random_blobs(6);
+  const KtcScorer scorer(truth);
+  for (double f : {-2.0, 0.2, 0.5, 0.9, 2.0}) {
+    const Eigen::MatrixXd mask = (x.array() >= f).cast<double>().matrix();
+    for (int cls : {1, 2})
+      EXPECT_NEAR(scorer.ssim(cls, mask), separable_ssim(as_double(truth, cls), mask), 1e-10)
+          << f << " " << cls;
+  }
+}
+
 TEST(KtcScore, IdenticalMasksScoreOneAndKnownCasesTheirValue) {
   const ClassImage truth = random_blobs(3);
   EXPECT_NEAR(ktc_score(truth, truth).total(), 1.0, 1e-12);
