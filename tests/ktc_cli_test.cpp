@@ -162,6 +162,16 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
   // setting; the iterative ones are not (by default). The tanks were drawn on a finer mesh.
   EXPECT_EQ(results.at("tuning_tanks").at("tanks"), 2);
   EXPECT_EQ(results.at("tuning_tanks").at("density"), "fine");
+  // Each sample's model misfit at level 1 (every value): the synthetic frames are the model's of
+  // their truths, on another mesh and at contrasts between the fit's, so it explains most of
+  // each; with a sample held out, the tanks' noise is the other's misfit.
+  ASSERT_EQ(results.at("model_misfit").size(), results.at("samples").size());
+  for (const auto& m : results.at("model_misfit")) {
+    EXPECT_LT(m.at("relative").get<double>(), 0.5);
+    EXPECT_EQ(m.at("values"), 76 * 31);
+    EXPECT_GT(m.at("noise_without").get<double>(), 0.0);
+  }
+  EXPECT_NE(text.str().find("misses"), std::string::npos);
   for (const auto& m : results.at("methods")) {
     const std::string name = m.at("method");
     const bool one_step = name != "tv" && name != "gn";

@@ -69,6 +69,11 @@ TEST(KtcScore, EqualsItsDefinitionSummedPixelByPixel) {
       EXPECT_NEAR(fast, brute_force_ssim(as_double(a, cls), as_double(b, cls)), 1e-10) << size;
     }
   }
+  // Masks of more rows than columns: the mask's runs go down its columns.
+  const ClassImage tall = random_blobs(7, 37).topLeftCorner(37, 24),
+                   other = random_blobs(8, 37).topLeftCorner(37, 24);
+  EXPECT_NEAR(ktc_ssim(as_double(tall, 1), as_double(other, 1)),
+              brute_force_ssim(as_double(tall, 1), as_double(other, 1)), 1e-10);
   // Not only masks: any values.
   const Eigen::MatrixXd x = Eigen::MatrixXd::Random(20, 20), y = Eigen::MatrixXd::Random(20, 20);
   EXPECT_NEAR(ktc_ssim(x, y), brute_force_ssim(x, y), 1e-10);
@@ -117,6 +122,10 @@ TEST(KtcScore, EveryThresholdMaskOnKtcsGridEqualsTheDirectSum) {
       x(i, j) = std::exp(-std::hypot(i - 60, j - 90) / 30.0) -
                 0.8 * std::exp(-std::hypot(i - 190, j - 170) / 40.0) +
                 0.3 * std::sin(i / 9.0) * std::cos(j / 13.0);
+  // The reference itself against the definition summed pixel by pixel, where that is quick.
+  const ClassImage a = random_blobs(1, 24), b = random_blobs(2, 24);
+  EXPECT_NEAR(separable_ssim(as_double(a, 1), as_double(b, 1)),
+              brute_force_ssim(as_double(a, 1), as_double(b, 1)), 1e-12);
   const ClassImage truth = random_blobs(6);
   const KtcScorer scorer(truth);
   for (double f : {-2.0, 0.2, 0.5, 0.9, 2.0}) {

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <tbb/global_control.h>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include "eitbench/bench/ktc/ktc_learned.h"
@@ -296,6 +298,59 @@ TEST(KtcSimulation, TheContrastsFitBackFromLabelledTanks) {
   EXPECT_NEAR(std::log10(c.conductive), std::log10(20.0), 0.25) << c.conductive;
   EXPECT_LT(c.relative_residual, 0.1);
   EXPECT_THROW(fit_ktc_contrasts(tank, changes, {}, {}), InputError);
+}
+
+// A change simulated from its truth at contrasts on the fit's grid, with white noise: the misfit
+// is the noise, over the values present. Against a truth elsewhere, the model explains little of
+// the change, and the tanks' noise leaves that sample out.
+TEST(KtcSimulation, TheModelMisfitIsTheNoiseWhereTheTruthDescribesTheChange) {
+  const KtcTank tank = testing::ktc_coarse_tank();
+  const double R = tank.options.radius, w = 2 * R / 256;
+  auto disc = [&](double x, double y, double r, int cls, ClassImage& image) {
+    for (int i = 0; i < 256; ++i)
+      for (int j = 0; j < 256; ++j)
+        if (std::hypot(-R + (j + 0.5) * w - x, R - (i + 0.5) * w - y) < r) image(i, j) = cls;
+  };
+  ClassImage truth = ClassImage::Zero(256, 256), elsewhere = truth;
+  disc(0.04, 0.03, 0.025, 1, truth), disc(-0.05, -0.02, 0.03, 2, truth);
+  disc(-0.06, 0.06, 0.02, 1, elsewhere);
+  // The grid's end points (tank_contrasts.cpp): 10^-3 resistive, 10^3 conductive.
+  Eigen::VectorXd sigma(tank.mesh.num_triangles());
+  for (int t = 0; t < sigma.size(); ++t) {
+    const Eigen::Vector2d q = KtcOrientation{}.to_image(triangle_centroid(tank.mesh, t));
+    const int i = static_cast<int>(std::floor((R - q.y()) / w));
+    const int j = static_cast<int>(std::floor((q.x() + R) / w));
+    const int cls = i >= 0 && j >= 0 && i < 256 && j < 256 ? truth(i, j) : 0;
+    sigma[t] = tank.background * (cls == 1   ? std::pow(10.0, -3.0)
+                                  : cls == 2 ? std::pow(10.0, 0.1 + 2.9)
+                                             : 1.0);
+  }
+  const Eigen::VectorXd clean =
+      tank.model->measured(sigma) -
+      tank.model->measured(Eigen::VectorXd::Constant(sigma.size(), tank.background));
+  const double level = 0.1 * clean.norm() / std::sqrt(static_cast<double>(clean.size()));
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> normal(0, level);
+  Eigen::VectorXd noise(clean.size());
+  for (Eigen::Index k = 0; k < noise.size(); ++k) noise[k] = normal(rng);
+  Eigen::VectorXd change = clean + noise;
+  change[5] = std::numeric_limits<double>::quiet_NaN(), noise[5] = 0;  // a value the frame lacks
+  const int present = static_cast<int>(change.size()) - 1;
+  const std::vector<KtcMisfit> m =
+      fit_ktc_contrasts_held_out(tank, {change, change}, {truth, elsewhere}, {}).own_misfits();
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_EQ(m[0].values, present);
+  EXPECT_NEAR(m[0].rms, noise.norm() / std::sqrt(present), 0.02 * level);
+  EXPECT_NEAR(m[0].relative, 0.1, 0.01);
+  EXPECT_GT(m[1].relative, kKtcMisfitExplained);
+  // The tanks' noise: the first sample's misfit alone; with it held out, no sample is left.
+  EXPECT_DOUBLE_EQ(ktc_misfit_noise(m, m.size()), m[0].rms);
+  EXPECT_DOUBLE_EQ(ktc_misfit_noise(m, 1), m[0].rms);
+  EXPECT_TRUE(std::isnan(ktc_misfit_noise(m, 0)));
+  // Pooled over the values: 2 mV on 100 values and 4 mV on 300 give sqrt(13e-6) V.
+  const std::vector<KtcMisfit> made{{0.1, 2e-3, 100}, {0.2, 4e-3, 300}, {0.9, 1.0, 100}};
+  EXPECT_NEAR(ktc_misfit_noise(made, made.size()), std::sqrt(13e-6), 1e-15);
+  EXPECT_DOUBLE_EQ(ktc_misfit_noise(made, 1), 2e-3);
 }
 
 // The real frames: their noise from the repeated pairs, the targets' contrasts fitted to the four

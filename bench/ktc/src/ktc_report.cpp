@@ -96,6 +96,20 @@ json tuning_json(const KtcRunResults::Tuning& t) {
           {"noise", t.noise}};
 }
 
+// Each sample's model misfit, and the tanks' noise it implies without that sample (null: none).
+json misfit_json(const KtcRunResults& r) {
+  json out = json::array();
+  for (std::size_t k = 0; k < r.misfits.size(); ++k) {
+    const double without = ktc_misfit_noise(r.misfits, k);
+    out.push_back({{"sample", r.samples[k]},
+                   {"relative", r.misfits[k].relative},
+                   {"rms", r.misfits[k].rms},
+                   {"values", r.misfits[k].values},
+                   {"noise_without", std::isfinite(without) ? json(without) : json(nullptr)}});
+  }
+  return out;
+}
+
 // The tuning on simulated tanks (null for a method not so tuned): the tanks' count, the setting
 // they chose and each sample's score with it.
 json simulation_json(const KtcMethodResult& m) {
@@ -202,9 +216,30 @@ json results_json(const KtcRunResults& r) {
             {"relative_residual", r.tank.relative_residual},
             {"reference_hash", r.reference_hash},
             {"calibration_seconds", r.calibration_seconds}}},
+          {"model_misfit", misfit_json(r)},
           {"tuning_tanks", tuning_json(r.tuning)},
           {"methods", methods},
           {"learned", learned_json(r.learned)}};
+}
+
+// How far the tank's model is from each labelled sample, and the tuning tanks' noise that would
+// stand for it (the figures --tuning-noise can be set from).
+std::string misfit_markdown(const KtcRunResults& r) {
+  if (r.misfits.empty()) return "";
+  auto mv = [](double v) { return std::isfinite(v) ? fmt::format("{:.2f}", 1e3 * v) : "none"; };
+  std::string list, held;
+  for (std::size_t k = 0; k < r.misfits.size(); ++k) {
+    list += fmt::format("{}sample {} {:.1f} % ({:.2f} mV a value)", k == 0 ? "" : ", ",
+                        r.samples[k], 100 * r.misfits[k].relative, 1e3 * r.misfits[k].rms);
+    held += (k == 0 ? "" : ", ") + mv(ktc_misfit_noise(r.misfits, k));
+  }
+  return fmt::format(
+      "The model of each sample's truth (at level 1, at the contrasts that fit that sample best) "
+      "misses this share of its change: {}. A simulated tank lacks that error; white noise "
+      "standing for it, the rms over "
+      "the samples whose change the model explains more than half of, is {} mV a value, and "
+      "with each sample held out in turn {} mV (--tuning-noise takes any of them).\n\n",
+      list, mv(ktc_misfit_noise(r.misfits, r.misfits.size())), held);
 }
 
 // The learned rows' section: how they were trained, how each training ended, the simulated test
@@ -290,6 +325,7 @@ std::string report_markdown(const KtcRunResults& r) {
       1e3 * r.tank.options.radius, 100 * r.tank.options.electrode_coverage, r.tank.background,
       r.tank.contact_impedances.minCoeff(), r.tank.contact_impedances.maxCoeff(),
       100 * r.tank.relative_residual, r.calibration_seconds);
+  o << misfit_markdown(r);
   o << "Scores are the challenge's (mean SSIM of the resistive and conductive masks). Each "
        "sample is scored **held out**: with the regularisation and segmentation tuned on the "
        "other samples (every level), never on itself. The rule's kind, Otsu or levels, is "

@@ -406,6 +406,25 @@ KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::s
   return r;
 }
 
+// Each sample's change at level 1 against the model of its truth, and the tanks' noise it implies
+// with each sample held out, printed: the figures --tuning-noise can be set from.
+std::vector<KtcMisfit> model_misfits(const KtcSetup& setup, const std::vector<Sample>& samples,
+                                     bool quiet) {
+  std::vector<Eigen::VectorXd> changes;
+  std::vector<ClassImage> truths;
+  for (const Sample& s : samples)
+    changes.push_back(ktc_difference(s.measurement, setup, 1)), truths.push_back(s.truth);
+  std::vector<KtcMisfit> m =
+      fit_ktc_contrasts_held_out(setup.tank, changes, truths, setup.orientation).own_misfits();
+  for (std::size_t k = 0; !quiet && k < m.size(); ++k)
+    fmt::print(stderr,
+               "sample {}: the model of its truth misses {:.1f} % of its change, {:.2f} mV a "
+               "value; without it the tanks' noise would be {:.2f} mV\n",
+               samples[k].number, 100 * m[k].relative, 1e3 * m[k].rms,
+               1e3 * ktc_misfit_noise(m, k));
+  return m;
+}
+
 }  // namespace
 
 KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
@@ -429,6 +448,7 @@ KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
   const std::vector<Sample>& samples = in.samples;
   std::vector<KtcScorer> scorers;
   for (const Sample& s : samples) scorers.emplace_back(s.truth);
+  out.misfits = model_misfits(setup, samples, options.quiet);
   int total = 0, done = 0;
   for (const std::string& m : options.methods)
     total += static_cast<int>(ktc_candidates(m).size() * ktc_noise_candidates(m, options).size() *

@@ -1,6 +1,8 @@
 #include "eitbench/bench/ktc/score.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -15,15 +17,18 @@ namespace {
 constexpr double kSigma = 80, kC1 = 1e-4, kC2 = 9e-4;
 constexpr int kHalfWidth = 160;  // ceil(2 sigma)
 
+// The window's 1-D kernel at offset d: a Gaussian cut at kHalfWidth. The same for rows and columns.
+double kernel(Eigen::Index d) {
+  const auto x = static_cast<double>(d);
+  return std::abs(d) <= kHalfWidth ? std::exp(-0.5 * x * x / (kSigma * kSigma)) : 0.0;
+}
+
 // The window as an n x n band matrix G (G(i, k) = g(i - k)): conv2(X, g g^T, 'same') = G X G^T,
 // zero outside the image. The kernel's constant factor cancels against the coverage.
 Eigen::MatrixXd window(Eigen::Index n) {
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, n);
+  Eigen::MatrixXd G(n, n);
   for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const double d = static_cast<double>(i - k);
-      if (std::abs(d) <= kHalfWidth) G(i, k) = std::exp(-0.5 * d * d / (kSigma * kSigma));
-    }
+    for (Eigen::Index k = 0; k < n; ++k) G(i, k) = kernel(i - k);
   return G;
 }
 
@@ -32,12 +37,8 @@ Eigen::MatrixXd window(Eigen::Index n) {
 // prefix[i - b + n - 1].
 std::vector<double> prefix_sums(Eigen::Index n) {
   std::vector<double> p(static_cast<std::size_t>(2 * n), 0.0);
-  for (Eigen::Index d = -(n - 1); d <= n - 1; ++d) {
-    const double g = std::abs(d) <= kHalfWidth
-                         ? std::exp(-0.5 * static_cast<double>(d * d) / (kSigma * kSigma))
-                         : 0.0;
-    p[static_cast<std::size_t>(d + n)] = p[static_cast<std::size_t>(d + n - 1)] + g;
-  }
+  for (Eigen::Index d = -(n - 1); d <= n - 1; ++d)
+    p[static_cast<std::size_t>(d + n)] = p[static_cast<std::size_t>(d + n - 1)] + kernel(d);
   return p;
 }
 
@@ -78,21 +79,32 @@ class Window {
     for (Eigen::Index c = 0; c < C; ++c) {
       const Eigen::Index l = occupied[static_cast<std::size_t>(c)];
       right.row(c) = GcT_.row(l);
-      for (Eigen::Index a = 0; a < n; ++a) {
-        if (x(a, l) == 0) continue;
-        Eigen::Index b = a;
-        while (b + 1 < n && x(b + 1, l) != 0) ++b;
-        for (Eigen::Index i = 0; i < n; ++i)
-          left(i, c) += prefix_[static_cast<std::size_t>(i - a + n)] -
-                        prefix_[static_cast<std::size_t>(i - b + n - 1)];
-        a = b;
-      }
+      add_runs(x.col(l).data(), n, left.col(c).data());
     }
     return detail::product(left, right).cwiseQuotient(coverage_);
   }
 
+  // Adds G_r's sum over each run of ones in `column` (n values) to `out`: two prefix sums a run,
+  // over the rows the window reaches from it (beyond, the two are equal and the term is 0).
+  void add_runs(const double* column, Eigen::Index n, double* out) const {
+    Eigen::Index a = 0;
+    while (a < n) {
+      if (column[a] == 0) {
+        ++a;
+        continue;
+      }
+      Eigen::Index b = a;  // the run's last row
+      while (b + 1 < n && column[b + 1] != 0) ++b;
+      const Eigen::Index last = std::min(n - 1, b + kHalfWidth);
+      for (Eigen::Index i = std::max<Eigen::Index>(0, a - kHalfWidth); i <= last; ++i)
+        out[i] += prefix_[static_cast<std::size_t>(i - a + n)] -
+                  prefix_[static_cast<std::size_t>(i - b + n - 1)];
+      a = b + 1;
+    }
+  }
+
   Eigen::MatrixXd Gr_, GcT_, coverage_;
-  std::vector<double> prefix_;  // of G_r's kernel (prefix_sums)
+  std::vector<double> prefix_;  // the kernel's (prefix_sums), over G_r's offsets
 };
 
 const Window& window_for(Eigen::Index rows, Eigen::Index cols) {

@@ -1,6 +1,8 @@
 // The contrasts of KTC's targets, measured on its labelled training samples.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "eitbench/bench/ktc/tank_simulation.h"
 #include "eitbench/jacobian/error.h"
@@ -37,18 +39,22 @@ KtcContrastFits fit_ktc_contrasts_held_out(const KtcTank& tank,
       tank.model->measured(Eigen::VectorXd::Constant(tank.mesh.num_triangles(), s0));
   const std::size_t S = truths.size();
   std::vector<std::vector<std::uint8_t>> classes;
-  std::vector<double> measured;
+  // A value a change lacks (NaN) counts in no misfit: the change and its present values.
+  std::vector<Eigen::VectorXd> change, present;
+  KtcContrastFits fits;
   for (std::size_t k = 0; k < S; ++k) {
     classes.push_back(element_classes(tank.mesh, truths[k], tank.options.radius, orientation));
-    measured.push_back(changes[k].squaredNorm());
+    present.push_back(changes[k].array().isFinite().cast<double>().matrix());
+    change.push_back(changes[k].array().isFinite().select(changes[k], 0.0).matrix());
+    fits.measured.push_back(change[k].squaredNorm());
+    fits.values.push_back(static_cast<int>(present[k].sum()));
   }
+  const std::vector<double>& measured = fits.measured;
   // Ratios 10^-3 ... 10^-0.1 resistive and 10^0.1 ... 10^3 conductive, log-spaced; each sample's
   // misfit at each pair once, so that any subset's fit is a sum over it.
   auto ratio = [&](int i, double low, double high) {
     return std::pow(10.0, low + (high - low) * i / (steps - 1));
   };
-  KtcContrastFits fits;
-  fits.measured = measured;
   for (int a = 0; a < steps; ++a)
     for (int b = 0; b < steps; ++b) {
       KtcContrastFits::Point p{ratio(a, -3, -0.1), ratio(b, 0.1, 3), {}};
@@ -58,7 +64,9 @@ KtcContrastFits fit_ktc_contrasts_held_out(const KtcTank& tank,
           sigma[t] = s0 * (classes[k][t] == 1   ? p.resistive
                            : classes[k][t] == 2 ? p.conductive
                                                 : 1.0);
-        p.misfit.push_back((tank.model->measured(sigma) - empty - changes[k]).squaredNorm());
+        p.misfit.push_back((tank.model->measured(sigma) - empty - change[k])
+                               .cwiseProduct(present[k])
+                               .squaredNorm());
       }
       fits.grid.push_back(std::move(p));
     }
@@ -98,6 +106,27 @@ KtcContrasts KtcContrastFits::best_within(double r_low, double r_high, double c_
     if (residual < best.relative_residual) best = {p.resistive, p.conductive, residual};
   }
   return best;
+}
+
+std::vector<KtcMisfit> KtcContrastFits::own_misfits() const {
+  std::vector<KtcMisfit> out;
+  for (std::size_t k = 0; k < measured.size(); ++k) {
+    double best = INFINITY;
+    for (const Point& p : grid) best = std::min(best, p.misfit[k]);
+    out.push_back({measured[k] > 0 ? std::sqrt(best / measured[k]) : 0.0,
+                   values[k] > 0 ? std::sqrt(best / values[k]) : 0.0, values[k]});
+  }
+  return out;
+}
+
+double ktc_misfit_noise(const std::vector<KtcMisfit>& misfits, std::size_t held_out) {
+  double squares = 0, values = 0;
+  for (std::size_t k = 0; k < misfits.size(); ++k)
+    if (k != held_out && misfits[k].relative <= kKtcMisfitExplained) {
+      squares += misfits[k].rms * misfits[k].rms * misfits[k].values;
+      values += misfits[k].values;
+    }
+  return values > 0 ? std::sqrt(squares / values) : std::numeric_limits<double>::quiet_NaN();
 }
 
 KtcContrasts fit_ktc_contrasts(const KtcTank& tank, const std::vector<Eigen::VectorXd>& changes,

@@ -167,6 +167,9 @@ struct KtcRunResults {
   KtcLearnedResults learned;       // its arms empty when none were asked
   std::vector<ClassImage> truths;  // per sample
   std::vector<int> samples;        // KTC's sample numbers
+  // Each sample's model misfit at level 1 (KtcContrastFits::own_misfits): what a tuning tank's
+  // noise would need to stand for (ktc_misfit_noise).
+  std::vector<KtcMisfit> misfits;
   // How the tuning tanks were drawn (KtcRunOptions::tuning_tanks; tanks 0 when none were): the
   // simulation's seed, the tank's mesh and each value's noise (V).
   struct Tuning {

@@ -80,8 +80,25 @@ struct KtcContrasts {
 KtcContrasts fit_ktc_contrasts(const KtcTank& tank, const std::vector<Eigen::VectorXd>& changes,
                                const std::vector<ClassImage>& truths,
                                const KtcOrientation& orientation, int steps = 13);
+// A labelled sample's model misfit: its change against the tank's model of its truth at the
+// contrasts that fit it best alone. What a simulated tank lacks: the real tank's model error (and
+// its noise, far smaller), docs/ktc.md#the-tanks-noise.
+struct KtcMisfit {
+  double relative = 0;  // ||model - measured|| / ||measured||, over the present values
+  double rms = 0;       // V, a present value
+  int values = 0;       // the change's present values
+};
+// A misfit above this share of the change is the truth's, not the model's: the model of the
+// truth explains less than half of what was measured (KTC's sample 4: 97 %).
+constexpr double kKtcMisfitExplained = 0.5;
+// The noise a simulated tank's values need to stand for that error: the misfits' rms over every
+// present value of the samples other than `held_out` (an index; misfits.size(): none held out)
+// whose relative misfit is at most kKtcMisfitExplained. NaN where no sample is left.
+double ktc_misfit_noise(const std::vector<KtcMisfit>& misfits, std::size_t held_out);
+
 // The same fit on every sample, and on every sample but each one in turn (none for one sample):
 // whether the fit, and so a model trained at its contrasts, would change with a sample held out.
+// Values a change lacks (NaN) count in no misfit.
 struct KtcContrastFits {
   KtcContrasts all;
   std::vector<KtcContrasts> without;  // [k]: fitted without sample k
@@ -92,7 +109,11 @@ struct KtcContrastFits {
     std::vector<double> misfit;
   };
   std::vector<Point> grid;
-  std::vector<double> measured;
+  std::vector<double> measured;  // each change's squared norm over its present values
+  std::vector<int> values;       // each change's present values
+
+  // Each sample's misfit at the grid's pair that fits it best alone.
+  std::vector<KtcMisfit> own_misfits() const;
 
   // The best pair over every sample with both ratios inside [low, high] (a band); a residual of
   // infinity when no grid pair lies inside.
