@@ -213,8 +213,8 @@ void add_ktc_options(CLI::App& cmd, KtcArgs& k) {
   cmd.add_option("--tuning-noise", k.tuning_noise,
                  "with --ktc: each tuning tank value's noise, V (0, the default: the reference's "
                  "measured noise; more stands in for the real tank's model error, which the run "
-                 "prints: each "
-                 "sample's model misfit and the noise it implies with each sample held out)")
+                 "prints: each sample's model misfit and the noise it implies with each sample "
+                 "held out)")
       ->capture_default_str()
       ->group(group);
   cmd.add_option("--tune-on-simulation", k.simulation_tuned,

@@ -293,15 +293,14 @@ KtcSimulationOptions ktc_training_simulation(const KtcLearnedOptions& options,
 
 KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMeasurement>& samples,
                                   const std::vector<ClassImage>& truths,
-                                  const std::vector<int>& levels, const KtcLearnedOptions& options,
-                                  const std::string& out, bool quiet) {
+                                  const KtcContrastFits& contrasts, const std::vector<int>& levels,
+                                  const KtcLearnedOptions& options, const std::string& out,
+                                  bool quiet) {
   options.validate();
   KtcLearnedResults r;
   r.options = options;
   const CurrentPatterns& patterns = setup.tank.protocol->patterns();
-  std::vector<Eigen::VectorXd> changes;
-  for (const KtcMeasurement& m : samples) changes.push_back(ktc_difference(m, setup, 1));
-  r.contrasts = fit_ktc_contrasts_held_out(setup.tank, changes, truths, setup.orientation);
+  r.contrasts = contrasts;
   const KtcSimulationOptions so = ktc_training_simulation(options, setup.tank);
   r.noise = so.noise;
   r.in_band = r.contrasts.best_within(options.resistive_low, options.resistive_high,

@@ -236,9 +236,9 @@ std::string misfit_markdown(const KtcRunResults& r) {
   return fmt::format(
       "The model of each sample's truth (at level 1, at the contrasts that fit that sample best) "
       "misses this share of its change: {}. A simulated tank lacks that error; white noise "
-      "standing for it, the rms over "
-      "the samples whose change the model explains more than half of, is {} mV a value, and "
-      "with each sample held out in turn {} mV (--tuning-noise takes any of them).\n\n",
+      "standing for it, the rms over the samples whose change the model explains more than half "
+      "of, is {} mV a value, and with each sample held out in turn {} mV (--tuning-noise takes "
+      "any of them).\n\n",
       list, mv(ktc_misfit_noise(r.misfits, r.misfits.size())), held);
 }
 

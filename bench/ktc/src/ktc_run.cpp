@@ -406,23 +406,25 @@ KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::s
   return r;
 }
 
-// Each sample's change at level 1 against the model of its truth, and the tanks' noise it implies
-// with each sample held out, printed: the figures --tuning-noise can be set from.
-std::vector<KtcMisfit> model_misfits(const KtcSetup& setup, const std::vector<Sample>& samples,
-                                     bool quiet) {
+// The contrasts fitted to each sample's change at level 1 against the model of its truth: the
+// model misfits, and the learned rows' contrast band's check.
+KtcContrastFits fit_samples(const KtcSetup& setup, const std::vector<Sample>& samples) {
   std::vector<Eigen::VectorXd> changes;
   std::vector<ClassImage> truths;
   for (const Sample& s : samples)
     changes.push_back(ktc_difference(s.measurement, setup, 1)), truths.push_back(s.truth);
-  std::vector<KtcMisfit> m =
-      fit_ktc_contrasts_held_out(setup.tank, changes, truths, setup.orientation).own_misfits();
-  for (std::size_t k = 0; !quiet && k < m.size(); ++k)
+  return fit_ktc_contrasts_held_out(setup.tank, changes, truths, setup.orientation);
+}
+
+// Each sample's misfit, and the tanks' noise it implies with each sample held out, printed: the
+// figures --tuning-noise can be set from.
+void print_misfits(const std::vector<KtcMisfit>& m, const std::vector<Sample>& samples) {
+  for (std::size_t k = 0; k < m.size(); ++k)
     fmt::print(stderr,
                "sample {}: the model of its truth misses {:.1f} % of its change, {:.2f} mV a "
                "value; without it the tanks' noise would be {:.2f} mV\n",
                samples[k].number, 100 * m[k].relative, 1e3 * m[k].rms,
                1e3 * ktc_misfit_noise(m, k));
-  return m;
 }
 
 }  // namespace
@@ -448,7 +450,9 @@ KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
   const std::vector<Sample>& samples = in.samples;
   std::vector<KtcScorer> scorers;
   for (const Sample& s : samples) scorers.emplace_back(s.truth);
-  out.misfits = model_misfits(setup, samples, options.quiet);
+  const KtcContrastFits fits = fit_samples(setup, samples);
+  out.misfits = fits.own_misfits();
+  if (!options.quiet) print_misfits(out.misfits, samples);
   int total = 0, done = 0;
   for (const std::string& m : options.methods)
     total += static_cast<int>(ktc_candidates(m).size() * ktc_noise_candidates(m, options).size() *
@@ -470,8 +474,8 @@ KtcRunResults run_ktc(const KtcRunOptions& options, const KtcInputs& in) {
   if (!options.learned.arms.empty()) {
     std::vector<KtcMeasurement> measurements;
     for (const Sample& s : samples) measurements.push_back(s.measurement);
-    out.learned = run_ktc_learned(setup, measurements, out.truths, options.levels, options.learned,
-                                  options.out, options.quiet);
+    out.learned = run_ktc_learned(setup, measurements, out.truths, fits, options.levels,
+                                  options.learned, options.out, options.quiet);
   }
   return out;
 }

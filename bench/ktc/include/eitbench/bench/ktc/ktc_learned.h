@@ -94,13 +94,15 @@ struct KtcLearnedResults {
 KtcSimulationOptions ktc_training_simulation(const KtcLearnedOptions& options, const KtcTank& tank);
 
 // Simulates, trains every network and arm into <out>/ktc_<network>_<arm>.model (with its loss
-// curves) and scores
-// it on `samples` at `levels`. The model files record the protocol (the patterns), the tank, the
-// contrasts, the level handling and the threshold.
+// curves) and scores it on `samples` at `levels`. `contrasts` is the contrast fit to the samples'
+// level-1 changes and truths (fit_ktc_contrasts_held_out), which the run has made already for the
+// model misfits. The model files record the protocol (the patterns), the tank, the contrasts, the
+// level handling and the threshold.
 KtcLearnedResults run_ktc_learned(const KtcSetup& setup, const std::vector<KtcMeasurement>& samples,
                                   const std::vector<ClassImage>& truths,
-                                  const std::vector<int>& levels, const KtcLearnedOptions& options,
-                                  const std::string& out, bool quiet);
+                                  const KtcContrastFits& contrasts, const std::vector<int>& levels,
+                                  const KtcLearnedOptions& options, const std::string& out,
+                                  bool quiet);
 
 // The model file of a network and arm in a run's folder.
 std::string ktc_model_path(const std::string& run, const std::string& network,
