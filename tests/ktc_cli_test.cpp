@@ -157,6 +157,7 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
     EXPECT_NE(text.str().find(std::string("| ") + method + " |"), std::string::npos) << method;
   EXPECT_NE(text.str().find("held out"), std::string::npos);
   EXPECT_NE(text.str().find("tuned on simulation"), std::string::npos);
+  EXPECT_NE(text.str().find("samples and tanks"), std::string::npos);
   const auto results = nlohmann::json::parse(read_file_bytes(path("run/results.json")));
   // The one-step methods are tuned on the two simulated tanks too, every sample scored with that
   // setting; the iterative ones are not (by default). The tanks were drawn on a finer mesh.
@@ -180,6 +181,11 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
     EXPECT_EQ(m.at("simulation").at("tanks"), 2) << name;
     ASSERT_EQ(m.at("simulation").at("held_out").size(), 1u) << name;     // one level
     EXPECT_EQ(m.at("simulation").at("held_out")[0].size(), 2u) << name;  // two samples
+    // Tuned on the other sample and the tanks together: a setting for each sample.
+    ASSERT_EQ(m.at("joint").is_null(), !one_step) << name;
+    EXPECT_EQ(m.at("joint").at("held_out_choices").size(), 2u) << name;
+    ASSERT_EQ(m.at("joint").at("held_out").size(), 1u) << name;
+    EXPECT_EQ(m.at("joint").at("held_out")[0].size(), 2u) << name;
   }
   // The tanks hold nothing of the samples: with one sample fewer the setting they choose is the
   // same, to the bit.

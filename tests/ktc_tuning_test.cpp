@@ -3,6 +3,8 @@
 // samples alone. Scores are made by hand, so each choice has a value worked out below.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include "eitbench/bench/ktc/ktc_run.h"
 
 namespace eitbench {
@@ -126,6 +128,74 @@ TEST(KtcTuning, TheSettingTunedOnSimulatedTanksScoresEverySample) {
   EXPECT_NEAR(r.tuned_on_simulation[0][0], 0.5, 1e-12);
   EXPECT_NEAR(r.tuned_on_simulation[0][1], 0.4, 1e-12);
   EXPECT_EQ(r.best.candidate, 0);
+}
+
+TEST(KtcTuning, SamplesAndTanksTogetherWeighHalfEachAndHoldOutTheSample) {
+  // Two weights, Otsu only (the levels rule scores 0). The three samples prefer the first weight,
+  // the eight tanks the second by a little each: 0.5 against 0.4. Counted a frame each the tanks
+  // would always decide; weighing one half each, the samples' margin over the other two decides
+  // where it is above 0.2 (their half's 0.25 a sample against the tanks' 0.05).
+  const std::size_t F = ktc_level_fractions().size();
+  auto frame = [&](double otsu) {
+    KtcFrameScores f;
+    f.otsu = otsu;
+    f.resistive.assign(F, 0.0), f.conductive.assign(F, 0.0);
+    return f;
+  };
+  KtcMethodResult r;
+  r.method = "made";
+  r.candidates = {0.1, 1.0};
+  r.candidate_noise = {5e-3, 5e-3};
+  r.levels = {1};
+  r.samples = {1, 2, 3};
+  r.scores = {{{frame(0.9), frame(0.8), frame(0.7)}}, {{frame(0.5), frame(0.5), frame(0.95)}}};
+  tune_jointly(r);  // no tanks: nothing
+  EXPECT_TRUE(r.tuned_jointly.empty());
+  EXPECT_TRUE(r.joint_choice.empty());
+  r.simulated = {{std::vector<KtcFrameScores>(8, frame(0.4))},
+                 {std::vector<KtcFrameScores>(8, frame(0.5))}};
+  tune_jointly(r);
+  ASSERT_EQ(r.joint_choice.size(), 3u);
+  ASSERT_EQ(r.tuned_jointly.size(), 1u);
+  // Held out, sample 0's others gain 0.3 and lose 0.25 with the first weight (0.05 < 0.2): the
+  // second; sample 1's gain 0.4 and lose 0.25 (0.15): the second; sample 2's gain 0.4 and 0.3
+  // (0.7): the first, though the second would score it 0.95. Its own score never counts.
+  const int chosen[3] = {1, 1, 0};
+  const double score[3] = {0.5, 0.5, 0.7};
+  for (std::size_t s = 0; s < 3; ++s) {
+    EXPECT_EQ(r.joint_choice[s].candidate, chosen[s]) << s;
+    EXPECT_EQ(r.joint_choice[s].rule.kind, SegmentationKind::otsu) << s;
+    EXPECT_NEAR(r.tuned_jointly[0][s], score[s], 1e-12) << s;
+  }
+  // The first weight on sample 2's pool: (0.9 + 0.8) / 4 + 8 x 0.4 / 16.
+  EXPECT_NEAR(r.joint_choice[2].tuning_score, 0.625, 1e-12);
+  // Counted a frame each (unweighted), the tanks decide sample 2's setting too.
+  EXPECT_EQ(tune_ktc(r, {0, 1}, KtcRules::otsu).candidate, 0);  // the samples alone: the first
+  KtcMethodResult pooled = r;
+  for (std::size_t c = 0; c < 2; ++c)
+    pooled.scores[c][0].insert(pooled.scores[c][0].end(), r.simulated[c][0].begin(),
+                               r.simulated[c][0].end());
+  EXPECT_EQ(tune_ktc(pooled, {0, 1, 3, 4, 5, 6, 7, 8, 9, 10}, KtcRules::otsu).candidate, 1);
+  // With one sample there are no others: the tanks alone, as the tuning on simulation.
+  r.samples = {1};
+  r.scores = {{{frame(0.9)}}, {{frame(0.5)}}};
+  tune_jointly(r);
+  tune_on_simulation(r);
+  ASSERT_EQ(r.joint_choice.size(), 1u);
+  EXPECT_EQ(r.joint_choice[0].candidate, r.simulation_choice.candidate);
+  EXPECT_NEAR(r.tuned_jointly[0][0], r.tuned_on_simulation[0][0], 1e-12);
+}
+
+TEST(KtcTuning, WeightsScaleEachSamplesScoresInTheSum) {
+  // Otsu scores 0.4 everywhere; weights 1 and 3 give 1.6, as two samples of 0.4 and 1.2 would.
+  KtcMethodResult r = made({2, 9, 15}, 0.3);
+  EXPECT_NEAR(tune_ktc(r, {0, 1}, KtcRules::otsu, -1, {1.0, 3.0}).tuning_score, 1.6, 1e-12);
+  EXPECT_THROW(tune_ktc(r, {0, 1}, KtcRules::otsu, -1, {1.0}), std::invalid_argument);
+  // Unit weights are no weights: the same choice and nested scores.
+  const KtcChoice a = choose_ktc_rules(r, {0, 1, 2}), b = choose_ktc_rules(r, {0, 1, 2}, {1, 1, 1});
+  EXPECT_EQ(a.rule.kind, b.rule.kind);
+  EXPECT_DOUBLE_EQ(a.nested_otsu, b.nested_otsu);
+  EXPECT_DOUBLE_EQ(a.nested_levels, b.nested_levels);
 }
 
 }  // namespace

@@ -71,6 +71,12 @@ std::string simulation_cell(const KtcMethodResult& m) {
                      c.rule.to_string());
 }
 
+// The report's cell for the tuning on the other samples and the tanks together: the total (each
+// sample with its own setting, so no single setting to show).
+std::string joint_cell(const KtcMethodResult& m) {
+  return m.tuned_jointly.empty() ? "—" : fmt::format("{:.2f}", ktc_total(m.tuned_jointly));
+}
+
 // Per candidate, every sample and level: the total with Otsu and with the best levels rule.
 json sweep_json(const KtcMethodResult& m) {
   std::vector<int> all;
@@ -120,6 +126,18 @@ json simulation_json(const KtcMethodResult& m) {
           {"total_held_out", ktc_total(m.tuned_on_simulation)}};
 }
 
+// The tuning on the other samples and the tanks together (null for a method without tanks): each
+// sample's setting and its score with it.
+json joint_json(const KtcMethodResult& m) {
+  if (m.tuned_jointly.empty()) return nullptr;
+  json choices = json::array();
+  for (const auto& c : m.joint_choice) choices.push_back(choice_json(c));
+  return {{"weights", "the other samples one half, the tanks the other"},
+          {"held_out_choices", choices},
+          {"held_out", m.tuned_jointly},
+          {"total_held_out", ktc_total(m.tuned_jointly)}};
+}
+
 json method_json(const KtcMethodResult& m) {
   json held = json::array();
   for (const auto& c : m.held_out_choice) held.push_back(choice_json(c));
@@ -136,6 +154,7 @@ json method_json(const KtcMethodResult& m) {
           {"total_held_out_otsu", ktc_total(m.held_out_otsu)},
           {"sweep", sweep_json(m)},
           {"simulation", simulation_json(m)},
+          {"joint", joint_json(m)},
           {"on_the_grids_edge", on_the_edge(m)},
           {"median_ms", m.median_ms},
           {"setup_seconds", m.setup_seconds}};
@@ -336,7 +355,9 @@ std::string report_markdown(const KtcRunResults& r) {
        "whose image it does not change. Where the run had tuning tanks (--tuning-tanks), "
        "the methods of --tune-on-simulation are also tuned on them alone, the same way (the "
        "rule's kind nested): \"tuned on simulation\", every sample held out, with that "
-       "setting. A level's figure "
+       "setting; and on the other samples and the tanks together, the samples weighing one "
+       "half and the tanks the other: \"samples and tanks\", every sample held out. A level's "
+       "figure "
        "is the mean over the samples times 3, the challenge's three targets a level; the total "
        "over seven levels is at most 21.";
   if (r.tuning.tanks > 0)
@@ -347,9 +368,9 @@ std::string report_markdown(const KtcRunResults& r) {
   o << "\n\n";
   o << "| method | L" << r.options.levels.front();
   for (std::size_t l = 1; l < r.options.levels.size(); ++l) o << " | L" << r.options.levels[l];
-  o << " | total (held out) | tuned on simulation | Otsu only (held out) | in sample | setting "
-       "(all samples) | ms a frame | set-up a level (s) |\n|---";
-  for (std::size_t l = 0; l < r.options.levels.size() + 7; ++l) o << "|---";
+  o << " | total (held out) | tuned on simulation | samples and tanks | Otsu only (held out) | "
+       "in sample | setting (all samples) | ms a frame | set-up a level (s) |\n|---";
+  for (std::size_t l = 0; l < r.options.levels.size() + 8; ++l) o << "|---";
   o << "|\n";
   struct Row {
     double total;
@@ -362,8 +383,8 @@ std::string report_markdown(const KtcRunResults& r) {
     double setup = 0;
     for (double s : m.setup_seconds) setup += s;
     t += fmt::format(
-        " | **{:.2f}** | {} | {:.2f} | {:.2f} | lambda {:.3g}{}{}, {} | {:.1f} | {:.1f} |\n",
-        ktc_total(m.held_out), simulation_cell(m), ktc_total(m.held_out_otsu),
+        " | **{:.2f}** | {} | {} | {:.2f} | {:.2f} | lambda {:.3g}{}{}, {} | {:.1f} | {:.1f} |\n",
+        ktc_total(m.held_out), simulation_cell(m), joint_cell(m), ktc_total(m.held_out_otsu),
         ktc_total(m.in_sample), m.best.lambda, on_the_edge(m) ? " (edge)" : "", noise_words(m),
         m.best.rule.to_string(), m.median_ms,
         setup / static_cast<double>(std::max<std::size_t>(1, m.setup_seconds.size())));
@@ -373,7 +394,7 @@ std::string report_markdown(const KtcRunResults& r) {
     std::string t = "| " + a.network + " " + a.arm;
     for (const auto& level : a.scores) t += fmt::format(" | {:.2f}", ktc_level_total(level));
     t += fmt::format(
-        " | **{:.2f}** | — | — | {:.2f} | trained in simulation{}{}, threshold {:.2g} | "
+        " | **{:.2f}** | — | — | — | {:.2f} | trained in simulation{}{}, threshold {:.2g} | "
         "{:.1f} | — |\n",
         ktc_total(a.scores), ktc_total(a.scores), a.arm == "group" ? " with the group" : "",
         a.network == "dnn-post" ? ", on a one-step image" : "", r.learned.options.network.threshold,

@@ -10,6 +10,7 @@
 #include <limits>
 #include <mutex>
 #include <numeric>
+#include <stdexcept>
 
 #include "eitbench/bench/io/content_hash.h"
 #include "eitbench/bench/ktc/tank_simulation.h"
@@ -68,7 +69,9 @@ double ktc_choice_score(const KtcMethodResult& r, const KtcChoice& c, int l, int
 }
 
 KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, KtcRules rules,
-                   int only_candidate) {
+                   int only_candidate, const std::vector<double>& weights) {
+  if (!weights.empty() && weights.size() != samples.size())
+    throw std::invalid_argument("tune_ktc: a weight for each sample or none");
   KtcChoice best;
   best.tuning_score = -INFINITY;
   const auto& fr = ktc_level_fractions();
@@ -77,11 +80,12 @@ KtcChoice tune_ktc(const KtcMethodResult& r, const std::vector<int>& samples, Kt
     double otsu = 0;
     std::vector<double> res(fr.size(), 0.0), con(fr.size(), 0.0);
     for (std::size_t l = 0; l < r.levels.size(); ++l)
-      for (int s : samples) {
-        const KtcFrameScores& f = r.scores[c][l][static_cast<std::size_t>(s)];
-        otsu += f.otsu;
+      for (std::size_t i = 0; i < samples.size(); ++i) {
+        const KtcFrameScores& f = r.scores[c][l][static_cast<std::size_t>(samples[i])];
+        const double w = weights.empty() ? 1.0 : weights[i];
+        otsu += w * f.otsu;
         for (std::size_t k = 0; k < fr.size(); ++k)
-          res[k] += f.resistive[k], con[k] += f.conductive[k];
+          res[k] += w * f.resistive[k], con[k] += w * f.conductive[k];
       }
     auto take = [&](double score, SegmentationRule rule) {
       if (score > best.tuning_score + 1e-12) {
@@ -116,20 +120,26 @@ double ktc_total(const std::vector<std::vector<double>>& table) {
   return sum;
 }
 
-KtcChoice choose_ktc_rules(const KtcMethodResult& r, const std::vector<int>& samples) {
+KtcChoice choose_ktc_rules(const KtcMethodResult& r, const std::vector<int>& samples,
+                           const std::vector<double>& weights) {
   double nested[2] = {0, 0};  // Otsu, levels
   if (samples.size() >= 2)
     for (std::size_t t = 0; t < samples.size(); ++t) {
       std::vector<int> others = samples;
       others.erase(others.begin() + static_cast<std::ptrdiff_t>(t));
+      std::vector<double> other_weights = weights;
+      if (!weights.empty())
+        other_weights.erase(other_weights.begin() + static_cast<std::ptrdiff_t>(t));
+      const double w = weights.empty() ? 1.0 : weights[t];
       for (int k = 0; k < 2; ++k) {
-        const KtcChoice c = tune_ktc(r, others, k == 0 ? KtcRules::otsu : KtcRules::levels);
+        const KtcChoice c =
+            tune_ktc(r, others, k == 0 ? KtcRules::otsu : KtcRules::levels, -1, other_weights);
         for (std::size_t l = 0; l < r.levels.size(); ++l)
-          nested[k] += ktc_choice_score(r, c, static_cast<int>(l), samples[t]);
+          nested[k] += w * ktc_choice_score(r, c, static_cast<int>(l), samples[t]);
       }
     }
-  KtcChoice chosen =
-      tune_ktc(r, samples, nested[1] > nested[0] + 1e-12 ? KtcRules::levels : KtcRules::otsu);
+  KtcChoice chosen = tune_ktc(
+      r, samples, nested[1] > nested[0] + 1e-12 ? KtcRules::levels : KtcRules::otsu, -1, weights);
   chosen.nested_otsu = nested[0], chosen.nested_levels = nested[1];
   return chosen;
 }
@@ -178,6 +188,39 @@ void tune_on_simulation(KtcMethodResult& r) {
     for (std::size_t s = 0; s < S; ++s)
       r.tuned_on_simulation[l][s] =
           ktc_choice_score(r, r.simulation_choice, static_cast<int>(l), static_cast<int>(s));
+}
+
+void tune_jointly(KtcMethodResult& r) {
+  r.joint_choice.clear(), r.tuned_jointly.clear();
+  if (r.simulated.empty() || r.simulated.front().empty()) return;
+  const std::size_t C = r.candidates.size(), L = r.levels.size(), S = r.samples.size();
+  const std::size_t T = r.simulated.front().front().size();
+  KtcMethodResult pool;  // the same candidates and levels; the samples, then the tanks
+  pool.candidates = r.candidates;
+  pool.candidate_noise = r.candidate_noise;
+  pool.levels = r.levels;
+  pool.scores = r.scores;
+  for (std::size_t c = 0; c < C; ++c)
+    for (std::size_t l = 0; l < L; ++l)
+      pool.scores[c][l].insert(pool.scores[c][l].end(), r.simulated[c][l].begin(),
+                               r.simulated[c][l].end());
+  r.tuned_jointly.assign(L, std::vector<double>(S));
+  for (std::size_t s = 0; s < S; ++s) {
+    // Half the weight on the other samples, half on the tanks, each alike within its half.
+    std::vector<int> members;
+    std::vector<double> weights;
+    for (std::size_t o = 0; o < S; ++o)
+      if (o != s) members.push_back(static_cast<int>(o));
+    const double on_samples = members.empty() ? 0.0 : 0.5 / static_cast<double>(members.size());
+    weights.assign(members.size(), on_samples);
+    const double on_tanks = (members.empty() ? 1.0 : 0.5) / static_cast<double>(T);
+    for (std::size_t t = 0; t < T; ++t)
+      members.push_back(static_cast<int>(S + t)), weights.push_back(on_tanks);
+    r.joint_choice.push_back(choose_ktc_rules(pool, members, weights));
+    for (std::size_t l = 0; l < L; ++l)
+      r.tuned_jointly[l][s] =
+          ktc_choice_score(r, r.joint_choice.back(), static_cast<int>(l), static_cast<int>(s));
+  }
 }
 
 std::vector<std::string> ktc_one_step_names() {
@@ -397,6 +440,7 @@ KtcMethodResult sweep(const KtcSetup& setup, const KtcNoise& noise, const std::s
   });
   tune_and_hold_out(r);
   tune_on_simulation(r);
+  tune_jointly(r);
   r.images = images[static_cast<std::size_t>(r.best.candidate)];
   std::vector<double> ms;
   for (const auto& level : r.milliseconds[static_cast<std::size_t>(r.best.candidate)])

@@ -62,6 +62,10 @@ struct KtcMethodResult {
   std::vector<std::vector<std::vector<KtcFrameScores>>> simulated;
   KtcChoice simulation_choice;
   std::vector<std::vector<double>> tuned_on_simulation;
+  // Tuned on the other samples and the tanks together (empty without tanks): per sample, the
+  // setting chosen on them (tune_jointly), and each sample's score with its own, [level][sample].
+  std::vector<KtcChoice> joint_choice;
+  std::vector<std::vector<double>> tuned_jointly;
   // Images (the method's grid) with `best`, [level][sample], for the figures.
   std::vector<std::vector<Eigen::VectorXd>> images;
   double median_ms = 0;  // per reconstruction at best's lambda
@@ -69,15 +73,17 @@ struct KtcMethodResult {
 
 // The best setting on `samples` (indices into result.samples), every level summed, among `rules`;
 // with `only_candidate` >= 0 at that candidate only. Ties go to the earlier candidate, Otsu and
-// smaller fractions.
+// smaller fractions. `weights`, one a sample where given, weigh each sample's scores in the sum.
 KtcChoice tune_ktc(const KtcMethodResult& result, const std::vector<int>& samples, KtcRules rules,
-                   int only_candidate = -1);
+                   int only_candidate = -1, const std::vector<double>& weights = {});
 // The setting tuned on `samples` with its rule's kind chosen as the setting itself is, on data it
 // was not tuned on (nested): each kind, Otsu or the levels rule, is tuned on all of `samples` but
 // one and scored on the one left out, each in turn; the kind that scores more is tuned on all of
 // them. The levels rule tunes two fractions more than Otsu, and on three samples it can win every
 // tuning and still lose the sample left out. Ties, and fewer than two samples, go to Otsu.
-KtcChoice choose_ktc_rules(const KtcMethodResult& result, const std::vector<int>& samples);
+// `weights` as tune_ktc's: each sample left out counts with its weight.
+KtcChoice choose_ktc_rules(const KtcMethodResult& result, const std::vector<int>& samples,
+                           const std::vector<double>& weights = {});
 // A [level][sample] table of scores summed as the challenge sums them: each level's mean over the
 // samples times 3 (its three targets a level), then over the levels (at most 21 for seven).
 double ktc_level_total(const std::vector<double>& samples);
@@ -91,6 +97,11 @@ void tune_and_hold_out(KtcMethodResult& result);
 // Fills simulation_choice and tuned_on_simulation from `simulated` (nothing when it is empty): the
 // setting chosen on the simulated tanks as `best` is on the samples, every sample scored with it.
 void tune_on_simulation(KtcMethodResult& result);
+// Fills joint_choice and tuned_jointly from `scores` and `simulated` (nothing without tanks): each
+// sample scored with the setting choose_ktc_rules picks on the other samples and the tanks
+// together, the other samples weighing one half and the tanks the other (each alike within its
+// half), so that neither source's count decides; with a single sample, the tanks alone.
+void tune_jointly(KtcMethodResult& result);
 // The scores of one image (on KTC's grid) against one truth under every rule.
 KtcFrameScores score_every_rule(const Eigen::MatrixXd& ktc_image, const KtcScorer& truth);
 
