@@ -109,6 +109,7 @@ TEST_F(KtcCli, BadInputIsRefusedAndNothingIsWritten) {
   refused("run --preset tiny --out " + path("out") + " --tuning-noise 0.005", "--tuning-noise");
   refused(ktc + " 1 --setting best" + fast(), "--setting");
   refused(ktc + " 1 --setting simulation" + fast(), "--setting");
+  refused(ktc + " 1 --setting joint" + fast(), "--setting");
   refused(run_ktc + " --noise-sweep 0.01,0.01", "--noise-sweep");
   refused(run_ktc + " --noise-sweep 0 --noise-floor 0", "--noise-sweep");
   refused("run --preset tiny --out " + path("out") + " --noise-sweep 0.01", "--noise-sweep");
@@ -222,6 +223,17 @@ TEST_F(KtcCli, TheBenchmarkRanksTheMethodsAndKtcAppliesItsSettings) {
                     results.at("methods")[0].at("simulation").at("held_out")[0][s].get<double>());
     EXPECT_NE(sim.output.find(score), std::string::npos) << score << "\n" << sim.output;
   }
+  // --setting joint: the setting tuned on both samples and the tanks, the run's scores with it.
+  const Result joint = run("ktc " + path("in") + " " + path("out_joint") +
+                           " 7 --method noser --setting joint --from " + path("run"));
+  ASSERT_EQ(joint.exit_code, 0) << joint.output;
+  for (const auto& m : results.at("methods"))
+    if (m.at("method") == "noser")
+      for (int s = 0; s < 2; ++s) {
+        const std::string score =
+            fmt::format("score {:.6f}", m.at("joint").at("in_sample")[0][s].get<double>());
+        EXPECT_NE(joint.output.find(score), std::string::npos) << score << "\n" << joint.output;
+      }
   const Result no_sim = run("ktc " + path("in") + " " + path("out_sim2") +
                             " 7 --method tv --setting simulation --from " + path("run"));
   EXPECT_EQ(no_sim.exit_code, 2) << no_sim.output;

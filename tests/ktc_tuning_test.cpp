@@ -169,6 +169,12 @@ TEST(KtcTuning, SamplesAndTanksTogetherWeighHalfEachAndHoldOutTheSample) {
   }
   // The first weight on sample 2's pool: (0.9 + 0.8) / 4 + 8 x 0.4 / 16.
   EXPECT_NEAR(r.joint_choice[2].tuning_score, 0.625, 1e-12);
+  // On all three samples and the tanks: the first weight, 2.4 / 6 + 0.2 against 1.95 / 6 + 0.25;
+  // each sample scored with it in sample.
+  EXPECT_EQ(r.joint_best.candidate, 0);
+  EXPECT_NEAR(r.joint_best.tuning_score, 0.6, 1e-12);
+  for (std::size_t s = 0; s < 3; ++s)
+    EXPECT_NEAR(r.joint_in_sample[0][s], r.scores[0][0][s].otsu, 1e-12) << s;
   // Counted a frame each (unweighted), the tanks decide sample 2's setting too.
   EXPECT_EQ(tune_ktc(r, {0, 1}, KtcRules::otsu).candidate, 0);  // the samples alone: the first
   KtcMethodResult pooled = r;

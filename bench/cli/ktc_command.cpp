@@ -167,26 +167,29 @@ void run_learned(const KtcCommandArgs& a, const CLI::App& cmd) {
       what + fmt::format(", on {} at lambda {:g}", step.method, step.lambda));
 }
 
-// The run's setting of a.method that --setting names: tuned on the samples, or on the run's
-// simulated tanks. InputError naming --setting or --from where the run has none.
+// The run's setting of a.method that --setting names: tuned on the samples, on the run's
+// simulated tanks, or on both. InputError naming --setting or --from where the run has none.
 const KtcRunSettings::Method& run_setting(const KtcCommandArgs& a, const KtcRunSettings& run) {
-  const bool simulated = a.setting == "simulation";
-  const auto& tuned = simulated ? run.simulation_tuned : run.methods;
+  const bool samples = a.setting == "samples";
+  const auto& tuned = samples                     ? run.methods
+                      : a.setting == "simulation" ? run.simulation_tuned
+                                                  : run.joint_tuned;
   const auto it = tuned.find(a.method);
   if (it != tuned.end()) return it->second;
-  if (simulated)
+  if (!samples)
     throw InputError("--setting", "",
-                     run.path + " has no setting of " + a.method +
-                         " tuned on simulated tanks (its run's --tuning-tanks and "
-                         "--tune-on-simulation)");
+                     run.path + " has no setting of " + a.method + " tuned on " +
+                         (a.setting == "simulation" ? "simulated tanks" : "samples and tanks") +
+                         " (its run's --tuning-tanks and --tune-on-simulation)");
   throw InputError("--from", "", run.path + " has no setting of " + a.method);
 }
 
 void run(const KtcCommandArgs& a, const CLI::App& cmd) {
   ktc_removed_electrodes(a.level);  // 1 ... 7, before anything is read
-  if (a.setting != "samples" && a.setting != "simulation")
-    throw InputError("--setting", "", "'" + a.setting + "' is neither samples nor simulation");
-  if (a.setting == "simulation" && a.from.empty())
+  if (a.setting != "samples" && a.setting != "simulation" && a.setting != "joint")
+    throw InputError("--setting", "",
+                     "'" + a.setting + "' is none of samples, simulation and joint");
+  if (a.setting != "samples" && a.from.empty())
     throw InputError("--setting", "", "takes a run's setting: add --from RUN");
   if ((a.method == "dnn" || a.method == "dnn-post") && cmd.count("--setting") > 0)
     throw InputError("--setting", "",
@@ -278,11 +281,12 @@ std::function<void()> add_ktc_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--from", a->from,
                   "a KTC run's folder (eitbench run --ktc): its tank, and the method's "
-                  "regularisation and segmentation tuned on the training samples (--setting "
-                  "simulation: on the run's simulated tanks)");
+                  "regularisation and segmentation tuned on the training samples (--setting: "
+                  "or on the run's simulated tanks, or both)");
   cmd->add_option("--setting", a->setting,
-                  "with --from: the setting tuned on the training samples (samples) or the one "
-                  "tuned on the run's simulated tanks (simulation)")
+                  "with --from: the setting tuned on the training samples (samples), the one "
+                  "tuned on the run's simulated tanks (simulation), or on both together, each "
+                  "weighing one half (joint)")
       ->capture_default_str();
   cmd->add_option("--lambda", a->lambda,
                   "the regularisation on the method's relative scale (default: the run's, or what "

@@ -132,7 +132,9 @@ json joint_json(const KtcMethodResult& m) {
   if (m.tuned_jointly.empty()) return nullptr;
   json choices = json::array();
   for (const auto& c : m.joint_choice) choices.push_back(choice_json(c));
-  return {{"weights", "the other samples one half, the tanks the other"},
+  return {{"weights", "the samples one half, the tanks the other"},
+          {"choice", choice_json(m.joint_best)},
+          {"in_sample", m.joint_in_sample},
           {"held_out_choices", choices},
           {"held_out", m.tuned_jointly},
           {"total_held_out", ktc_total(m.tuned_jointly)}};
@@ -516,7 +518,7 @@ KtcRunSettings parse_settings(const json& j, const std::string& path) {
   s.grid = static_cast<int>(grid);
   const json& methods = need(j, "methods", "");
   if (!methods.is_array()) throw InputError(path, "methods", "must be a list");
-  // A setting: `best`, or the choice of the tuning on simulated tanks.
+  // A setting: `best`, or the choice of the tuning on simulated tanks (alone or with the samples).
   auto setting = [&](const json& c, const std::string& where) {
     KtcRunSettings::Method method;
     method.lambda = number(c, "lambda", where);
@@ -543,6 +545,10 @@ KtcRunSettings parse_settings(const json& j, const std::string& path) {
       s.simulation_tuned[name] =
           setting(need(need(m, "simulation", where), "choice", where + "simulation."),
                   where + "simulation.choice.");
+    // Runs before the tuning on samples and tanks together have none, as above.
+    if (m.contains("joint") && !m.at("joint").is_null())
+      s.joint_tuned[name] = setting(need(need(m, "joint", where), "choice", where + "joint."),
+                                    where + "joint.choice.");
   }
   if (j.contains("learned")) {  // runs before the learned rows have none
     const json& arms = need(need(j, "learned", ""), "arms", "learned.");

@@ -190,11 +190,28 @@ void tune_on_simulation(KtcMethodResult& r) {
           ktc_choice_score(r, r.simulation_choice, static_cast<int>(l), static_cast<int>(s));
 }
 
+namespace {
+// The setting choose_ktc_rules picks on the samples of `pool` but `left_out` (none: -1) and on its
+// tanks (the rest), the samples weighing one half and the tanks the other, each alike within its
+// half; with no sample, the tanks alone.
+KtcChoice choose_on_samples_and_tanks(const KtcMethodResult& pool, std::size_t S, int left_out) {
+  const std::size_t T = pool.scores.front().front().size() - S;
+  std::vector<int> members;
+  for (std::size_t o = 0; o < S; ++o)
+    if (static_cast<int>(o) != left_out) members.push_back(static_cast<int>(o));
+  const double on_samples = members.empty() ? 0.0 : 0.5 / static_cast<double>(members.size());
+  std::vector<double> weights(members.size(), on_samples);
+  const double on_tanks = (members.empty() ? 1.0 : 0.5) / static_cast<double>(T);
+  for (std::size_t t = 0; t < T; ++t)
+    members.push_back(static_cast<int>(S + t)), weights.push_back(on_tanks);
+  return choose_ktc_rules(pool, members, weights);
+}
+}  // namespace
+
 void tune_jointly(KtcMethodResult& r) {
-  r.joint_choice.clear(), r.tuned_jointly.clear();
+  r.joint_choice.clear(), r.tuned_jointly.clear(), r.joint_in_sample.clear();
   if (r.simulated.empty() || r.simulated.front().empty()) return;
   const std::size_t C = r.candidates.size(), L = r.levels.size(), S = r.samples.size();
-  const std::size_t T = r.simulated.front().front().size();
   KtcMethodResult pool;  // the same candidates and levels; the samples, then the tanks
   pool.candidates = r.candidates;
   pool.candidate_noise = r.candidate_noise;
@@ -204,22 +221,16 @@ void tune_jointly(KtcMethodResult& r) {
     for (std::size_t l = 0; l < L; ++l)
       pool.scores[c][l].insert(pool.scores[c][l].end(), r.simulated[c][l].begin(),
                                r.simulated[c][l].end());
+  r.joint_best = choose_on_samples_and_tanks(pool, S, -1);
   r.tuned_jointly.assign(L, std::vector<double>(S));
+  r.joint_in_sample = r.tuned_jointly;
   for (std::size_t s = 0; s < S; ++s) {
-    // Half the weight on the other samples, half on the tanks, each alike within its half.
-    std::vector<int> members;
-    std::vector<double> weights;
-    for (std::size_t o = 0; o < S; ++o)
-      if (o != s) members.push_back(static_cast<int>(o));
-    const double on_samples = members.empty() ? 0.0 : 0.5 / static_cast<double>(members.size());
-    weights.assign(members.size(), on_samples);
-    const double on_tanks = (members.empty() ? 1.0 : 0.5) / static_cast<double>(T);
-    for (std::size_t t = 0; t < T; ++t)
-      members.push_back(static_cast<int>(S + t)), weights.push_back(on_tanks);
-    r.joint_choice.push_back(choose_ktc_rules(pool, members, weights));
-    for (std::size_t l = 0; l < L; ++l)
-      r.tuned_jointly[l][s] =
-          ktc_choice_score(r, r.joint_choice.back(), static_cast<int>(l), static_cast<int>(s));
+    r.joint_choice.push_back(choose_on_samples_and_tanks(pool, S, static_cast<int>(s)));
+    for (std::size_t l = 0; l < L; ++l) {
+      const int li = static_cast<int>(l), si = static_cast<int>(s);
+      r.tuned_jointly[l][s] = ktc_choice_score(r, r.joint_choice.back(), li, si);
+      r.joint_in_sample[l][s] = ktc_choice_score(r, r.joint_best, li, si);
+    }
   }
 }
 

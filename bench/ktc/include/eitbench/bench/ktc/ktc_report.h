@@ -31,6 +31,8 @@ struct KtcRunSettings {
   std::map<std::string, Method> methods;  // tuned on every sample
   // Tuned on the run's simulated tanks (--tuning-tanks), for the methods it so tuned.
   std::map<std::string, Method> simulation_tuned;
+  // Tuned on every sample and those tanks together, for the same methods.
+  std::map<std::string, Method> joint_tuned;
   // learned network and arm ("dnn none", "dnn-post group", ...) -> its model file
   std::map<std::string, std::string> models;
 };

@@ -63,9 +63,13 @@ struct KtcMethodResult {
   KtcChoice simulation_choice;
   std::vector<std::vector<double>> tuned_on_simulation;
   // Tuned on the other samples and the tanks together (empty without tanks): per sample, the
-  // setting chosen on them (tune_jointly), and each sample's score with its own, [level][sample].
+  // setting chosen on them (tune_jointly), and each sample's score with its own, [level][sample];
+  // the setting chosen on every sample and the tanks (what `eitbench ktc --setting joint`
+  // applies), and each sample's score with it (in sample).
   std::vector<KtcChoice> joint_choice;
   std::vector<std::vector<double>> tuned_jointly;
+  KtcChoice joint_best;
+  std::vector<std::vector<double>> joint_in_sample;
   // Images (the method's grid) with `best`, [level][sample], for the figures.
   std::vector<std::vector<Eigen::VectorXd>> images;
   double median_ms = 0;  // per reconstruction at best's lambda
@@ -97,10 +101,11 @@ void tune_and_hold_out(KtcMethodResult& result);
 // Fills simulation_choice and tuned_on_simulation from `simulated` (nothing when it is empty): the
 // setting chosen on the simulated tanks as `best` is on the samples, every sample scored with it.
 void tune_on_simulation(KtcMethodResult& result);
-// Fills joint_choice and tuned_jointly from `scores` and `simulated` (nothing without tanks): each
-// sample scored with the setting choose_ktc_rules picks on the other samples and the tanks
-// together, the other samples weighing one half and the tanks the other (each alike within its
-// half), so that neither source's count decides; with a single sample, the tanks alone.
+// Fills joint_choice, tuned_jointly, joint_best and joint_in_sample from `scores` and `simulated`
+// (nothing without tanks): each sample scored with the setting choose_ktc_rules picks on the other
+// samples and the tanks together, the other samples weighing one half and the tanks the other (each
+// alike within its half), so that neither source's count decides; with a single sample, the tanks
+// alone.
 void tune_jointly(KtcMethodResult& result);
 // The scores of one image (on KTC's grid) against one truth under every rule.
 KtcFrameScores score_every_rule(const Eigen::MatrixXd& ktc_image, const KtcScorer& truth);
