@@ -30,6 +30,25 @@ KtcMethodResult made(const std::vector<int>& peak, double elsewhere) {
   return r;
 }
 
+// A frame scored `otsu` under Otsu and 0 under every levels rule.
+KtcFrameScores otsu_frame(double otsu) {
+  KtcFrameScores f;
+  f.otsu = otsu;
+  f.resistive.assign(ktc_level_fractions().size(), 0.0);
+  f.conductive.assign(ktc_level_fractions().size(), 0.0);
+  return f;
+}
+
+// Two weights at one noise model, one level; the samples and their scores are the test's.
+KtcMethodResult two_weights() {
+  KtcMethodResult r;
+  r.method = "made";
+  r.candidates = {0.1, 1.0};
+  r.candidate_noise = {5e-3, 5e-3};
+  r.levels = {1};
+  return r;
+}
+
 TEST(KtcTuning, ALevelsRuleThatOnlyFitsItsTuningSamplesLosesToOtsu) {
   // Each sample's best fraction is its own: on all three the levels rule sums 1 + 0.3 + 0.3 = 1.6
   // against Otsu's 1.2, but tuned on two it picks one of theirs and scores 0.3 on the third.
@@ -100,24 +119,14 @@ TEST(KtcTuning, TheSettingTunedOnSimulatedTanksScoresEverySample) {
   // (0.9 and 0.8 against 0.5 and 0.4); on the three simulated tanks the second (0.7 each against
   // 0.2). Tuned on the tanks, every sample is scored with the second weight: 0.5 and 0.4, not
   // the samples' own best; the samples' tuning (best) is left as it was.
-  const std::size_t F = ktc_level_fractions().size();
-  auto frame = [&](double otsu) {
-    KtcFrameScores f;
-    f.otsu = otsu;
-    f.resistive.assign(F, 0.0), f.conductive.assign(F, 0.0);
-    return f;
-  };
-  KtcMethodResult r;
-  r.method = "made";
-  r.candidates = {0.1, 1.0};
-  r.candidate_noise = {5e-3, 5e-3};
-  r.levels = {1};
+  KtcMethodResult r = two_weights();
   r.samples = {1, 2};
-  r.scores = {{{frame(0.9), frame(0.8)}}, {{frame(0.5), frame(0.4)}}};
+  r.scores = {{{otsu_frame(0.9), otsu_frame(0.8)}}, {{otsu_frame(0.5), otsu_frame(0.4)}}};
   tune_and_hold_out(r);
   tune_on_simulation(r);  // no tanks: nothing
   EXPECT_TRUE(r.tuned_on_simulation.empty());
-  r.simulated = {{{frame(0.2), frame(0.2), frame(0.2)}}, {{frame(0.7), frame(0.7), frame(0.7)}}};
+  r.simulated = {{{otsu_frame(0.2), otsu_frame(0.2), otsu_frame(0.2)}},
+                 {{otsu_frame(0.7), otsu_frame(0.7), otsu_frame(0.7)}}};
   tune_on_simulation(r);
   EXPECT_EQ(r.simulation_choice.candidate, 1);
   EXPECT_DOUBLE_EQ(r.simulation_choice.lambda, 1.0);
@@ -135,25 +144,15 @@ TEST(KtcTuning, SamplesAndTanksTogetherWeighHalfEachAndHoldOutTheSample) {
   // the eight tanks the second by a little each: 0.5 against 0.4. Counted a frame each the tanks
   // would always decide; weighing one half each, the samples' margin over the other two decides
   // where it is above 0.2 (their half's 0.25 a sample against the tanks' 0.05).
-  const std::size_t F = ktc_level_fractions().size();
-  auto frame = [&](double otsu) {
-    KtcFrameScores f;
-    f.otsu = otsu;
-    f.resistive.assign(F, 0.0), f.conductive.assign(F, 0.0);
-    return f;
-  };
-  KtcMethodResult r;
-  r.method = "made";
-  r.candidates = {0.1, 1.0};
-  r.candidate_noise = {5e-3, 5e-3};
-  r.levels = {1};
+  KtcMethodResult r = two_weights();
   r.samples = {1, 2, 3};
-  r.scores = {{{frame(0.9), frame(0.8), frame(0.7)}}, {{frame(0.5), frame(0.5), frame(0.95)}}};
+  r.scores = {{{otsu_frame(0.9), otsu_frame(0.8), otsu_frame(0.7)}},
+              {{otsu_frame(0.5), otsu_frame(0.5), otsu_frame(0.95)}}};
   tune_jointly(r);  // no tanks: nothing
   EXPECT_TRUE(r.tuned_jointly.empty());
   EXPECT_TRUE(r.joint_choice.empty());
-  r.simulated = {{std::vector<KtcFrameScores>(8, frame(0.4))},
-                 {std::vector<KtcFrameScores>(8, frame(0.5))}};
+  r.simulated = {{std::vector<KtcFrameScores>(8, otsu_frame(0.4))},
+                 {std::vector<KtcFrameScores>(8, otsu_frame(0.5))}};
   tune_jointly(r);
   ASSERT_EQ(r.joint_choice.size(), 3u);
   ASSERT_EQ(r.tuned_jointly.size(), 1u);
@@ -184,7 +183,7 @@ TEST(KtcTuning, SamplesAndTanksTogetherWeighHalfEachAndHoldOutTheSample) {
   EXPECT_EQ(tune_ktc(pooled, {0, 1, 3, 4, 5, 6, 7, 8, 9, 10}, KtcRules::otsu).candidate, 1);
   // With one sample there are no others: the tanks alone, as the tuning on simulation.
   r.samples = {1};
-  r.scores = {{{frame(0.9)}}, {{frame(0.5)}}};
+  r.scores = {{{otsu_frame(0.9)}}, {{otsu_frame(0.5)}}};
   tune_jointly(r);
   tune_on_simulation(r);
   ASSERT_EQ(r.joint_choice.size(), 1u);
