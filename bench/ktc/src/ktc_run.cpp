@@ -171,26 +171,28 @@ void tune_and_hold_out(KtcMethodResult& r) {
   }
 }
 
-void tune_on_simulation(KtcMethodResult& r) {
-  r.tuned_on_simulation.clear();
-  if (r.simulated.empty() || r.simulated.front().empty()) return;
-  KtcMethodResult tanks;  // the same candidates and levels, the tanks in the samples' place
-  tanks.candidates = r.candidates;
-  tanks.candidate_noise = r.candidate_noise;
-  tanks.levels = r.levels;
-  tanks.scores = r.simulated;
-  std::vector<int> all(r.simulated.front().front().size());
-  std::iota(all.begin(), all.end(), 0);
-  r.simulation_choice = choose_ktc_rules(tanks, all);
-  const std::size_t L = r.levels.size(), S = r.samples.size();
-  r.tuned_on_simulation.assign(L, std::vector<double>(S));
-  for (std::size_t l = 0; l < L; ++l)
-    for (std::size_t s = 0; s < S; ++s)
-      r.tuned_on_simulation[l][s] =
-          ktc_choice_score(r, r.simulation_choice, static_cast<int>(l), static_cast<int>(s));
+namespace {
+// A result with r's candidates and levels and `scores` in the samples' place: tanks to tune on.
+KtcMethodResult with_scores(const KtcMethodResult& r,
+                            std::vector<std::vector<std::vector<KtcFrameScores>>> scores) {
+  KtcMethodResult out;
+  out.candidates = r.candidates;
+  out.candidate_noise = r.candidate_noise;
+  out.levels = r.levels;
+  out.scores = std::move(scores);
+  return out;
 }
 
-namespace {
+// Every sample of r scored with one setting, [level][sample].
+std::vector<std::vector<double>> every_sample_with(const KtcMethodResult& r, const KtcChoice& c) {
+  const std::size_t L = r.levels.size(), S = r.samples.size();
+  std::vector<std::vector<double>> table(L, std::vector<double>(S));
+  for (std::size_t l = 0; l < L; ++l)
+    for (std::size_t s = 0; s < S; ++s)
+      table[l][s] = ktc_choice_score(r, c, static_cast<int>(l), static_cast<int>(s));
+  return table;
+}
+
 // The setting choose_ktc_rules picks on the samples of `pool` but `left_out` (none: -1) and on its
 // tanks (the rest), the samples weighing one half and the tanks the other, each alike within its
 // half; with no sample, the tanks alone.
@@ -208,29 +210,32 @@ KtcChoice choose_on_samples_and_tanks(const KtcMethodResult& pool, std::size_t S
 }
 }  // namespace
 
+void tune_on_simulation(KtcMethodResult& r) {
+  r.tuned_on_simulation.clear();
+  if (r.simulated.empty() || r.simulated.front().empty()) return;
+  std::vector<int> all(r.simulated.front().front().size());
+  std::iota(all.begin(), all.end(), 0);
+  r.simulation_choice = choose_ktc_rules(with_scores(r, r.simulated), all);
+  r.tuned_on_simulation = every_sample_with(r, r.simulation_choice);
+}
+
 void tune_jointly(KtcMethodResult& r) {
   r.joint_choice.clear(), r.tuned_jointly.clear(), r.joint_in_sample.clear();
   if (r.simulated.empty() || r.simulated.front().empty()) return;
   const std::size_t C = r.candidates.size(), L = r.levels.size(), S = r.samples.size();
-  KtcMethodResult pool;  // the same candidates and levels; the samples, then the tanks
-  pool.candidates = r.candidates;
-  pool.candidate_noise = r.candidate_noise;
-  pool.levels = r.levels;
-  pool.scores = r.scores;
+  KtcMethodResult pool = with_scores(r, r.scores);  // the samples, then the tanks
   for (std::size_t c = 0; c < C; ++c)
     for (std::size_t l = 0; l < L; ++l)
       pool.scores[c][l].insert(pool.scores[c][l].end(), r.simulated[c][l].begin(),
                                r.simulated[c][l].end());
   r.joint_best = choose_on_samples_and_tanks(pool, S, -1);
+  r.joint_in_sample = every_sample_with(r, r.joint_best);
   r.tuned_jointly.assign(L, std::vector<double>(S));
-  r.joint_in_sample = r.tuned_jointly;
   for (std::size_t s = 0; s < S; ++s) {
     r.joint_choice.push_back(choose_on_samples_and_tanks(pool, S, static_cast<int>(s)));
-    for (std::size_t l = 0; l < L; ++l) {
-      const int li = static_cast<int>(l), si = static_cast<int>(s);
-      r.tuned_jointly[l][s] = ktc_choice_score(r, r.joint_choice.back(), li, si);
-      r.joint_in_sample[l][s] = ktc_choice_score(r, r.joint_best, li, si);
-    }
+    for (std::size_t l = 0; l < L; ++l)
+      r.tuned_jointly[l][s] =
+          ktc_choice_score(r, r.joint_choice.back(), static_cast<int>(l), static_cast<int>(s));
   }
 }
 
