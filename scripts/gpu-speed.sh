@@ -29,8 +29,11 @@ declare -A flags=(
   [graph-tf32]="--resident on --cuda-graphs on --precision tf32"
   [graph-bf16]="--resident on --cuda-graphs on --precision bf16"
   [nearest-graph-tf32]="--resident on --cuda-graphs on --precision tf32 --decoder nearest"
+  [graph-tf32-nhwc]="--resident on --cuda-graphs on --precision tf32 --channels-last on"
+  [graph-bf16-nhwc]="--resident on --cuda-graphs on --precision bf16 --channels-last on"
 )
 order="host-fp32 resident-fp32 resident-tf32 graph-fp32 graph-tf32 graph-bf16 nearest-graph-tf32"
+order="$order graph-tf32-nhwc graph-bf16-nhwc"
 variants=${VARIANTS:-$order}
 
 summary="$out/summary.md"

@@ -111,5 +111,76 @@ TEST(TrainStep, GraphPathTrainsAsTheEagerPath) {
   for (const auto& p : graph_net->parameters()) EXPECT_EQ(adam_state(graph_adam, p).step(), 8);
 }
 
+// The channels-last decoder's pixel shuffle moves the same values as LibTorch's, forwards and
+// backwards, and leaves them channels-last (LibTorch's returns NCHW on a GPU).
+TEST(Network, ChannelsLastPixelShuffleIsLibTorchsKeepingTheLayout) {
+  torch::manual_seed(2);
+  const auto nhwc = torch::randn({2, 12, 3, 5}).contiguous(torch::MemoryFormat::ChannelsLast);
+  const auto x = nhwc.clone().requires_grad_(), reference = nhwc.contiguous().requires_grad_();
+  ASSERT_FALSE(x.is_contiguous());
+  const auto out = pixel_shuffle_keeping_layout(x, 2);
+  const auto expected = torch::pixel_shuffle(reference, 2);
+  ASSERT_EQ(out.sizes(), expected.sizes());  // [2, 3, 6, 10]
+  EXPECT_TRUE(out.is_contiguous(torch::MemoryFormat::ChannelsLast));
+  EXPECT_FALSE(out.is_contiguous());
+  EXPECT_TRUE(torch::equal(out, expected));  // a permutation: exact
+  const auto upstream = torch::randn(expected.sizes());
+  out.backward(upstream);
+  expected.backward(upstream);
+  EXPECT_TRUE(torch::equal(x.grad(), reference.grad()));
+  // An NCHW input is LibTorch's case.
+  EXPECT_TRUE(torch::equal(pixel_shuffle_keeping_layout(reference.detach(), 2), expected));
+}
+
+// A network whose decoder is channels-last, stepped by the graph path's Adam on tensors, trains
+// as the NCHW network under the eager torch::optim::Adam: the same function, rounded otherwise.
+// Its convolution weights and their moments are channels-last, the layout the fused kernel wants.
+TEST(TrainStep, ChannelsLastTrainsAsNchw) {
+  TrainingOptions o;
+  o.batch_size = 16;
+  auto make = [] {
+    torch::manual_seed(5);
+    return Network(test_network());
+  };
+  Network nchw_net = make(), nhwc_net = make();
+  nhwc_net->use_channels_last(true);
+  ASSERT_TRUE(nhwc_net->channels_last());
+  torch::optim::Adam nchw_adam(nchw_net->parameters(), torch::optim::AdamOptions(1e-3));
+  torch::optim::Adam nhwc_adam(nhwc_net->parameters(), torch::optim::AdamOptions(1e-3));
+  StepRunner nchw(nchw_net, nchw_adam, o, torch::kCPU, false);
+  StepRunner nhwc(nhwc_net, nhwc_adam, o, torch::kCPU, true);
+  int convolutions = 0;
+  for (const auto& p : nhwc_net->decoder->parameters())
+    if (p.dim() == 4) {
+      ++convolutions;
+      EXPECT_FALSE(p.is_contiguous());
+      EXPECT_TRUE(p.is_contiguous(torch::MemoryFormat::ChannelsLast));
+      EXPECT_EQ(adam_state(nhwc_adam, p).exp_avg().strides(), p.strides());
+    }
+  EXPECT_EQ(convolutions, 3);
+  const auto start = detached(nchw_net->parameters());
+  torch::manual_seed(11);
+  const auto x = torch::randn({8, 16, 104}), y = torch::rand({8, 16, 64 * 64});
+  for (int k = 0; k < 8; ++k) {
+    torch::manual_seed(100 + k);
+    nchw.step(x[k], y[k], 1e-3);
+    torch::manual_seed(100 + k);
+    nhwc.step(x[k], y[k], 1e-3);
+  }
+  EXPECT_GT(relative_difference(start, detached(nchw_net->parameters())), 1e-3);
+  torch::manual_seed(7);
+  const auto nchw_images = nchw_net->forward(x[0]);
+  torch::manual_seed(7);
+  const auto nhwc_images = nhwc_net->forward(x[0]);
+  EXPECT_LT(relative_difference({nchw_images}, {nhwc_images}), 1e-4);
+  const double loss = nchw.loss_sum().item<double>();
+  EXPECT_NEAR(nhwc.loss_sum().item<double>(), loss, 1e-5 * loss);
+  // Back to NCHW: the same weights, in the standard layout, and the same function.
+  nhwc_net->use_channels_last(false);
+  for (const auto& p : nhwc_net->parameters()) EXPECT_TRUE(p.is_contiguous());
+  torch::manual_seed(7);
+  EXPECT_TRUE(torch::allclose(nhwc_net->forward(x[0]), nhwc_images, 1e-5, 1e-6));
+}
+
 }  // namespace
 }  // namespace eitbench

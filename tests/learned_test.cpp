@@ -158,6 +158,49 @@ TEST(Trainer, ResumedRunMatchesUninterruptedRun) {
                InputError);
 }
 
+// A channels-last training resumes exactly, as the NCHW one does, and trains as the NCHW one
+// up to rounding: the layout changes no arithmetic, only its order.
+TEST(Trainer, ChannelsLastResumesExactlyAndTrainsAsNchw) {
+  const Dataset& data = tiny();
+  const LabelledFrames train = labelled_frames(data, Split::train),
+                       validation = labelled_frames(data, Split::validation);
+  TrainingOptions o;
+  o.augment = AugmentGroup::dihedral;
+  o.steps = 9;
+  o.batch_size = 16;
+  o.validate_every = 48;  // 3 rounds of 3 steps
+  Trainer nchw(test_network(), o, train, validation, sensor_of(data));
+  while (!nchw.done()) nchw.run_round();
+  o.channels_last = "on";
+  Trainer whole(test_network(), o, train, validation, sensor_of(data));
+  while (!whole.done()) whole.run_round();
+  std::string checkpoint;
+  {
+    Trainer first(test_network(), o, train, validation, sensor_of(data));
+    first.run_round();
+    checkpoint = first.checkpoint();
+  }
+  auto resumed = Trainer::resume(checkpoint, "checkpoint", train, validation, sensor_of(data));
+  while (!resumed->done()) resumed->run_round();
+  ASSERT_EQ(whole.history().size(), 3u);
+  ASSERT_EQ(resumed->history().size(), 3u);
+  ASSERT_EQ(nchw.history().size(), 3u);
+  for (int r = 0; r < 3; ++r) {
+    EXPECT_EQ(resumed->history()[r].train_loss, whole.history()[r].train_loss) << "round " << r;
+    EXPECT_EQ(resumed->history()[r].validation_loss, whole.history()[r].validation_loss);
+    const double v = nchw.history()[r].validation_loss;
+    EXPECT_NEAR(whole.history()[r].validation_loss, v, 1e-4 * v) << "round " << r;
+  }
+  // The models' images agree to 1e-3, not to the losses' 1e-5: the biases of the layers before a
+  // BatchNorm have gradients of rounding noise, which Adam scales up to whole steps; the norm
+  // removes them in training, but in evaluation its running means trail them. (A wrong layout
+  // would give another image altogether.)
+  const SampleMatrix frames = validation.frames;
+  const SampleMatrix a = whole.best_model().reconstruct(frames),
+                     b = nchw.best_model().reconstruct(frames);
+  EXPECT_LT((a - b).norm(), 3e-3 * b.norm());
+}
+
 TEST(Trainer, OnTheFlyPairsEachFrameWithItsLabel) {
   // Each training sample as the network receives it must be a frame and label of the same
   // touch: find the circles whose exact label it is, simulate them, compare with the frame.
@@ -389,6 +432,10 @@ TEST(Trainer, GpuOptionsAreCheckedOnTheCpu) {
     o.cuda_graphs = bad;
     EXPECT_EQ(field_of(o), "cuda_graphs") << bad;
   }
+  o.cuda_graphs = "auto", o.channels_last = "on";  // a layout: the CPU has it too
+  EXPECT_EQ(field_of(o), "accepted");
+  o.channels_last = "auto";
+  EXPECT_EQ(field_of(o), "channels_last");
 }
 
 TEST(LearnedModel, CorruptBytesAreRefused) {

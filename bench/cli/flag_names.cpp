@@ -66,7 +66,8 @@ const Table kTraining = {{"TrainingOptions", "steps", "--steps"},
                          {"TrainingOptions", "resident", "--resident"},
                          {"TrainingOptions", "resident_max_gib", "--resident-max-gib"},
                          {"TrainingOptions", "precision", "--precision"},
-                         {"TrainingOptions", "cuda_graphs", "--cuda-graphs"}};
+                         {"TrainingOptions", "cuda_graphs", "--cuda-graphs"},
+                         {"TrainingOptions", "channels_last", "--channels-last"}};
 
 const std::map<std::string, Table>& tables() {
   static const std::map<std::string, Table> by_command = {

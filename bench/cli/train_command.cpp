@@ -82,6 +82,11 @@ void add_train_options(CLI::App* cmd, TrainArgs* args) {
                   "the resident set), on, off")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "on", "off"}));
+  cmd->add_option("--channels-last", args->options.channels_last,
+                  "the decoder in channels-last (NHWC) memory, as cuDNN's tensor cores work: on, "
+                  "off; the same arithmetic, rounded differently")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"on", "off"}));
   cmd->add_flag("--resume", args->resume,
                 "continue the interrupted run whose checkpoint is beside --out (OUT.checkpoint)");
   cmd->add_option("--out", args->out,

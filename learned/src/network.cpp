@@ -64,9 +64,46 @@ NetworkImpl::NetworkImpl(const NetworkOptions& o) : options(o) {
 
 torch::Tensor NetworkImpl::forward(const torch::Tensor& frames) {
   const auto x = (frames - mean) * scale;
-  const auto latent = encoder->forward(x).view(
+  auto image = encoder->forward(x).view(
       {-1, options.latent_channels, options.latent_size, options.latent_size});
-  return decoder->forward(latent).view({-1, options.image_size * options.image_size}) * mask;
+  if (!channels_last_) {
+    image = decoder->forward(image);
+  } else {
+    image = image.contiguous(torch::MemoryFormat::ChannelsLast);
+    for (auto& layer : *decoder) {
+      if (auto* shuffle = layer.ptr()->as<torch::nn::PixelShuffle>())
+        image = pixel_shuffle_keeping_layout(image,
+                                             static_cast<int>(shuffle->options.upscale_factor()));
+      else
+        image = layer.forward(image);
+    }
+  }
+  // reshape: a one-channel image is laid out alike in NCHW and NHWC, so it is a view either way.
+  return image.reshape({-1, options.image_size * options.image_size}) * mask;
+}
+
+void NetworkImpl::use_channels_last(bool on) {
+  torch::NoGradGuard no_grad;
+  const auto layout = on ? torch::MemoryFormat::ChannelsLast : torch::MemoryFormat::Contiguous;
+  for (auto& p : decoder->parameters())
+    if (p.dim() == 4) p.set_data(p.data().contiguous(layout));
+  channels_last_ = on;
+}
+
+torch::Tensor pixel_shuffle_keeping_layout(const torch::Tensor& x, int factor) {
+  if (x.dim() != 4 || x.is_contiguous() || !x.is_contiguous(torch::MemoryFormat::ChannelsLast))
+    return torch::pixel_shuffle(x, factor);
+  const long n = x.size(0), c = x.size(1), h = x.size(2), w = x.size(3), r = factor;
+  if (c % (r * r) != 0) return torch::pixel_shuffle(x, factor);  // its message for the error
+  // In memory x is [n, h, w, c] with c = (oc, i, j); the output pixel (h r + i, w r + j) of
+  // channel oc is that element, so the output's memory [n, h, i, w, j, oc] is one permuted copy.
+  const long oc = c / (r * r);
+  return x.permute({0, 2, 3, 1})
+      .view({n, h, w, oc, r, r})
+      .permute({0, 1, 4, 2, 5, 3})
+      .contiguous()
+      .view({n, h * r, w * r, oc})
+      .permute({0, 3, 1, 2});
 }
 
 void copy_state(const Network& from, Network& to) {

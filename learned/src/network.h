@@ -17,12 +17,26 @@ namespace eitbench {
 struct NetworkImpl : torch::nn::Module {
   explicit NetworkImpl(const NetworkOptions& options);
   torch::Tensor forward(const torch::Tensor& frames);
+  // The decoder in channels-last (NHWC) memory, or back in the standard NCHW: its convolution
+  // weights are laid out again (values unchanged) and its activations follow. cuDNN's tensor-core
+  // convolutions work in NHWC and transpose NCHW tensors to it and back; in NHWC they need not.
+  // Set before an optimiser's state is made: Adam's moments take their parameters' layout.
+  void use_channels_last(bool on);
+  bool channels_last() const { return channels_last_; }
 
   NetworkOptions options;
   torch::nn::Sequential encoder{nullptr}, decoder{nullptr};
   torch::Tensor mean, scale, mask;
+
+ private:
+  bool channels_last_ = false;
 };
 TORCH_MODULE(Network);
+
+// torch::pixel_shuffle that keeps a channels-last input's layout: the output is channels-last
+// too. LibTorch's own returns NCHW on a GPU (its CPU kernel keeps the layout), so the next
+// convolution would transpose it back. Any other input goes to torch::pixel_shuffle.
+torch::Tensor pixel_shuffle_keeping_layout(const torch::Tensor& x, int factor);
 
 // A copy of `from`'s parameters and buffers into `to` (same shape).
 void copy_state(const Network& from, Network& to);

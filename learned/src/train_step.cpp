@@ -47,18 +47,24 @@ void adam_update(const std::vector<torch::Tensor>& params,
   }
 }
 
+torch::optim::AdamParamState* adam_state_if_any(torch::optim::Adam& adam,
+                                                const torch::Tensor& param) {
+  auto& states = adam.state();
+  const auto found = states.find(state_key(states, param));
+  return found == states.end() ? nullptr
+                               : static_cast<torch::optim::AdamParamState*>(found->second.get());
+}
+
 torch::optim::AdamParamState& adam_state(torch::optim::Adam& adam, const torch::Tensor& param) {
+  if (auto* state = adam_state_if_any(adam, param)) return *state;
+  auto made = std::make_unique<torch::optim::AdamParamState>();
+  made->step(0);
+  made->exp_avg(torch::zeros_like(param, torch::MemoryFormat::Preserve));
+  made->exp_avg_sq(torch::zeros_like(param, torch::MemoryFormat::Preserve));
   auto& states = adam.state();
   const auto key = state_key(states, param);
-  auto found = states.find(key);
-  if (found == states.end()) {
-    auto made = std::make_unique<torch::optim::AdamParamState>();
-    made->step(0);
-    made->exp_avg(torch::zeros_like(param, torch::MemoryFormat::Preserve));
-    made->exp_avg_sq(torch::zeros_like(param, torch::MemoryFormat::Preserve));
-    found = states.insert({key, std::move(made)}).first;
-  }
-  return static_cast<torch::optim::AdamParamState&>(*found->second);
+  return static_cast<torch::optim::AdamParamState&>(
+      *states.insert({key, std::move(made)}).first->second);
 }
 
 std::string resolve_precision(const std::string& precision, const torch::Device& device) {

@@ -29,6 +29,9 @@ void adam_update(const std::vector<torch::Tensor>& params,
 
 // torch::optim::Adam's state of `param`, made (zero moments, step 0) if Adam has not stepped it.
 torch::optim::AdamParamState& adam_state(torch::optim::Adam& adam, const torch::Tensor& param);
+// The same, or nullptr where Adam has none.
+torch::optim::AdamParamState* adam_state_if_any(torch::optim::Adam& adam,
+                                                const torch::Tensor& param);
 
 // "fp32", "tf32" or "bf16": TrainingOptions::precision with "auto" resolved for `device`.
 std::string resolve_precision(const std::string& precision, const torch::Device& device);

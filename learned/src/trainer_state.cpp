@@ -4,6 +4,7 @@
 
 #include "eitbench/jacobian/error.h"
 #include "eitbench/jacobian/random.h"
+#include "train_step.h"
 #include "trainer_impl.h"
 
 namespace eitbench {
@@ -68,7 +69,8 @@ nlohmann::json options_to_json(const TrainingOptions& o) {
           {"resident", o.resident},
           {"resident_max_gib", o.resident_max_gib},
           {"precision", o.precision},
-          {"cuda_graphs", o.cuda_graphs}};
+          {"cuda_graphs", o.cuda_graphs},
+          {"channels_last", o.channels_last}};
 }
 
 TrainingOptions options_from_json(const nlohmann::json& j) {
@@ -96,6 +98,7 @@ TrainingOptions options_from_json(const nlohmann::json& j) {
   // Nor these, before GPU training was tuned.
   o.precision = j.value("precision", o.precision);
   o.cuda_graphs = j.value("cuda_graphs", o.cuda_graphs);
+  o.channels_last = j.value("channels_last", o.channels_last);
   return o;
 }
 
@@ -159,6 +162,21 @@ void move_optimizer_state(torch::optim::Adam& adam, const torch::Device& device)
   }
 }
 
+// The layout the options ask for, whatever the checkpoint's was: an archive keeps its tensors'
+// strides, and the graph path's fused Adam wants each moment laid out as its parameter.
+void lay_out(TrainerState& m) {
+  const bool on = m.options.channels_last == "on";
+  m.net->use_channels_last(on);
+  m.best->use_channels_last(on);
+  torch::NoGradGuard no_grad;
+  for (const auto& p : m.net->parameters()) {
+    if (auto* s = adam_state_if_any(*m.adam, p)) {
+      s->exp_avg(torch::empty_like(p).copy_(s->exp_avg()));
+      s->exp_avg_sq(torch::empty_like(p).copy_(s->exp_avg_sq()));
+    }
+  }
+}
+
 }  // namespace
 
 std::unique_ptr<TorchTrainer> TorchTrainer::resume(const std::string& bytes,
@@ -209,6 +227,7 @@ std::unique_ptr<TorchTrainer> TorchTrainer::resume(const std::string& bytes,
     m->best->to(m->device);
     m->adam->load(adam);
     move_optimizer_state(*m->adam, m->device);
+    lay_out(*m);
   } catch (const c10::Error& e) {
     throw InputError(source, "weights", first_line(e));
   } catch (const std::exception& e) {

@@ -61,6 +61,10 @@ struct TrainingOptions {
   // then runs on device tensors over the same state; dropout draws from the same generator, but
   // not the same numbers as the eager step, so the two paths train alike, not bit for bit.
   std::string cuda_graphs = "auto";
+  // The decoder's activations and convolution weights in channels-last (NHWC) memory: "on" or
+  // "off". The same arithmetic in another layout, so the training differs only in rounding. On a
+  // GPU it spares cuDNN's transposes; "off" until a GPU measurement shows it pays (docs/gpu.md).
+  std::string channels_last = "off";
 
   // Throws InputError("TrainingOptions", field) for a value out of range or a device this
   // machine does not have, and ScheduleOptions::validate()'s error for the schedule.
