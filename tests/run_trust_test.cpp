@@ -121,6 +121,52 @@ TEST_F(RunTrust, ResumeKeepsASweepPointOnlyWithItsOwnModel) {
       << r.output;
 }
 
+// A run moved to another machine with its stages/ folder alone (a GPU session brings back a few
+// MB; a paper-size model is 19 MB): the learned models resume from their records, the data set is
+// simulated again, and the run ends with the same figures, none trained. A record of other
+// options is not used: that model is trained.
+TEST_F(RunTrust, ResumeFromTheStagesAloneGivesTheSameFigures) {
+  const std::string flags = "run --preset tiny --methods tikhonov --sweep 30 --epochs ";
+  const std::string sweep = flags + "2 --augment none,d16 --out ";
+  ASSERT_EQ(run(sweep + path("whole") + " --quiet").exit_code, 0);
+  for (const std::string folder : {"moved", "other"}) {
+    fs::create_directories(path(folder));
+    fs::copy(path("whole/stages"), path(folder + "/stages"));
+  }
+  const Result r = run(sweep + path("moved") + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* augment : {"none", "d16"})
+    EXPECT_NE(r.output.find("dnn " + std::string(augment) + ": resumed from its record"),
+              std::string::npos)
+        << r.output;
+  EXPECT_EQ(r.output.find(": training the"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("moved/models/dnn_none.pt")));
+  const RunResults a = read_results_json(path("whole/results.json")),
+                   b = read_results_json(path("moved/results.json"));
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (std::size_t k = 0; k < a.rows.size(); ++k) {
+    EXPECT_EQ(a.rows[k].method + a.rows[k].augment, b.rows[k].method + b.rows[k].augment);
+    EXPECT_EQ(a.rows[k].cc, b.rows[k].cc) << k;
+    EXPECT_EQ(a.rows[k].re, b.rows[k].re) << k;
+    EXPECT_EQ(a.rows[k].latency_median_ms, b.rows[k].latency_median_ms) << k;
+  }
+  ASSERT_EQ(b.training.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(a.training[k].steps, b.training[k].steps);
+    EXPECT_EQ(a.training[k].seconds, b.training[k].seconds);  // the training's, not a re-run's
+  }
+  ASSERT_EQ(a.efficiency.size(), b.efficiency.size());
+  for (std::size_t k = 0; k < a.efficiency.size(); ++k)
+    EXPECT_EQ(a.efficiency[k].cc, b.efficiency[k].cc) << k;
+  EXPECT_EQ(file_text(path("whole/reconstructions.npy")),
+            file_text(path("moved/reconstructions.npy")));
+
+  const Result other = run(flags + "3 --augment none,d16 --resume --out " + path("other"));
+  ASSERT_EQ(other.exit_code, 0) << other.output;
+  EXPECT_EQ(other.output.find("resumed from its record"), std::string::npos) << other.output;
+  EXPECT_NE(other.output.find("dnn none: training the"), std::string::npos) << other.output;
+}
+
 // A user's data set replaced by another between two runs: the stages are made again from it.
 TEST_F(RunTrust, ResumeOnOtherUserDataMakesStagesAgain) {
   ASSERT_EQ(run("simulate --preset tiny --quiet --seed 1 --out " + path("a.h5")).exit_code, 0);

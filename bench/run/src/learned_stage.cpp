@@ -51,9 +51,10 @@ TrainingSummary training_summary(const LearnedModel& model, const std::string& p
 namespace {
 
 // The model in <out>/models/dnn_<augment>.pt: read back when resuming a run that trained it for
-// the same data and options, trained otherwise (from its checkpoint when one is left).
+// the same data and options (`read_back`), trained otherwise (from its checkpoint when one is
+// left).
 LearnedModel trained_model(const Context& context, const std::string& augment,
-                           const LearnedSetup& setup, const RunData& data) {
+                           const LearnedSetup& setup, const RunData& data, bool& read_back) {
   const RunConfig& config = context.config;
   const Dataset& source = data.source;
   const std::string path = learned_model_path(context, augment);
@@ -62,7 +63,8 @@ LearnedModel trained_model(const Context& context, const std::string& augment,
   const bool claimed =
       context.cache.claim_model("dnn " + augment, path, provenance,
                                 kept_under_earlier_edge(config, provenance, path, setup.training));
-  if (claimed && fs::exists(path)) {
+  read_back = claimed && fs::exists(path);
+  if (read_back) {
     context.say(fmt::format("dnn {}: resumed from {}", augment, path));
     return read_model_file(path);
   }
@@ -197,14 +199,14 @@ void time_device_inference(const LearnedModel& trained, const SampleMatrix& fram
   summary.device_frames_per_second = repeats * double(n) / seconds;
 }
 
-}  // namespace
-
-LearnedResults run_learned(const Context& context, const std::string& augment,
-                           const LearnedSetup& setup, const RunData& data,
-                           const Reconstruction& reconstruction, const NoisyFrames& noisy) {
+// Trains (or reads back) the model and scores it at every SNR.
+LearnedResults train_and_score(const Context& context, const std::string& augment,
+                               const LearnedSetup& setup, const RunData& data,
+                               const Reconstruction& reconstruction, const NoisyFrames& noisy,
+                               bool& read_back) {
   const RunConfig& config = context.config;
   LearnedResults out;
-  LearnedModel model = trained_model(context, augment, setup, data);
+  LearnedModel model = trained_model(context, augment, setup, data, read_back);
   out.training = training_summary(model, learned_model_path(context, augment), setup);
   out.training.augment = augment;  // the run's name: "group" on a sensor of another shape
   const TrainingSummary& summary = out.training;
@@ -237,6 +239,49 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
     if (k == 0) out.method.images = first_images(images, config.figure_samples);
     out.method.rows.push_back(row);
   }
+  return out;
+}
+
+nlohmann::json to_json(const LearnedResults& r) {
+  return {{"method", to_json(r.method)},
+          {"training", to_json(r.training)},
+          {"parameters", r.parameters}};
+}
+
+LearnedResults learned_results_from(const nlohmann::json& j, const std::string& source) {
+  LearnedResults r;
+  r.method = method_results_from(j.at("method"));
+  r.training = training_summary_from_json(j.at("training"), source);
+  r.parameters = j.at("parameters").get<long long>();
+  return r;
+}
+
+}  // namespace
+
+// A learned model's scores are recorded as a stage too, beside its model file. While the model
+// is there, a resumed run reads it and scores it again (a merge times it again, alone), and a
+// record that matches it is left as it is (a finished shard stays file for file). A run whose
+// models are gone, moved to another machine with its stages/ folder only (a GPU session's files
+// back are a few MB; a paper model is 19 MB), resumes from the record.
+LearnedResults run_learned(const Context& context, const std::string& augment,
+                           const LearnedSetup& setup, const RunData& data,
+                           const Reconstruction& reconstruction, const NoisyFrames& noisy) {
+  const std::string stage = "dnn_" + augment, model = learned_model_path(context, augment);
+  Provenance provenance = data.provenance;
+  for (const auto& [key, value] : training_provenance(context.config, data))
+    provenance[key] = value;
+  provenance["augment"] = augment;
+  LearnedResults out;
+  const bool recorded = context.cache.find(
+      stage, provenance, [&](const nlohmann::json& j) { out = learned_results_from(j, stage); });
+  if (recorded && !fs::exists(model)) {
+    context.say(
+        fmt::format("dnn {}: resumed from its record (the model file is not here)", augment));
+    return out;
+  }
+  bool read_back = false;
+  out = train_and_score(context, augment, setup, data, reconstruction, noisy, read_back);
+  if (!recorded || !read_back) context.cache.save(stage, provenance, to_json(out));
   return out;
 }
 
