@@ -32,6 +32,32 @@ std::vector<torch::Tensor> detached(const std::vector<torch::Tensor>& params) {
   return out;
 }
 
+// Two copies of the test network with the same weights, each with its own Adam, for two step
+// runners (batch 16) to train side by side.
+struct TwinNetworks {
+  static Network seeded() {
+    torch::manual_seed(5);
+    return Network(test_network());
+  }
+  TrainingOptions options = [] {
+    TrainingOptions o;
+    o.batch_size = 16;
+    return o;
+  }();
+  Network first = seeded(), second = seeded();
+  torch::optim::Adam first_adam{first->parameters(), torch::optim::AdamOptions(1e-3)};
+  torch::optim::Adam second_adam{second->parameters(), torch::optim::AdamOptions(1e-3)};
+};
+
+// Each network's images of `frames`, under the same dropout draws.
+std::pair<torch::Tensor, torch::Tensor> images_of(Network& a, Network& b,
+                                                  const torch::Tensor& frames) {
+  torch::manual_seed(7);
+  const auto first = a->forward(frames);
+  torch::manual_seed(7);
+  return {first, b->forward(frames)};
+}
+
 // Six steps under a changing learning rate, the same gradients for both (a function of the
 // parameters, so the trajectories would part if either step differed).
 TEST(TrainStep, AdamOnTensorsIsLibTorchsAdam) {
@@ -73,17 +99,11 @@ TEST(TrainStep, AdamOnTensorsIsLibTorchsAdam) {
 // as the eager path's torch::optim::Adam does, dropout included, and leave Adam's step counters
 // where a checkpoint expects them.
 TEST(TrainStep, GraphPathTrainsAsTheEagerPath) {
-  TrainingOptions o;
-  o.batch_size = 16;
-  auto make = [] {
-    torch::manual_seed(5);
-    return Network(test_network());
-  };
-  Network eager_net = make(), graph_net = make();
-  torch::optim::Adam eager_adam(eager_net->parameters(), torch::optim::AdamOptions(1e-3));
-  torch::optim::Adam graph_adam(graph_net->parameters(), torch::optim::AdamOptions(1e-3));
-  StepRunner eager(eager_net, eager_adam, o, torch::kCPU, false);
-  StepRunner graph(graph_net, graph_adam, o, torch::kCPU, true);
+  TwinNetworks twins;
+  Network &eager_net = twins.first, &graph_net = twins.second;
+  torch::optim::Adam& graph_adam = twins.second_adam;
+  StepRunner eager(eager_net, twins.first_adam, twins.options, torch::kCPU, false);
+  StepRunner graph(graph_net, graph_adam, twins.options, torch::kCPU, true);
   ASSERT_TRUE(graph.graphs());
   const auto start = detached(eager_net->parameters());
   torch::manual_seed(11);
@@ -100,10 +120,7 @@ TEST(TrainStep, GraphPathTrainsAsTheEagerPath) {
   // before a BatchNorm have gradients of rounding noise (the norm removes them), which Adam
   // scales up to whole steps, so a last-bit difference between the two paths moves them apart
   // without changing what the network computes.
-  torch::manual_seed(7);
-  const auto eager_images = eager_net->forward(x[0]);
-  torch::manual_seed(7);
-  const auto graph_images = graph_net->forward(x[0]);
+  const auto [eager_images, graph_images] = images_of(eager_net, graph_net, x[0]);
   EXPECT_LT(relative_difference({eager_images}, {graph_images}), 1e-5);
   const double eager_loss = eager.loss_sum().item<double>();
   EXPECT_NEAR(graph.loss_sum().item<double>(), eager_loss, 1e-6 * eager_loss);
@@ -136,19 +153,13 @@ TEST(Network, ChannelsLastPixelShuffleIsLibTorchsKeepingTheLayout) {
 // as the NCHW network under the eager torch::optim::Adam: the same function, rounded otherwise.
 // Its convolution weights and their moments are channels-last, the layout the fused kernel wants.
 TEST(TrainStep, ChannelsLastTrainsAsNchw) {
-  TrainingOptions o;
-  o.batch_size = 16;
-  auto make = [] {
-    torch::manual_seed(5);
-    return Network(test_network());
-  };
-  Network nchw_net = make(), nhwc_net = make();
+  TwinNetworks twins;
+  Network &nchw_net = twins.first, &nhwc_net = twins.second;
   nhwc_net->use_channels_last(true);
   ASSERT_TRUE(nhwc_net->channels_last());
-  torch::optim::Adam nchw_adam(nchw_net->parameters(), torch::optim::AdamOptions(1e-3));
-  torch::optim::Adam nhwc_adam(nhwc_net->parameters(), torch::optim::AdamOptions(1e-3));
-  StepRunner nchw(nchw_net, nchw_adam, o, torch::kCPU, false);
-  StepRunner nhwc(nhwc_net, nhwc_adam, o, torch::kCPU, true);
+  torch::optim::Adam& nhwc_adam = twins.second_adam;
+  StepRunner nchw(nchw_net, twins.first_adam, twins.options, torch::kCPU, false);
+  StepRunner nhwc(nhwc_net, nhwc_adam, twins.options, torch::kCPU, true);
   int convolutions = 0;
   for (const auto& p : nhwc_net->decoder->parameters())
     if (p.dim() == 4) {
@@ -168,10 +179,7 @@ TEST(TrainStep, ChannelsLastTrainsAsNchw) {
     nhwc.step(x[k], y[k], 1e-3);
   }
   EXPECT_GT(relative_difference(start, detached(nchw_net->parameters())), 1e-3);
-  torch::manual_seed(7);
-  const auto nchw_images = nchw_net->forward(x[0]);
-  torch::manual_seed(7);
-  const auto nhwc_images = nhwc_net->forward(x[0]);
+  const auto [nchw_images, nhwc_images] = images_of(nchw_net, nhwc_net, x[0]);
   EXPECT_LT(relative_difference({nchw_images}, {nhwc_images}), 1e-4);
   const double loss = nchw.loss_sum().item<double>();
   EXPECT_NEAR(nhwc.loss_sum().item<double>(), loss, 1e-5 * loss);

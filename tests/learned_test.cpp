@@ -110,15 +110,21 @@ TEST(Trainer, SaveAndLoadGiveIdenticalOutputs) {
   }
 }
 
+// D_16, batch 16 (4 steps an epoch on the tiny set), a round of 3 steps (rounds straddle epochs).
+TrainingOptions dihedral_rounds_of_three(long long steps) {
+  TrainingOptions o;
+  o.augment = AugmentGroup::dihedral;
+  o.steps = steps;
+  o.batch_size = 16;
+  o.validate_every = 48;
+  return o;
+}
+
 TEST(Trainer, ResumedRunMatchesUninterruptedRun) {
   const Dataset& data = tiny();
   const LabelledFrames train = labelled_frames(data, Split::train),
                        validation = labelled_frames(data, Split::validation);
-  TrainingOptions o;
-  o.augment = AugmentGroup::dihedral;
-  o.steps = 10;  // 4 steps an epoch: epochs 1, 2 and half of 3
-  o.batch_size = 16;
-  o.validate_every = 48;  // 3 steps a round: rounds straddle epochs
+  const TrainingOptions o = dihedral_rounds_of_three(10);  // epochs 1, 2 and half of 3
   Trainer whole(test_network(), o, train, validation, sensor_of(data));
   while (!whole.done()) whole.run_round();
   ASSERT_EQ(whole.history().size(), 4u);
@@ -164,11 +170,7 @@ TEST(Trainer, ChannelsLastResumesExactlyAndTrainsAsNchw) {
   const Dataset& data = tiny();
   const LabelledFrames train = labelled_frames(data, Split::train),
                        validation = labelled_frames(data, Split::validation);
-  TrainingOptions o;
-  o.augment = AugmentGroup::dihedral;
-  o.steps = 9;
-  o.batch_size = 16;
-  o.validate_every = 48;  // 3 rounds of 3 steps
+  TrainingOptions o = dihedral_rounds_of_three(9);  // 3 rounds
   Trainer nchw(test_network(), o, train, validation, sensor_of(data));
   while (!nchw.done()) nchw.run_round();
   o.channels_last = "on";
