@@ -179,6 +179,24 @@ class MeasuredRun : public Cli {
   }
 };
 
+// A run with real presses moved with its stages/ alone: the presses are reconstructed with the
+// models themselves, so the learned models are trained again rather than taken from their
+// records, and the run ends.
+TEST_F(MeasuredRun, StagesAloneTrainTheModelsAgain) {
+  const std::string set = press_set("set", 11), cal = press_set("cal", 12);
+  const std::string args = "run --preset tiny --methods noser --augment none --measured " + set +
+                           " --calibration " + cal + " --out ";
+  ASSERT_EQ(run(args + path("whole") + " --quiet").exit_code, 0);
+  std::filesystem::create_directories(path("moved"));
+  std::filesystem::copy(path("whole/stages"), path("moved/stages"));
+  const Result r = run(args + path("moved") + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("noser: resumed"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("resumed from its record"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("dnn none: training the"), std::string::npos) << r.output;
+  EXPECT_FALSE(read_results_json(path("moved/results.json")).measured.empty());
+}
+
 TEST_F(MeasuredRun, ScoresEveryMethodOnPressesTunedOnAnotherSet) {
   const std::string set = press_set("set", 11), cal = press_set("cal", 12);
   const Result r =

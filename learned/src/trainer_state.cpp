@@ -162,8 +162,9 @@ void move_optimizer_state(torch::optim::Adam& adam, const torch::Device& device)
   }
 }
 
-// The layout the options ask for, whatever the checkpoint's was: an archive keeps its tensors'
-// strides, and the graph path's fused Adam wants each moment laid out as its parameter.
+// The layout the options ask for, whatever layout the archive gave the tensors back in (loading
+// adopts the stored tensors): the graph path's fused Adam wants each moment laid out as its
+// parameter.
 void lay_out(TrainerState& m) {
   const bool on = m.options.channels_last == "on";
   m.net->use_channels_last(on);

@@ -262,7 +262,8 @@ LearnedResults learned_results_from(const nlohmann::json& j, const std::string& 
 // is there, a resumed run reads it and scores it again (a merge times it again, alone), and a
 // record that matches it is left as it is (a finished shard stays file for file). A run whose
 // models are gone, moved to another machine with its stages/ folder only (a GPU session's files
-// back are a few MB; a paper model is 19 MB), resumes from the record.
+// back are a few MB; a paper model is 19 MB), resumes from the record, unless it reconstructs
+// real presses (--measured), which needs the models themselves: those are trained again.
 LearnedResults run_learned(const Context& context, const std::string& augment,
                            const LearnedSetup& setup, const RunData& data,
                            const Reconstruction& reconstruction, const NoisyFrames& noisy) {
@@ -274,7 +275,7 @@ LearnedResults run_learned(const Context& context, const std::string& augment,
   LearnedResults out;
   const bool recorded = context.cache.find(
       stage, provenance, [&](const nlohmann::json& j) { out = learned_results_from(j, stage); });
-  if (recorded && !fs::exists(model)) {
+  if (recorded && !fs::exists(model) && context.config.measured.empty()) {
     context.say(
         fmt::format("dnn {}: resumed from its record (the model file is not here)", augment));
     return out;
