@@ -10,6 +10,7 @@
 
 #include "cli_fixture.h"
 #include "eitbench/bench/report/results.h"
+#include "results_json.h"
 
 namespace eitbench {
 namespace {
@@ -165,6 +166,42 @@ TEST_F(RunTrust, ResumeFromTheStagesAloneGivesTheSameFigures) {
   ASSERT_EQ(other.exit_code, 0) << other.output;
   EXPECT_EQ(other.output.find("resumed from its record"), std::string::npos) << other.output;
   EXPECT_NE(other.output.find("dnn none: training the"), std::string::npos) << other.output;
+}
+
+// scripts/gpu-paper.sh, the paper run spread over GPU sessions, on the tiny preset and the CPU:
+// a later call, in a folder of its own, goes on from the first call's stages tarball alone and
+// ends with the same results, training nothing; a tarball made with other threads is refused.
+TEST_F(RunTrust, GpuPaperScriptGoesOnFromTheStagesTarball) {
+  const std::string cli = EITBENCH_CLI;
+  const std::string script = std::string(EITBENCH_SOURCE_DIR) + "/scripts/gpu-paper.sh ";
+  const std::string env = "BUILD=" + fs::path(cli).parent_path().string() +
+                          " PRESET=tiny METHODS=tikhonov RUN_FLAGS='--augment none,d16 "
+                          "--epochs 2 --sweep 30' ";
+  auto call = [&](const std::string& settings, const std::string& name) {
+    const std::string log = path(name + ".log");
+    const int status = std::system((env + settings + script + path(name) + " " +
+                                    path(name + "-back") + " 300 > " + log + " 2>&1")
+                                       .c_str());
+    return Result{WEXITSTATUS(status), file_text(log)};
+  };
+  const Result first = call("THREADS=1 ", "first");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  ASSERT_TRUE(fs::exists(path("first-back/stages.tar.gz"))) << first.output;
+  const std::string stages = "STAGES=" + path("first-back/stages.tar.gz") + " ";
+  const Result later = call(stages + "THREADS=1 ", "later");
+  ASSERT_EQ(later.exit_code, 0) << later.output;
+  const std::string log = file_text(path("later-back/run.log"));
+  EXPECT_NE(log.find("dnn d16: resumed from its record"), std::string::npos) << log;
+  EXPECT_EQ(log.find(": training the"), std::string::npos) << log;
+  ASSERT_TRUE(fs::exists(path("later-back/results.tar.gz"))) << later.output;
+  EXPECT_EQ(testing::results_without_timings(path("later/results.json")),
+            testing::results_without_timings(path("first/results.json")));
+
+  const Result other = call(stages + "THREADS=2 ", "other");
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_NE(other.output.find("made with other sources, GPU or threads"), std::string::npos)
+      << other.output;
+  EXPECT_FALSE(fs::exists(path("other/results.json")));
 }
 
 // A user's data set replaced by another between two runs: the stages are made again from it.
