@@ -50,9 +50,13 @@ class Cli : public ::testing::Test {
   Result run(const std::string& args) const { return run_after("", args); }
   // The tool run by `prefix` (an environment, taskset, timeout: "env A=1 ").
   Result run_after(const std::string& prefix, const std::string& args) const {
-    const std::string log = path("log.txt");
-    const int status = std::system(
-        (prefix + std::string(EITBENCH_CLI) + " " + args + " > " + log + " 2>&1").c_str());
+    return shell(prefix + std::string(EITBENCH_CLI) + " " + args);
+  }
+  // `command` as a shell runs it: exit code and output (`log_name` names the log in the test's
+  // folder, for a command run beside another).
+  Result shell(const std::string& command, const std::string& log_name = "log.txt") const {
+    const std::string log = path(log_name);
+    const int status = std::system((command + " > " + log + " 2>&1").c_str());
     return {WEXITSTATUS(status), file_text(log)};
   }
 

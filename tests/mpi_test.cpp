@@ -30,17 +30,6 @@ class Mpi : public Cli {
 #endif
     Cli::SetUp();
   }
-
-  // `command` as a shell runs it: exit code and output (`log` names the log, for a command run
-  // beside another).
-  Result shell(const std::string& command, const std::string& log_name = "mpi.log") const {
-    const std::string log = path(log_name);
-    const int status = std::system((command + " > " + log + " 2>&1").c_str());
-    std::ifstream in(log);
-    std::stringstream text;
-    text << in.rdbuf();
-    return {WEXITSTATUS(status), text.str()};
-  }
 };
 
 const char* const kSimulate = "simulate --preset tiny --seed 5 --density coarse --threads 1 ";

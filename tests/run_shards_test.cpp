@@ -58,15 +58,11 @@ TEST_F(Cli, RunShardsMergeIntoTheRunOneProcessMakes) {
 // will not start.
 TEST_F(Cli, SlurmArrayOfShardsAndAMergeJobMakeTheRunOneProcessMakes) {
   ASSERT_EQ(run(kRun + "--threads 1 --out " + path("one")).exit_code, 0);
-  const std::string log = path("slurm.log");
-  const int status =
-      std::system((std::string(EITBENCH_SOURCE_DIR) + "/tests/slurm/array_run.sh " + EITBENCH_CLI +
-                   " " + path("slurm") + " 3 " + kArgs + "--threads 1 > " + log + " 2>&1")
-                      .c_str());
-  std::ifstream in(log);
-  const std::string output((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (WEXITSTATUS(status) == 77) GTEST_SKIP() << output;
-  ASSERT_EQ(WEXITSTATUS(status), 0) << output;
+  const Result slurm = shell(std::string(EITBENCH_SOURCE_DIR) + "/tests/slurm/array_run.sh " +
+                                 EITBENCH_CLI + " " + path("slurm") + " 3 " + kArgs + "--threads 1",
+                             "slurm.log");
+  if (slurm.exit_code == 77) GTEST_SKIP() << slurm.output;
+  ASSERT_EQ(slurm.exit_code, 0) << slurm.output;
   EXPECT_EQ(testing::results_without_timings(path("slurm") + "/run/results.json"),
             testing::results_without_timings(path("one") + "/results.json"));
 }

@@ -178,11 +178,8 @@ TEST_F(RunTrust, GpuPaperScriptGoesOnFromTheStagesTarball) {
                           " PRESET=tiny METHODS=tikhonov RUN_FLAGS='--augment none,d16 "
                           "--epochs 2 --sweep 30' ";
   auto call = [&](const std::string& settings, const std::string& name) {
-    const std::string log = path(name + ".log");
-    const int status = std::system((env + settings + script + path(name) + " " +
-                                    path(name + "-back") + " 300 > " + log + " 2>&1")
-                                       .c_str());
-    return Result{WEXITSTATUS(status), file_text(log)};
+    return shell(env + settings + script + path(name) + " " + path(name + "-back") + " 300",
+                 name + ".log");
   };
   const Result first = call("THREADS=1 ", "first");
   ASSERT_EQ(first.exit_code, 0) << first.output;
@@ -266,11 +263,8 @@ TEST_F(RunTrust, OneWriterPerFolder) {
 class WriteFailures : public Cli {
  protected:
   Result limited(const std::string& args, int kib) const {
-    const std::string log = path("log.txt");
-    const std::string command = "sh -c \"trap '' XFSZ; ulimit -f " + std::to_string(kib * 2) +
-                                "; exec " + EITBENCH_CLI + " " + args + "\" > " + log + " 2>&1";
-    const int status = std::system(command.c_str());
-    return {WEXITSTATUS(status), file_text(log)};
+    return shell("sh -c \"trap '' XFSZ; ulimit -f " + std::to_string(kib * 2) + "; exec " +
+                 EITBENCH_CLI + " " + args + "\"");
   }
   // Exit 2 naming a file of the test's folder, no crash, nothing partial left, and an existing
   // `file` as it was.

@@ -88,11 +88,10 @@ TrainerState::TrainerState(const NetworkOptions& n, const TrainingOptions& o,
   }
   net->to(device);
   best->to(device);
-  net->use_channels_last(options.channels_last == "on");
-  best->use_channels_last(options.channels_last == "on");
   copy_state(net, best);
   adam = std::make_unique<torch::optim::Adam>(net->parameters(),
                                               torch::optim::AdamOptions(options.learning_rate));
+  lay_out();
 }
 
 // Mean and standard deviation of every input over the augmented training set. A frame's orbit is

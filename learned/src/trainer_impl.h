@@ -52,6 +52,9 @@ struct TrainerState {
   bool choose_residency() const;
   bool choose_graphs() const;  // after residency is chosen
   void make_resident();
+  // The networks' decoders, and Adam's moments of them, in the layout options.channels_last asks
+  // for (the graph path's fused Adam wants each moment laid out as its parameter).
+  void lay_out();
   // The rows of `order`'s samples in the resident set's layout, on the device.
   torch::Tensor resident_rows(int epoch, const std::vector<long long>& order) const;
   void make_batch(int epoch, const std::vector<long long>& order, long long index,

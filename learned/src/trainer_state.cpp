@@ -162,23 +162,20 @@ void move_optimizer_state(torch::optim::Adam& adam, const torch::Device& device)
   }
 }
 
-// The layout the options ask for, whatever layout the archive gave the tensors back in (loading
-// adopts the stored tensors): the graph path's fused Adam wants each moment laid out as its
-// parameter.
-void lay_out(TrainerState& m) {
-  const bool on = m.options.channels_last == "on";
-  m.net->use_channels_last(on);
-  m.best->use_channels_last(on);
+}  // namespace
+
+void TrainerState::lay_out() {
+  const bool on = options.channels_last == "on";
+  net->use_channels_last(on);
+  best->use_channels_last(on);
   torch::NoGradGuard no_grad;
-  for (const auto& p : m.net->parameters()) {
-    if (auto* s = adam_state_if_any(*m.adam, p)) {
+  for (const auto& p : net->parameters()) {
+    if (auto* s = adam_state_if_any(*adam, p)) {
       s->exp_avg(torch::empty_like(p).copy_(s->exp_avg()));
       s->exp_avg_sq(torch::empty_like(p).copy_(s->exp_avg_sq()));
     }
   }
 }
-
-}  // namespace
 
 std::unique_ptr<TorchTrainer> TorchTrainer::resume(const std::string& bytes,
                                                    const std::string& source, LabelledFrames train,
@@ -228,7 +225,7 @@ std::unique_ptr<TorchTrainer> TorchTrainer::resume(const std::string& bytes,
     m->best->to(m->device);
     m->adam->load(adam);
     move_optimizer_state(*m->adam, m->device);
-    lay_out(*m);
+    m->lay_out();  // loading adopts the stored tensors, in the layout they were saved in
   } catch (const c10::Error& e) {
     throw InputError(source, "weights", first_line(e));
   } catch (const std::exception& e) {

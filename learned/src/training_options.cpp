@@ -40,10 +40,10 @@ void TrainingOptions::validate() const {
     fail("cuda_graphs", "must be auto, on or off, got '" + cuda_graphs + "'");
   if (cuda_graphs == "on" && resolved == "cpu")
     fail("cuda_graphs", "CUDA graphs need a CUDA device");
-  if (channels_last != "on" && channels_last != "off")
-    fail("channels_last", "must be on or off, got '" + channels_last + "'");
   if (cuda_graphs == "on" && resident == "off")
     fail("cuda_graphs", "CUDA graphs need the resident training set (resident auto or on)");
+  if (channels_last != "on" && channels_last != "off")
+    fail("channels_last", "must be on or off, got '" + channels_last + "'");
 }
 
 long long steps_per_epoch(long long samples, int batch_size) {
