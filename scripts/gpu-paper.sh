@@ -41,7 +41,12 @@ identity > "$back/identity.txt"
 if [ -n "${STAGES:-}" ]; then
   [ -f "$STAGES" ] || { echo "gpu-paper.sh: STAGES=$STAGES: no such file" >&2; exit 2; }
   mkdir -p "$run_dir"
-  tar -xzf "$STAGES" -C "$run_dir"  # stages/ and identity.txt
+  if ! tar -xzf "$STAGES" -C "$run_dir" stages identity.txt 2> "$run_dir/stages.err"; then
+    why=$(grep -m1 . "$run_dir/stages.err" || true)
+    echo "gpu-paper.sh: STAGES=$STAGES: not a stages tarball of this script ($why)" >&2
+    exit 2
+  fi
+  rm -f "$run_dir/stages.err"
   if ! cmp -s "$run_dir/identity.txt" "$back/identity.txt" && [ "${FORCE:-0}" != 1 ]; then
     echo "gpu-paper.sh: STAGES=$STAGES was made with other sources, GPU or threads" >&2
     diff "$run_dir/identity.txt" "$back/identity.txt" >&2 || true
