@@ -392,7 +392,7 @@ std::function<void()> add_run_command(CLI::App& app) {
       "on them from scratch (e.g. 0,10,30,100,300,all; 0: as trained in simulation)");
   cmd->add_option("--sweep", args->sweep,
                   "the data-efficiency sweep's training-set sizes, comma-separated (default: the "
-                  "preset's, e.g. quick 500,1000,2000), or none to leave it out");
+                  "preset's, e.g. quick 500,2000), or none to leave it out");
   cmd->add_option("--finetune-steps", args->finetune_steps,
                   "each fine-tuning's budget in optimiser steps (early stopping ends it sooner)")
       ->capture_default_str()
@@ -418,7 +418,9 @@ std::function<void()> add_run_command(CLI::App& app) {
                 "reuse what an interrupted run in --out finished (data, methods, models, "
                 "checkpoints) when it was made for the same data and options: another data set "
                 "in --out stops the run, a stage made with other options is made again");
-  cmd->add_option("--methods", args->methods, "model-based methods (default: all six)")
+  cmd->add_option("--methods", args->methods,
+                  "model-based methods, comma-separated (default: the eight of a build with "
+                  "Ceres, six without: every one but smooth)")
       ->delimiter(',')
       ->check(CLI::IsMember(model_based_method_names()));
   cmd->add_option("--augment", args->augments,
