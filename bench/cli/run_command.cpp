@@ -420,7 +420,8 @@ std::function<void()> add_run_command(CLI::App& app) {
                 "in --out stops the run, a stage made with other options is made again");
   cmd->add_option("--methods", args->methods,
                   "model-based methods, comma-separated (default: the eight of a build with "
-                  "Ceres, six without: every one but smooth)")
+                  "Ceres, six without: every one but smooth; with --ktc: tikhonov, noser, "
+                  "laplace, smooth, greit, tv, gn)")
       ->delimiter(',')
       ->check(CLI::IsMember(model_based_method_names()));
   cmd->add_option("--augment", args->augments,
