@@ -1,6 +1,7 @@
 // eitbench run: the main job. Data, every reconstructor, the learned one trained without and with
 // augmentation, all scored at every SNR, the data-efficiency sweep, and the report.
 #include <fmt/core.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
@@ -12,6 +13,7 @@
 
 #include "commands.h"
 #include "eitbench/bench/io/folder_lock.h"
+#include "eitbench/bench/ktc/ktc_method.h"
 #include "eitbench/bench/ktc/ktc_report.h"
 #include "eitbench/bench/methods/registry.h"
 #include "eitbench/bench/report/figures.h"
@@ -418,10 +420,12 @@ std::function<void()> add_run_command(CLI::App& app) {
                 "reuse what an interrupted run in --out finished (data, methods, models, "
                 "checkpoints) when it was made for the same data and options: another data set "
                 "in --out stops the run, a stage made with other options is made again");
+  // The defaults named from where they are set, so that the help follows the build (no shape fit
+  // without Ceres) and the KTC list.
   cmd->add_option("--methods", args->methods,
-                  "model-based methods, comma-separated (default: the eight of a build with "
-                  "Ceres, six without: every one but smooth; with --ktc: tikhonov, noser, "
-                  "laplace, smooth, greit, tv, gn)")
+                  fmt::format("model-based methods, comma-separated (default: {}; with --ktc: {})",
+                              fmt::join(RunConfig::for_preset("quick").methods, ", "),
+                              fmt::join(ktc_method_names(), ", ")))
       ->delimiter(',')
       ->check(CLI::IsMember(model_based_method_names()));
   cmd->add_option("--augment", args->augments,
