@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <random>
 #include <regex>
 #include <set>
@@ -115,9 +116,11 @@ std::set<std::string> heading_anchors(const std::string& text) {
   return anchors;
 }
 
-std::string read_text(const fs::path& file) {
+// The file's bytes, or nothing when it cannot be read.
+std::optional<std::string> read_text(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (!in) return std::nullopt;
+  return std::string{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 // True when `path` is `root` or lies below it (both absolute and normalised).
@@ -132,11 +135,18 @@ std::vector<std::string> link_problems(const fs::path& root,
                                        const std::vector<fs::path>& markdown_files) {
   const fs::path top = fs::weakly_canonical(root);
   std::vector<std::string> problems;
+  std::map<fs::path, std::set<std::string>> anchors;  // each page's headings, parsed once
+  auto anchors_of = [&](const fs::path& page) -> const std::set<std::string>& {
+    auto it = anchors.find(page);
+    if (it == anchors.end())
+      it = anchors.emplace(page, heading_anchors(read_text(page).value_or(""))).first;
+    return it->second;
+  };
   for (const fs::path& page : markdown_files) {
-    std::ifstream in(page, std::ios::binary);
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const std::optional<std::string> read = read_text(page);
+    const std::string text = read.value_or("");
     const std::string name = fs::weakly_canonical(page).lexically_relative(top).generic_string();
-    if (!in) problems.push_back(name + ": cannot be read");
+    if (!read) problems.push_back(name + ": cannot be read");
     for (const char* outside : {"../shared", "/work/"})
       if (text.find(outside) != std::string::npos)
         problems.push_back(name + ": names \"" + outside + "\", a path outside the repository");
@@ -148,7 +158,8 @@ std::vector<std::string> link_problems(const fs::path& root,
       const std::string anchor = hash == std::string::npos ? "" : target.substr(hash + 1);
       const std::string where = name + ": link " + target;
       if (hash == 0) {
-        if (!heading_anchors(text).count(anchor)) problems.push_back(where + " names no heading");
+        if (!anchors_of(fs::weakly_canonical(page)).count(anchor))
+          problems.push_back(where + " names no heading");
         continue;
       }
       const fs::path file = target.substr(0, hash);
@@ -162,7 +173,7 @@ std::vector<std::string> link_problems(const fs::path& root,
       else if (!fs::exists(resolved))
         problems.push_back(where + " names no file");
       else if (!anchor.empty() && resolved.extension() == ".md" &&
-               !heading_anchors(read_text(resolved)).count(anchor))
+               !anchors_of(resolved).count(anchor))
         problems.push_back(where + " names no heading");
     }
   }
